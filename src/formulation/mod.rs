@@ -1,0 +1,75 @@
+//! Formulations: strategies for advancing a scenario through its impacts.
+//!
+//! A formulation owns only how it steps. The floe model, the forces, the
+//! integrator, contact detection, the LCP solvers, the recording and the
+//! timing are shared: the [`crate::run::Runner`] calls
+//! [`Formulation::advance`] up to each output time, and the formulation
+//! charges its CPU time to the stages of the [`StageClock`] it is handed.
+//!
+//! To add a formulation: write a module here implementing [`Formulation`],
+//! and add its name to [`NAMES`] and [`build`].
+
+pub mod free_drift;
+
+use crate::model::{IntegratorKind, Scenario};
+use crate::run::{Counters, StageClock};
+use crate::state::System;
+
+/// A failure that stops a run (a failed LCP is not one: it is counted and
+/// handled by a fallback inside the formulation).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum FormulationError {
+    /// The smooth integration failed.
+    #[error(transparent)]
+    Integration(#[from] crate::physics::IntegrationError),
+    /// Anything else, with a message naming the floe or contact.
+    #[error("{0}")]
+    Other(String),
+}
+
+/// A strategy for advancing a scenario in time.
+pub trait Formulation {
+    /// The name used on the command line and in reports.
+    fn name(&self) -> &'static str;
+
+    /// Advances `sys` from `sys.t` to exactly `t_end` (s), updating the
+    /// ledger's work and dissipation, and charging CPU time to `clock`.
+    fn advance(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        t_end: f64,
+        clock: &mut StageClock,
+    ) -> Result<(), FormulationError>;
+
+    /// The formulation's counters (steps, events, solves, …) so far.
+    fn counters(&self) -> Counters;
+}
+
+/// Options shared by every formulation, from the command line.
+#[derive(Debug, Clone, Default)]
+pub struct FormulationOptions {
+    /// Override of the case's smooth integrator.
+    pub integrator: Option<IntegratorKind>,
+}
+
+/// Names accepted by [`build`], with a one-line description each.
+pub const NAMES: &[(&str, &str)] = &[(
+    "free-drift",
+    "no contacts: every floe drifts under the environment forces alone",
+)];
+
+/// The formulation called `name`, set up for `scn`.
+pub fn build(
+    name: &str,
+    scn: &Scenario,
+    opts: &FormulationOptions,
+) -> Result<Box<dyn Formulation>, String> {
+    match name {
+        "free-drift" => Ok(Box::new(free_drift::FreeDrift::new(scn, opts))),
+        other => Err(format!(
+            "unknown formulation `{other}`; known: {}",
+            NAMES.iter().map(|n| n.0).collect::<Vec<_>>().join(", ")
+        )),
+    }
+}

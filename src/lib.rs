@@ -1,0 +1,29 @@
+//! # floebench
+//!
+//! A research benchmark for the contact mechanics of rigid polygonal sea-ice
+//! floes. The same case files are solved by several contact formulations, and
+//! their trajectories, dissipated energy and CPU time are compared.
+//!
+//! ```text
+//! cases/*.toml ──load──▶ Scenario ──▶ Runner(formulation) ──▶ RunResult (trajectory, energy ledger, counters)
+//!                                                   │
+//!                             compare / check / report / plot / bench ◀──┘
+//! ```
+//!
+//! - [`model`]: the case file, validated into a [`model::Scenario`] (floes,
+//!   obstacles, environment, contact law, settings);
+//! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]);
+//! - [`physics`]: environment forces and the smooth integrator;
+//! - [`state`]: the dynamic state and the energy ledger;
+//! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
+//! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files.
+//!
+//! All quantities are SI and `f64`.
+
+pub mod formulation;
+pub mod geometry;
+pub mod model;
+pub mod physics;
+pub mod rng;
+pub mod run;
+pub mod state;

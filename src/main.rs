@@ -1,0 +1,168 @@
+//! The `floebench` command line: parse arguments, call the library.
+
+use clap::{Parser, Subcommand};
+use floebench::formulation::{self, FormulationOptions};
+use floebench::model::{load_case, IntegratorKind, Scenario};
+use floebench::run::{output, EndReason, RunOptions, Runner};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "floebench",
+    version,
+    about = "Contact mechanics of sea-ice floes: run the same cases with several contact formulations",
+    long_about = "floebench runs sea-ice floe scenarios (TOML case files, see cases/README.md) \
+                  with several contact formulations and writes trajectories, energy ledgers \
+                  and counters as CSV/JSON.\n\nStart with:\n  floebench validate cases/free_drift_coriolis.toml\n  floebench run cases/free_drift_coriolis.toml"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Check case files and print what they contain; exits non-zero on the first bad file.
+    Validate {
+        /// Case files (.toml).
+        #[arg(required = true)]
+        cases: Vec<PathBuf>,
+    },
+    /// Run one case with one formulation; writes trajectory.csv, energy.csv and summary.json.
+    Run {
+        /// The case file (.toml).
+        case: PathBuf,
+        /// Formulation (see `floebench formulations`).
+        #[arg(short, long, default_value = DEFAULT_FORMULATION)]
+        formulation: String,
+        /// Output folder [default: out/<case name>/<formulation>].
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+        /// Smooth integrator, overriding the case: `dopri5` (adaptive, exact for
+        /// constant forces) or `euler` (explicit, as in Rabatel's report).
+        #[arg(long)]
+        integrator: Option<IntegratorKind>,
+        /// No progress bar.
+        #[arg(short, long)]
+        quiet: bool,
+    },
+    /// List the formulations.
+    Formulations,
+}
+
+const DEFAULT_FORMULATION: &str = "free-drift";
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Validate { cases } => validate(&cases),
+        Command::Run {
+            case,
+            formulation,
+            out,
+            integrator,
+            quiet,
+        } => run(&case, &formulation, out, integrator, quiet),
+        Command::Formulations => {
+            for (name, what) in formulation::NAMES {
+                println!("{name:<14} {what}");
+            }
+            ExitCode::SUCCESS
+        }
+    }
+}
+
+fn describe(scn: &Scenario) -> String {
+    let mass: f64 = scn.floes.iter().map(|f| f.mass).sum();
+    let area: f64 = scn.floes.iter().map(|f| f.area).sum();
+    let dt = (0..scn.floes.len())
+        .map(|i| scn.euler_stability_bound(i))
+        .fold(f64::INFINITY, f64::min);
+    format!(
+        "{}: {} floes ({:.4e} kg, {:.4e} m^2), {} obstacles, {} s every {} s, e = {}, mu = {}, Euler bound {}",
+        scn.name,
+        scn.floes.len(),
+        mass,
+        area,
+        scn.obstacles.len(),
+        scn.duration,
+        scn.output_interval,
+        scn.contact.restitution,
+        scn.contact.friction,
+        if dt.is_finite() { format!("{dt:.4e} s") } else { "none (no drag)".into() }
+    )
+}
+
+fn validate(cases: &[PathBuf]) -> ExitCode {
+    for path in cases {
+        match load_case(path) {
+            Ok(scn) => println!("ok  {}", describe(&scn)),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn run(
+    case: &Path,
+    name: &str,
+    out: Option<PathBuf>,
+    integrator: Option<IntegratorKind>,
+    quiet: bool,
+) -> ExitCode {
+    let scn = match load_case(case) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let opts = FormulationOptions { integrator };
+    let mut form = match formulation::build(name, &scn, &opts) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scn.name).join(name));
+    eprintln!("{}", describe(&scn));
+    let runner = Runner::new(RunOptions { progress: !quiet });
+    let result = runner.run(&scn, form.as_mut());
+    match output::write_run(&out, &result) {
+        Ok(paths) => {
+            for p in paths {
+                println!("wrote {}", p.display());
+            }
+        }
+        Err(e) => {
+            eprintln!("error: cannot write to {}: {e}", out.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    let s = &result.summary;
+    println!(
+        "{} / {}: reached t = {} s of {} s; CPU {:.3} s (detection {:.3}, solve {:.3}, integration {:.3}); energy residual {:.3e} J of {:.3e} J exchanged",
+        s.case,
+        s.formulation,
+        s.t_reached,
+        s.duration,
+        s.timing.cpu_total,
+        s.timing.stages.detection,
+        s.timing.stages.solve,
+        s.timing.stages.integration,
+        s.energy.residual,
+        s.energy.exchanged
+    );
+    match &s.end {
+        EndReason::Completed => ExitCode::SUCCESS,
+        other => {
+            eprintln!("run did not complete: {other:?}");
+            ExitCode::FAILURE
+        }
+    }
+}

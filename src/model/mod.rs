@@ -1,0 +1,409 @@
+//! The model: what a case file describes, checked and ready to simulate.
+//!
+//! A [`Scenario`] is immutable during a run. It holds the floes (rigid convex
+//! polygons with exact mass properties), the fixed obstacles, the environment
+//! (wind, current, Coriolis), the contact law and the settings of the
+//! integrator and of each formulation. Loading and validation of case files
+//! live in [`case`]; the seeded random floe field in [`field`].
+
+pub mod case;
+pub mod field;
+
+use crate::geometry::{area_properties, radius_about, rotate, Vec2};
+use serde::Serialize;
+
+pub use case::{load_case, parse_case, CaseError};
+
+/// Default ice density, kg/m³.
+pub const DEFAULT_ICE_DENSITY: f64 = 917.0;
+
+/// A rigid floe: a convex polygon with uniform thickness and density.
+#[derive(Debug, Clone, Serialize)]
+pub struct Floe {
+    /// Outline relative to the centre of mass at angle 0, counter-clockwise, m.
+    pub shape: Vec<Vec2>,
+    /// Centre of mass at t = 0, m.
+    pub position: Vec2,
+    /// Velocity of the centre of mass at t = 0, m/s.
+    pub velocity: Vec2,
+    /// Angular velocity at t = 0, rad/s.
+    pub angular_velocity: f64,
+    /// Thickness `h`, m.
+    pub thickness: f64,
+    /// Density `ρ_i`, kg/m³.
+    pub density: f64,
+    /// Area `|ω|`, m².
+    pub area: f64,
+    /// Mass `M = ρ_i h |ω|`, kg.
+    pub mass: f64,
+    /// Polar moment of inertia about the centre of mass, kg·m².
+    pub inertia: f64,
+    /// Polar second moment of area about the centre of mass, `∫|x − G|²`, m⁴.
+    pub area_moment: f64,
+    /// Largest distance from the centre of mass to a vertex, m.
+    pub radius: f64,
+    /// Where the floe comes from in the case file (for messages).
+    pub origin: FloeOrigin,
+}
+
+/// Where a floe was declared.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub enum FloeOrigin {
+    /// The n-th `[[floe]]` table (from 0).
+    Listed(usize),
+    /// Floe `index` (from 0) of the `field`-th `[[field]]` table.
+    Field {
+        /// Which `[[field]]` table, from 0.
+        field: usize,
+        /// Which floe of that field, from 0.
+        index: usize,
+    },
+}
+
+impl Floe {
+    /// Builds a floe from its world outline at t = 0 (validated convex, CCW).
+    pub fn from_world_polygon(
+        polygon: &[Vec2],
+        thickness: f64,
+        density: f64,
+        velocity: Vec2,
+        angular_velocity: f64,
+        origin: FloeOrigin,
+    ) -> Floe {
+        let props = area_properties(polygon);
+        let shape: Vec<Vec2> = polygon.iter().map(|p| p - props.centroid).collect();
+        let surface_density = density * thickness;
+        Floe {
+            radius: radius_about(&shape, &Vec2::zeros()),
+            shape,
+            position: props.centroid,
+            velocity,
+            angular_velocity,
+            thickness,
+            density,
+            area: props.area,
+            mass: surface_density * props.area,
+            inertia: surface_density * props.polar_moment,
+            area_moment: props.polar_moment,
+            origin,
+        }
+    }
+
+    /// The outline in world coordinates for a centre `g` and angle `theta`.
+    pub fn world_polygon(&self, g: &Vec2, theta: f64, out: &mut Vec<Vec2>) {
+        out.clear();
+        out.extend(self.shape.iter().map(|p| g + rotate(p, theta)));
+    }
+
+    /// Mass per unit area `ρ_i h`, kg/m².
+    pub fn surface_density(&self) -> f64 {
+        self.density * self.thickness
+    }
+}
+
+/// A fixed obstacle (coast, island, wall): infinite mass, never moves.
+#[derive(Debug, Clone, Serialize)]
+pub struct Obstacle {
+    /// Outline in world coordinates, counter-clockwise, m.
+    pub polygon: Vec<Vec2>,
+}
+
+/// A velocity that is constant or piecewise linear in time.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub enum VelocitySeries {
+    /// The same velocity at all times, m/s.
+    Constant(Vec2),
+    /// Points `(t, u)` with strictly increasing `t` (s), `u` in m/s; linear in
+    /// between, held at the first value before the first point and at the
+    /// last value after the last point.
+    Series(Vec<(f64, Vec2)>),
+}
+
+impl VelocitySeries {
+    /// The velocity at time `t`, m/s.
+    pub fn at(&self, t: f64) -> Vec2 {
+        match self {
+            VelocitySeries::Constant(u) => *u,
+            VelocitySeries::Series(points) => {
+                let Some(first) = points.first() else {
+                    return Vec2::zeros();
+                };
+                if t <= first.0 {
+                    return first.1;
+                }
+                // Points are few; a binary search keeps long series fast.
+                let k = points.partition_point(|p| p.0 <= t);
+                if k >= points.len() {
+                    return points[points.len() - 1].1;
+                }
+                let (t0, u0) = points[k - 1];
+                let (t1, u1) = points[k];
+                let s = (t - t0) / (t1 - t0);
+                u0 + (u1 - u0) * s
+            }
+        }
+    }
+
+    /// The largest speed the series takes, m/s.
+    pub fn max_speed(&self) -> f64 {
+        match self {
+            VelocitySeries::Constant(u) => u.norm(),
+            VelocitySeries::Series(points) => points.iter().map(|p| p.1.norm()).fold(0.0, f64::max),
+        }
+    }
+
+    /// The times (s) where the series has a kink, for integrators to stop at.
+    pub fn breakpoints(&self) -> &[(f64, Vec2)] {
+        match self {
+            VelocitySeries::Constant(_) => &[],
+            VelocitySeries::Series(points) => points,
+        }
+    }
+}
+
+/// A fluid (air or water) acting on the floes by quadratic drag.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Fluid {
+    /// Density, kg/m³ (default 0: no drag).
+    pub density: f64,
+    /// Dimensionless drag coefficient (default 0).
+    pub drag: f64,
+    /// Fluid velocity, m/s.
+    pub velocity: VelocitySeries,
+}
+
+impl Fluid {
+    /// A fluid that exerts no force.
+    pub fn none() -> Fluid {
+        Fluid {
+            density: 0.0,
+            drag: 0.0,
+            velocity: VelocitySeries::Constant(Vec2::zeros()),
+        }
+    }
+
+    /// `ρ C`, kg/m³: the drag factor of `τ = ρ C |U| U`.
+    pub fn drag_factor(&self) -> f64 {
+        self.density * self.drag
+    }
+}
+
+/// The environment of physics.md section 2.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Environment {
+    /// Coriolis parameter `f`, s⁻¹ (default 0).
+    pub coriolis: f64,
+    /// Air: drag on the surface from the absolute wind `U_a`.
+    pub air: Fluid,
+    /// Water: drag from the relative velocity `U_w − Ṗ` at each point.
+    pub water: Fluid,
+}
+
+impl Default for Environment {
+    fn default() -> Self {
+        Environment {
+            coriolis: 0.0,
+            air: Fluid::none(),
+            water: Fluid::none(),
+        }
+    }
+}
+
+/// The contact law shared by every pair.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ContactLaw {
+    /// Restitution coefficient `e` in [0, 1].
+    pub restitution: f64,
+    /// Friction coefficient `μ` ≥ 0.
+    pub friction: f64,
+    /// Contact distance, m; 0 lets each formulation choose its own.
+    pub distance: f64,
+}
+
+/// Which smooth integrator advances the floes between impacts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum IntegratorKind {
+    /// Adaptive Dormand–Prince 5(4): exact for constant forces; the default.
+    Dopri5,
+    /// Explicit Euler as in Rabatel's report, step bounded by the drag stability limit.
+    Euler,
+}
+
+impl std::str::FromStr for IntegratorKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "dopri5" => Ok(IntegratorKind::Dopri5),
+            "euler" => Ok(IntegratorKind::Euler),
+            other => Err(format!(
+                "unknown integrator `{other}`; expected `dopri5` or `euler`"
+            )),
+        }
+    }
+}
+
+/// Settings of the smooth integrator (`[integrator]` table, optional).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct IntegratorSettings {
+    /// Method (default `dopri5`).
+    pub method: IntegratorKind,
+    /// Relative tolerance of the adaptive method (default 1e-10).
+    pub tolerance: f64,
+    /// Largest step, s. Default: none for `dopri5`; for `euler` the drag
+    /// stability bound of physics.md section 4 (and the output interval).
+    pub max_step: Option<f64>,
+}
+
+impl Default for IntegratorSettings {
+    fn default() -> Self {
+        IntegratorSettings {
+            method: IntegratorKind::Dopri5,
+            tolerance: 1e-10,
+            max_step: None,
+        }
+    }
+}
+
+/// Settings of the event-driven formulation (`[formulation.event_driven]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct EventDrivenSettings {
+    /// Penetration tolerated before a step is rejected, m (default: 1e-6 of
+    /// the smallest floe radius).
+    pub penetration_tolerance: Option<f64>,
+}
+
+/// Settings of the Moreau–Jean formulation (`[formulation.moreau]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct MoreauSettings {
+    /// Time step `h`, s (default 1.0).
+    pub step: f64,
+    /// θ of the θ-method on the smooth forces, in [0, 1] (default 0.5).
+    pub theta: f64,
+    /// γ of the predicted gap `g + h γ u_N` activating a contact, in [0, 1] (default 0.5).
+    pub gamma: f64,
+}
+
+impl Default for MoreauSettings {
+    fn default() -> Self {
+        MoreauSettings {
+            step: 1.0,
+            theta: 0.5,
+            gamma: 0.5,
+        }
+    }
+}
+
+/// Settings of the rapier reference formulation (`[formulation.rapier]`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct RapierSettings {
+    /// Time step, s (default 0.1).
+    pub step: f64,
+    /// Solver iterations (substeps) per step (default 4).
+    pub iterations: usize,
+    /// Contact natural frequency, Hz (default 30).
+    pub natural_frequency: f64,
+    /// Contact damping ratio (default 5).
+    pub damping_ratio: f64,
+    /// Prediction distance, m (default 0.002 × smallest floe radius).
+    pub prediction: Option<f64>,
+}
+
+impl Default for RapierSettings {
+    fn default() -> Self {
+        RapierSettings {
+            step: 0.1,
+            iterations: 4,
+            natural_frequency: 30.0,
+            damping_ratio: 5.0,
+            prediction: None,
+        }
+    }
+}
+
+/// Per-formulation settings, each from its own `[formulation.<name>]` table.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
+pub struct FormulationSettings {
+    /// `[formulation.event_driven]`.
+    pub event_driven: EventDrivenSettings,
+    /// `[formulation.moreau]`.
+    pub moreau: MoreauSettings,
+    /// `[formulation.rapier]`.
+    pub rapier: RapierSettings,
+}
+
+/// A validated scenario: everything a formulation needs, immutable during a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct Scenario {
+    /// Case name, `[a-z0-9_]+`.
+    pub name: String,
+    /// One-line description.
+    pub description: String,
+    /// Simulated time, s.
+    pub duration: f64,
+    /// Trajectory sampling interval, s.
+    pub output_interval: f64,
+    /// Wind, current, Coriolis.
+    pub environment: Environment,
+    /// Restitution, friction, contact distance.
+    pub contact: ContactLaw,
+    /// The floes: the listed ones first, then each field's in order.
+    pub floes: Vec<Floe>,
+    /// Fixed obstacles.
+    pub obstacles: Vec<Obstacle>,
+    /// The smooth integrator.
+    pub integrator: IntegratorSettings,
+    /// Settings of each formulation.
+    pub formulations: FormulationSettings,
+}
+
+impl Scenario {
+    /// The drag stability bound of explicit Euler for floe `i`, s
+    /// (physics.md section 4, report eq. 3.6):
+    /// `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` with the largest wind
+    /// speed of the run. Without wind, the water-drag bound
+    /// `ρ_i h / (2 ρ_w C_w V)` with `V` the largest current speed plus the
+    /// floe's initial speed (edge and spin included); infinite without drag.
+    pub fn euler_stability_bound(&self, i: usize) -> f64 {
+        let floe = &self.floes[i];
+        let env = &self.environment;
+        let rho_h = floe.surface_density();
+        let kw = env.water.drag_factor();
+        if kw <= 0.0 {
+            return f64::INFINITY;
+        }
+        let ka = env.air.drag_factor();
+        let ua = env.air.velocity.max_speed();
+        let v_air = if ka > 0.0 { ua * (ka / kw).sqrt() } else { 0.0 };
+        let v_rest = env.water.velocity.max_speed()
+            + floe.velocity.norm()
+            + floe.angular_velocity.abs() * floe.radius;
+        let v = v_air.max(v_rest);
+        if v <= 0.0 {
+            return f64::INFINITY;
+        }
+        rho_h / (2.0 * kw * v)
+    }
+
+    /// The smallest floe radius, m (infinite without floes).
+    pub fn min_floe_radius(&self) -> f64 {
+        self.floes.iter().map(|f| f.radius).fold(f64::INFINITY, f64::min)
+    }
+
+    /// Times in (0, duration) where the wind or the current series has a kink, s.
+    pub fn forcing_breakpoints(&self) -> Vec<f64> {
+        let mut ts: Vec<f64> = self
+            .environment
+            .air
+            .velocity
+            .breakpoints()
+            .iter()
+            .chain(self.environment.water.velocity.breakpoints())
+            .map(|p| p.0)
+            .filter(|&t| t > 0.0 && t < self.duration)
+            .collect();
+        ts.sort_by(f64::total_cmp);
+        ts.dedup();
+        ts
+    }
+}
