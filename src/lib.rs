@@ -13,6 +13,8 @@
 //! - [`model`]: the case file, validated into a [`model::Scenario`] (floes,
 //!   obstacles, environment, contact law, settings);
 //! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]);
+//! - [`contact`]: shared contact detection (sweep and prune, convex polygon contact points);
+//! - [`lcp`]: linear complementarity problems, our Lemke solver with fallbacks, dumps;
 //! - [`physics`]: environment forces and the smooth integrator;
 //! - [`state`]: the dynamic state and the energy ledger;
 //! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
@@ -20,8 +22,12 @@
 //!
 //! All quantities are SI and `f64`.
 
+#![warn(missing_docs)]
+
+pub mod contact;
 pub mod formulation;
 pub mod geometry;
+pub mod lcp;
 pub mod model;
 pub mod physics;
 pub mod rng;

@@ -10,7 +10,10 @@ use std::path::Path;
 fn every_bad_case_is_rejected_with_a_message_naming_the_fault() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad");
     let mut seen = 0;
-    let mut entries: Vec<_> = std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().path()).collect();
+    let mut entries: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
     entries.sort();
     for path in entries {
         if path.extension().is_none_or(|e| e != "toml") {
@@ -36,13 +39,25 @@ fn every_bad_case_is_rejected_with_a_message_naming_the_fault() {
             path.display()
         );
         let fname = path.file_name().unwrap().to_string_lossy().into_owned();
-        assert!(msg.contains(&fname), "{}: message `{msg}` does not name the file", path.display());
+        assert!(
+            msg.contains(&fname),
+            "{}: message `{msg}` does not name the file",
+            path.display()
+        );
         if let Some(l) = line {
-            assert_eq!(err.line, Some(l), "{}: message `{msg}` points at the wrong line", path.display());
+            assert_eq!(
+                err.line,
+                Some(l),
+                "{}: message `{msg}` points at the wrong line",
+                path.display()
+            );
         }
         seen += 1;
     }
-    assert!(seen >= 25, "expected the whole set of bad files, saw {seen}");
+    assert!(
+        seen >= 25,
+        "expected the whole set of bad files, saw {seen}"
+    );
 }
 
 #[test]
@@ -55,7 +70,11 @@ fn every_bundled_case_loads() {
             let scn = load_case(&path).unwrap_or_else(|e| panic!("{e}"));
             assert!(!scn.floes.is_empty(), "{} has no floe", path.display());
             let first = std::fs::read_to_string(&path).unwrap();
-            assert!(first.starts_with('#'), "{} must open with a comment saying what it shows", path.display());
+            assert!(
+                first.starts_with('#'),
+                "{} must open with a comment saying what it shows",
+                path.display()
+            );
             n += 1;
         }
     }

@@ -11,6 +11,7 @@ use super::{
     IntegratorKind, IntegratorSettings, MoreauSettings, Obstacle, RapierSettings, Scenario,
     VelocitySeries, DEFAULT_ICE_DENSITY,
 };
+use crate::contact::{Aabb, BroadPhase};
 use crate::geometry::{check_convex_ccw, sat_separation, Vec2};
 use serde::Deserialize;
 use std::ops::Range;
@@ -187,7 +188,11 @@ struct Ctx<'a> {
 impl Ctx<'_> {
     fn line_of(&self, offset: usize) -> usize {
         let end = offset.min(self.text.len());
-        self.text.as_bytes()[..end].iter().filter(|&&b| b == b'\n').count() + 1
+        self.text.as_bytes()[..end]
+            .iter()
+            .filter(|&&b| b == b'\n')
+            .count()
+            + 1
     }
 
     fn err(&self, span: Option<Range<usize>>, message: impl Into<String>) -> CaseError {
@@ -276,7 +281,10 @@ fn check_version(ctx: &Ctx, raw: &toml::Table) -> Result<(), CaseError> {
     })?;
     let whole = 0..ctx.text.len();
     match header.get("version") {
-        None => Err(ctx.err(None, "missing key `version` in [case]; this reader knows version = 1")),
+        None => Err(ctx.err(
+            None,
+            "missing key `version` in [case]; this reader knows version = 1",
+        )),
         Some(toml::Value::Integer(1)) => Ok(()),
         Some(v) => Err(ctx.key_err(
             &whole,
@@ -309,7 +317,10 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
         return Err(ctx.key_err(
             &hspan,
             "duration",
-            format!("[case] duration = {} s must be finite and > 0", header.duration),
+            format!(
+                "[case] duration = {} s must be finite and > 0",
+                header.duration
+            ),
         ));
     }
     if !(header.output_interval.is_finite() && header.output_interval > 0.0) {
@@ -330,7 +341,11 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
             let span = env.span();
             let env = env.into_inner();
             if !env.coriolis.is_finite() {
-                return Err(ctx.key_err(&span, "coriolis", "[environment] coriolis must be finite"));
+                return Err(ctx.key_err(
+                    &span,
+                    "coriolis",
+                    "[environment] coriolis must be finite",
+                ));
             }
             Environment {
                 coriolis: env.coriolis,
@@ -347,21 +362,30 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
         return Err(ctx.key_err(
             &cspan,
             "restitution",
-            format!("[contact] restitution = {} must be in [0, 1]", c.restitution),
+            format!(
+                "[contact] restitution = {} must be in [0, 1]",
+                c.restitution
+            ),
         ));
     }
     if !(c.friction.is_finite() && c.friction >= 0.0) {
         return Err(ctx.key_err(
             &cspan,
             "friction",
-            format!("[contact] friction = {} must be finite and >= 0", c.friction),
+            format!(
+                "[contact] friction = {} must be finite and >= 0",
+                c.friction
+            ),
         ));
     }
     if !(c.distance.is_finite() && c.distance >= 0.0) {
         return Err(ctx.key_err(
             &cspan,
             "distance",
-            format!("[contact] distance = {} m must be finite and >= 0", c.distance),
+            format!(
+                "[contact] distance = {} m must be finite and >= 0",
+                c.distance
+            ),
         ));
     }
     let contact = ContactLaw {
@@ -382,18 +406,28 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
             return Err(ctx.key_err(
                 &span,
                 "thickness",
-                format!("{what}: thickness = {} m must be finite and > 0", f.thickness),
+                format!(
+                    "{what}: thickness = {} m must be finite and > 0",
+                    f.thickness
+                ),
             ));
         }
         if !(f.density.is_finite() && f.density > 0.0) {
             return Err(ctx.key_err(
                 &span,
                 "density",
-                format!("{what}: density = {} kg/m^3 must be finite and > 0", f.density),
+                format!(
+                    "{what}: density = {} kg/m^3 must be finite and > 0",
+                    f.density
+                ),
             ));
         }
         if !finite2(f.velocity) {
-            return Err(ctx.key_err(&span, "velocity", format!("{what}: velocity must be finite")));
+            return Err(ctx.key_err(
+                &span,
+                "velocity",
+                format!("{what}: velocity must be finite"),
+            ));
         }
         if !f.angular_velocity.is_finite() {
             return Err(ctx.key_err(
@@ -418,7 +452,12 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
     let mut obstacle_spans = Vec::with_capacity(case.obstacle.len());
     for (i, spec) in case.obstacle.into_iter().enumerate() {
         let span = spec.span();
-        let poly = polygon(ctx, &span, &format!("[[obstacle]] #{i}"), &spec.get_ref().polygon)?;
+        let poly = polygon(
+            ctx,
+            &span,
+            &format!("[[obstacle]] #{i}"),
+            &spec.get_ref().polygon,
+        )?;
         obstacles.push(Obstacle { polygon: poly });
         obstacle_spans.push(span);
     }
@@ -449,7 +488,13 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
             let span = ed.span();
             let ed = ed.into_inner();
             if let Some(p) = ed.penetration_tolerance {
-                positive(ctx, &span, "formulation.event_driven", "penetration_tolerance", p)?;
+                positive(
+                    ctx,
+                    &span,
+                    "formulation.event_driven",
+                    "penetration_tolerance",
+                    p,
+                )?;
             }
             formulations.event_driven = EventDrivenSettings {
                 penetration_tolerance: ed.penetration_tolerance,
@@ -547,11 +592,21 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
     })
 }
 
-fn positive(ctx: &Ctx, span: &Range<usize>, table: &str, key: &str, v: f64) -> Result<(), CaseError> {
+fn positive(
+    ctx: &Ctx,
+    span: &Range<usize>,
+    table: &str,
+    key: &str,
+    v: f64,
+) -> Result<(), CaseError> {
     if v.is_finite() && v > 0.0 {
         Ok(())
     } else {
-        Err(ctx.key_err(span, key, format!("[{table}] {key} = {v} must be finite and > 0")))
+        Err(ctx.key_err(
+            span,
+            key,
+            format!("[{table}] {key} = {v} must be finite and > 0"),
+        ))
     }
 }
 
@@ -565,7 +620,11 @@ fn unit_interval(
     if (0.0..=1.0).contains(&v) {
         Ok(())
     } else {
-        Err(ctx.key_err(span, key, format!("[{table}] {key} = {v} must be in [0, 1]")))
+        Err(ctx.key_err(
+            span,
+            key,
+            format!("[{table}] {key} = {v} must be in [0, 1]"),
+        ))
     }
 }
 
@@ -582,14 +641,20 @@ fn fluid(
         return Err(ctx.key_err(
             span,
             which,
-            format!("[environment] {which}.density = {} must be finite and >= 0", f.density),
+            format!(
+                "[environment] {which}.density = {} must be finite and >= 0",
+                f.density
+            ),
         ));
     }
     if !(f.drag.is_finite() && f.drag >= 0.0) {
         return Err(ctx.key_err(
             span,
             which,
-            format!("[environment] {which}.drag = {} must be finite and >= 0", f.drag),
+            format!(
+                "[environment] {which}.drag = {} must be finite and >= 0",
+                f.drag
+            ),
         ));
     }
     let velocity = match (f.velocity, f.series) {
@@ -651,7 +716,12 @@ fn fluid(
     })
 }
 
-fn polygon(ctx: &Ctx, span: &Range<usize>, what: &str, pts: &[[f64; 2]]) -> Result<Vec<Vec2>, CaseError> {
+fn polygon(
+    ctx: &Ctx,
+    span: &Range<usize>,
+    what: &str,
+    pts: &[[f64; 2]],
+) -> Result<Vec<Vec2>, CaseError> {
     let poly: Vec<Vec2> = pts.iter().map(|p| vec2(*p)).collect();
     check_convex_ccw(&poly)
         .map_err(|e| ctx.key_err(span, "polygon", format!("{what}: polygon: {e}")))?;
@@ -676,7 +746,7 @@ fn check_overlaps(
     let fixed: Vec<&[Vec2]> = obstacles.iter().map(|o| o.polygon.as_slice()).collect();
     let mut bodies: Vec<&[Vec2]> = world.iter().map(|w| w.as_slice()).collect();
     bodies.extend(fixed.iter().copied());
-    for (i, j) in overlapping_pairs(&bodies, floes.len()) {
+    if let Some(&(i, j)) = overlapping_pairs(&bodies, floes.len()).first() {
         let span = floe_spans.get(i).cloned();
         let msg = if j < floes.len() {
             format!(
@@ -700,34 +770,30 @@ fn check_overlaps(
 /// tolerance, skipping pairs where both indices are `>= n_movable` (two
 /// obstacles may overlap). Sweep and prune on x, so not all pairs.
 pub(crate) fn overlapping_pairs(bodies: &[&[Vec2]], n_movable: usize) -> Vec<(usize, usize)> {
-    let boxes: Vec<(Vec2, Vec2)> = bodies.iter().map(|b| crate::geometry::aabb(b)).collect();
-    let mut order: Vec<usize> = (0..bodies.len()).collect();
-    order.sort_by(|&a, &b| boxes[a].0.x.total_cmp(&boxes[b].0.x));
-    let mut out = Vec::new();
-    for (k, &i) in order.iter().enumerate() {
-        for &j in &order[k + 1..] {
-            if boxes[j].0.x > boxes[i].1.x {
-                break;
-            }
-            if i >= n_movable && j >= n_movable {
-                continue;
-            }
-            if boxes[j].0.y > boxes[i].1.y || boxes[i].0.y > boxes[j].1.y {
-                continue;
-            }
-            let size = (boxes[i].1 - boxes[i].0)
+    let boxes: Vec<Aabb> = bodies
+        .iter()
+        .enumerate()
+        .map(|(i, b)| Aabb::of_polygon(b, i >= n_movable))
+        .collect();
+    let mut candidates = Vec::new();
+    BroadPhase::new().pairs(&boxes, 0.0, &mut candidates);
+    candidates
+        .into_iter()
+        .filter(|&(i, j)| {
+            let size = (boxes[i].max - boxes[i].min)
                 .norm()
-                .min((boxes[j].1 - boxes[j].0).norm());
-            if sat_separation(bodies[i], bodies[j]) < -OVERLAP_TOLERANCE * size {
-                out.push((i.min(j), i.max(j)));
-            }
-        }
-    }
-    out.sort_unstable();
-    out
+                .min((boxes[j].max - boxes[j].min).norm());
+            sat_separation(bodies[i], bodies[j]) < -OVERLAP_TOLERANCE * size
+        })
+        .collect()
 }
 
-fn validate_field(ctx: &Ctx, span: &Range<usize>, k: usize, f: &FieldSpec) -> Result<(), CaseError> {
+fn validate_field(
+    ctx: &Ctx,
+    span: &Range<usize>,
+    k: usize,
+    f: &FieldSpec,
+) -> Result<(), CaseError> {
     let what = format!("[[field]] #{k}");
     let [lo, hi] = f.region;
     if !(finite2(lo) && finite2(hi) && lo[0] < hi[0] && lo[1] < hi[1]) {
@@ -744,7 +810,10 @@ fn validate_field(ctx: &Ctx, span: &Range<usize>, k: usize, f: &FieldSpec) -> Re
         return Err(ctx.key_err(
             span,
             "concentration",
-            format!("{what}: concentration = {} must be in (0, 0.9]", f.concentration),
+            format!(
+                "{what}: concentration = {} must be in (0, 0.9]",
+                f.concentration
+            ),
         ));
     }
     if !(finite2(f.radius) && f.radius[0] > 0.0 && f.radius[0] <= f.radius[1]) {

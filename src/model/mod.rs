@@ -387,7 +387,10 @@ impl Scenario {
 
     /// The smallest floe radius, m (infinite without floes).
     pub fn min_floe_radius(&self) -> f64 {
-        self.floes.iter().map(|f| f.radius).fold(f64::INFINITY, f64::min)
+        self.floes
+            .iter()
+            .map(|f| f.radius)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Times in (0, duration) where the wind or the current series has a kink, s.

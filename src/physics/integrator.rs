@@ -118,7 +118,11 @@ impl SmoothIntegrator {
         SmoothIntegrator {
             kind,
             rtol: scn.integrator.tolerance,
-            quadrature: scn.floes.iter().map(|f| Quadrature::for_shape(&f.shape)).collect(),
+            quadrature: scn
+                .floes
+                .iter()
+                .map(|f| Quadrature::for_shape(&f.shape))
+                .collect(),
             max_step,
             hint: vec![0.0; scn.floes.len()],
             scales,
@@ -225,7 +229,14 @@ impl SmoothIntegrator {
         [y[3], y[4], y[5], a.x, a.y, alpha, pa, pw, pc]
     }
 
-    fn euler(&mut self, scn: &Scenario, i: usize, y: &mut Y, t0: f64, t1: f64) -> Result<(), IntegrationError> {
+    fn euler(
+        &mut self,
+        scn: &Scenario,
+        i: usize,
+        y: &mut Y,
+        t0: f64,
+        t1: f64,
+    ) -> Result<(), IntegrationError> {
         let hmax = self.max_step[i];
         let n = ((t1 - t0) / hmax).ceil().max(1.0);
         let h = (t1 - t0) / n;
@@ -244,7 +255,14 @@ impl SmoothIntegrator {
         Ok(())
     }
 
-    fn dopri5(&mut self, scn: &Scenario, i: usize, y: &mut Y, t0: f64, t1: f64) -> Result<(), IntegrationError> {
+    fn dopri5(
+        &mut self,
+        scn: &Scenario,
+        i: usize,
+        y: &mut Y,
+        t0: f64,
+        t1: f64,
+    ) -> Result<(), IntegrationError> {
         // Dormand–Prince 5(4) coefficients (Hairer, Nørsett & Wanner, table 5.2).
         const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
         const A: [[f64; 6]; 7] = [
@@ -252,11 +270,40 @@ impl SmoothIntegrator {
             [1.0 / 5.0, 0.0, 0.0, 0.0, 0.0, 0.0],
             [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
             [44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0, 0.0, 0.0, 0.0],
-            [19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0, 0.0, 0.0],
-            [9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0, 0.0],
-            [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0],
+            [
+                19372.0 / 6561.0,
+                -25360.0 / 2187.0,
+                64448.0 / 6561.0,
+                -212.0 / 729.0,
+                0.0,
+                0.0,
+            ],
+            [
+                9017.0 / 3168.0,
+                -355.0 / 33.0,
+                46732.0 / 5247.0,
+                49.0 / 176.0,
+                -5103.0 / 18656.0,
+                0.0,
+            ],
+            [
+                35.0 / 384.0,
+                0.0,
+                500.0 / 1113.0,
+                125.0 / 192.0,
+                -2187.0 / 6784.0,
+                11.0 / 84.0,
+            ],
         ];
-        const B: [f64; 7] = [35.0 / 384.0, 0.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0, 0.0];
+        const B: [f64; 7] = [
+            35.0 / 384.0,
+            0.0,
+            500.0 / 1113.0,
+            125.0 / 192.0,
+            -2187.0 / 6784.0,
+            11.0 / 84.0,
+            0.0,
+        ];
         const E: [f64; 7] = [
             71.0 / 57600.0,
             0.0,
@@ -281,7 +328,11 @@ impl SmoothIntegrator {
         ];
         let span = t1 - t0;
         let hmax = self.max_step[i].min(span);
-        let mut h = if self.hint[i] > 0.0 { self.hint[i].min(hmax) } else { hmax };
+        let mut h = if self.hint[i] > 0.0 {
+            self.hint[i].min(hmax)
+        } else {
+            hmax
+        };
         let mut t = t0;
         let mut k = [[0.0; N]; 7];
         while t < t1 {
@@ -321,7 +372,11 @@ impl SmoothIntegrator {
                 *y = ynew;
                 t = if last { t1 } else { t + hh };
                 self.stats.steps += 1;
-                let grow = if err == 0.0 { 5.0 } else { (0.9 * err.powf(-0.2)).clamp(0.2, 5.0) };
+                let grow = if err == 0.0 {
+                    5.0
+                } else {
+                    (0.9 * err.powf(-0.2)).clamp(0.2, 5.0)
+                };
                 if !last || hh >= h {
                     h = (hh * grow).min(hmax);
                     self.hint[i] = h;

@@ -204,7 +204,9 @@ pub struct Runner {
 /// The output times `k Δ` (s) up to the duration, the duration included.
 pub fn output_times(duration: f64, interval: f64) -> Vec<f64> {
     let n = (duration / interval * (1.0 + 1e-12)).floor() as usize;
-    let mut ts: Vec<f64> = (1..=n).map(|k| (k as f64 * interval).min(duration)).collect();
+    let mut ts: Vec<f64> = (1..=n)
+        .map(|k| (k as f64 * interval).min(duration))
+        .collect();
     if ts.last().is_none_or(|&t| t < duration * (1.0 - 1e-12)) {
         ts.push(duration);
     }

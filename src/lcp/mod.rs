@@ -1,0 +1,334 @@
+//! Linear complementarity problems (LCPs) for floe–floe contact.
+//!
+//! # Problem
+//!
+//! Given a dense matrix `M` (n×n, stored row-major in a `Vec<f64>`) and a
+//! vector `q` (length n), find `z` such that
+//!
+//! ```text
+//! w = M z + q >= 0,   z >= 0,   zᵀ w = 0
+//! ```
+//!
+//! (componentwise inequalities). In the contact layer `z` holds the normal
+//! (and friction) impulses and `w` the post-impact relative velocities.
+//!
+//! # Algorithm
+//!
+//! [`lemke::lemke`] is our own implementation of **Lemke's complementary
+//! pivoting method** with a covering vector `d > 0` (default all ones) and an
+//! artificial variable `z0`, as stated in Cottle, Pang & Stone (1992),
+//! Algorithm 4.4.5, on a dense tableau `[I | −M | −d | q]`. Degeneracy is
+//! resolved by the **lexicographic minimum-ratio rule** (CPS §4.9): among rows
+//! tied in the ratio test, the leaving row is the lexicographic minimum of
+//! `(b_i, (B⁻¹)_{i·}) / c_i` (right-hand side followed by the row of the
+//! current basis inverse, divided by the entering-column entry). Because the
+//! rows of `B⁻¹` are linearly independent the minimum is unique, every
+//! almost-complementary basis stays lexicographically feasible and no basis can
+//! repeat, so the method cannot cycle. A plain minimum-ratio test with a
+//! documented tie-break ([`lemke::PivotRule`]) is offered as an alternative.
+//! If `z0` is among the rows tied in the ratio test it is always chosen (the
+//! method then stops on a complementary solution).
+//!
+//! For a P-matrix `M` the LCP has a unique solution for every `q` and Lemke's
+//! method finds it; for a copositive-plus `M` (e.g. positive semidefinite)
+//! termination on a secondary ray proves the LCP infeasible (CPS Thm 4.4.13).
+//!
+//! [`solve`] is the robust driver used by the simulation: it runs a sequence of
+//! attempts (lexicographic rule; alternative rule with another covering
+//! vector; lexicographic rule on `M + εI` for a few relative `ε`), re-checks every candidate against the
+//! **original** data with [`residual`], optionally polishes it by re-solving
+//! the linear system of its support on the original data, and reports every
+//! attempt. It never panics and never returns a non-finite `z`.
+//!
+//! [`dump`] writes and reads JSON LCP dumps for reproducing a solve.
+//!
+//! # References
+//!
+//! * R. W. Cottle, J.-S. Pang, R. E. Stone, *The Linear Complementarity
+//!   Problem*, Academic Press, 1992 (SIAM Classics 2009), §4.4 (Lemke's
+//!   method, Alg. 4.4.5) and §4.9 (degeneracy, lexicographic rule).
+//! * C. E. Lemke, "Bimatrix equilibrium points and mathematical programming",
+//!   *Management Science* 11 (1965) 681–689.
+//! * K. G. Murty, *Linear Complementarity, Linear and Nonlinear Programming*,
+//!   Heldermann, 1988, ch. 2.
+//! * V. Acary, B. Brogliato, *Numerical Methods for Nonsmooth Dynamical
+//!   Systems*, Springer, 2008 (Siconos; natural-map residual of an LCP).
+
+pub mod dump;
+mod json_f64;
+pub mod lemke;
+mod polish;
+pub mod solve;
+
+pub use dump::{DumpError, LcpDump};
+pub use lemke::{lemke, LemkeOptions, LemkeResult, PivotRule, Termination};
+pub use solve::{
+    solve, Attempt, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus, SolveSummary,
+    Strategy,
+};
+
+use serde::{Deserialize, Serialize};
+
+/// Floor of the denominator of [`residual`]: `f64::EPSILON`.
+///
+/// When `‖q‖₂ <= RESIDUAL_DENOMINATOR_FLOOR` the residual is effectively an
+/// absolute one (divided by `f64::EPSILON`), as in Siconos'
+/// `lcp_compute_error`; this only happens for an (almost) zero `q`, whose
+/// solution `z = 0` has residual exactly 0.
+pub const RESIDUAL_DENOMINATOR_FLOOR: f64 = f64::EPSILON;
+
+/// Error raised when LCP data have inconsistent sizes.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+pub enum LcpError {
+    /// `m` does not hold `n * n` entries.
+    #[error("matrix M has {len} entries, expected n*n = {n}*{n}")]
+    MatrixSize {
+        /// Declared dimension.
+        n: usize,
+        /// Number of entries supplied.
+        len: usize,
+    },
+    /// `q` does not hold `n` entries.
+    #[error("vector q has {len} entries, expected n = {n}")]
+    VectorSize {
+        /// Declared dimension.
+        n: usize,
+        /// Number of entries supplied.
+        len: usize,
+    },
+    /// A vector passed together with an LCP does not have length n.
+    #[error("vector {name} has {len} entries, expected n = {n}")]
+    OperandSize {
+        /// Name of the offending vector.
+        name: &'static str,
+        /// Dimension of the LCP.
+        n: usize,
+        /// Number of entries supplied.
+        len: usize,
+    },
+    /// A matrix given as rows is not square.
+    #[error("row {row} of M has {len} entries, expected {n}")]
+    RowLength {
+        /// Index of the offending row (0-based).
+        row: usize,
+        /// Its length.
+        len: usize,
+        /// Expected length (number of rows).
+        n: usize,
+    },
+}
+
+/// A linear complementarity problem `w = M z + q >= 0, z >= 0, zᵀw = 0`.
+///
+/// Sizes are validated by the constructors; the entries are not (a
+/// non-finite entry makes [`solve`] report a failure instead of panicking).
+/// The fields are public, so a hand-built value may be inconsistent: every
+/// function of this module checks sizes again and reports a failure status.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Lcp {
+    /// Dimension n.
+    pub n: usize,
+    /// Matrix M, n×n, row-major: `m[i * n + j] = M_ij`.
+    pub m: Vec<f64>,
+    /// Vector q, length n.
+    pub q: Vec<f64>,
+}
+
+impl Lcp {
+    /// Builds an LCP from a row-major matrix, checking `m.len() == n*n` and
+    /// `q.len() == n`.
+    pub fn new(n: usize, m: Vec<f64>, q: Vec<f64>) -> Result<Self, LcpError> {
+        if n.checked_mul(n) != Some(m.len()) {
+            return Err(LcpError::MatrixSize { n, len: m.len() });
+        }
+        if q.len() != n {
+            return Err(LcpError::VectorSize { n, len: q.len() });
+        }
+        Ok(Self { n, m, q })
+    }
+
+    /// Builds an LCP from the rows of M; every row must have `q.len()`
+    /// entries and there must be `q.len()` rows.
+    pub fn from_rows(rows: &[Vec<f64>], q: Vec<f64>) -> Result<Self, LcpError> {
+        let n = q.len();
+        if rows.len() != n {
+            return Err(LcpError::VectorSize {
+                n: rows.len(),
+                len: n,
+            });
+        }
+        let mut m = Vec::with_capacity(n * n);
+        for (row, r) in rows.iter().enumerate() {
+            if r.len() != n {
+                return Err(LcpError::RowLength {
+                    row,
+                    len: r.len(),
+                    n,
+                });
+            }
+            m.extend_from_slice(r);
+        }
+        Ok(Self { n, m, q })
+    }
+
+    /// Returns `w = M z + q`; errors if `z.len() != n` or the LCP is
+    /// inconsistent.
+    pub fn w(&self, z: &[f64]) -> Result<Vec<f64>, LcpError> {
+        self.check()?;
+        compute_w(&self.m, &self.q, z)
+    }
+
+    /// Natural-map residual of `z` for this LCP; see [`residual`].
+    pub fn residual(&self, z: &[f64]) -> f64 {
+        if self.check().is_err() {
+            return f64::INFINITY;
+        }
+        residual(&self.m, &self.q, z)
+    }
+
+    /// Checks that the public fields are mutually consistent.
+    pub fn check(&self) -> Result<(), LcpError> {
+        if self.q.len() != self.n {
+            return Err(LcpError::VectorSize {
+                n: self.n,
+                len: self.q.len(),
+            });
+        }
+        if self.n.checked_mul(self.n) != Some(self.m.len()) {
+            return Err(LcpError::MatrixSize {
+                n: self.n,
+                len: self.m.len(),
+            });
+        }
+        Ok(())
+    }
+
+    /// `true` when every entry of M and q is finite.
+    pub fn is_finite(&self) -> bool {
+        self.m.iter().chain(self.q.iter()).all(|x| x.is_finite())
+    }
+}
+
+/// Computes `w = M z + q` (M row-major, n = `q.len()`).
+///
+/// Errors if `m.len() != n*n` or `z.len() != n`. Non-finite data propagate
+/// into `w` (no check).
+pub fn compute_w(m: &[f64], q: &[f64], z: &[f64]) -> Result<Vec<f64>, LcpError> {
+    let n = q.len();
+    if n.checked_mul(n) != Some(m.len()) {
+        return Err(LcpError::MatrixSize { n, len: m.len() });
+    }
+    if z.len() != n {
+        return Err(LcpError::OperandSize {
+            name: "z",
+            n,
+            len: z.len(),
+        });
+    }
+    Ok(w_unchecked(m, q, z))
+}
+
+/// `M z + q` without size checks; callers guarantee the sizes.
+///
+/// Each entry is a compensated dot product (Ogita, Rump & Oishi 2005,
+/// "Dot2"): as accurate as if computed in twice the working precision, so
+/// that the cancellation in `M z` for large `z` cannot hide a negative `w_i`
+/// from the acceptance test of [`solve`].
+pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
+    let n = q.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    m.chunks_exact(n)
+        .zip(q.iter())
+        .map(|(row, &qi)| dot2_plus(row, z, qi))
+        .collect()
+}
+
+/// Error-free transformation `a + b = s + e`.
+fn two_sum(a: f64, b: f64) -> (f64, f64) {
+    let s = a + b;
+    let bb = s - a;
+    (s, (a - (s - bb)) + (b - bb))
+}
+
+/// `Σ x_i y_i + c` with Dot2 compensation. Non-finite only if the data are
+/// or an intermediate overflows (then the plain sum is returned).
+fn dot2_plus(x: &[f64], y: &[f64], c: f64) -> f64 {
+    let (mut p, mut s) = (c, 0.0_f64);
+    for (&a, &b) in x.iter().zip(y.iter()) {
+        let h = a * b;
+        let r = a.mul_add(b, -h);
+        let (np, t) = two_sum(p, h);
+        p = np;
+        s += t + r;
+    }
+    let v = p + s;
+    if v.is_finite() {
+        v
+    } else {
+        x.iter().zip(y.iter()).map(|(a, b)| a * b).sum::<f64>() + c
+    }
+}
+
+/// Natural-map (Siconos-style) residual of `z`:
+///
+/// ```text
+/// w = M z + q,   r = ‖z − max(0, z − w)‖₂ / max(‖q‖₂, RESIDUAL_DENOMINATOR_FLOOR)
+/// ```
+///
+/// `z − max(0, z − w) = min(z, w)` componentwise, which is zero exactly when
+/// `z >= 0, w >= 0, z_i w_i = 0`, so `r = 0` iff `z` solves the LCP. It is
+/// evaluated as `min(z_i, w_i)`: the literal form cancels when `z_i ≫ |w_i|`
+/// (e.g. `z_i = 3e16, w_i = −1` gives 0) and would accept non-solutions;
+/// `w` is computed with a compensated dot product for the same reason. The
+/// denominator makes `r` invariant under a positive scaling of `(q, z)`; its
+/// floor [`RESIDUAL_DENOMINATOR_FLOOR`] (= `f64::EPSILON`, the Siconos
+/// convention) avoids a division by zero when `q ≈ 0` and then makes the
+/// residual an absolute one.
+///
+/// Returns `f64::INFINITY` (never NaN) when the sizes are inconsistent
+/// (`m.len() != n*n` or `z.len() != n`, n = `q.len()`) or any datum or
+/// intermediate value is non-finite.
+pub fn residual(m: &[f64], q: &[f64], z: &[f64]) -> f64 {
+    let Ok(w) = compute_w(m, q, z) else {
+        return f64::INFINITY;
+    };
+    residual_with_w(q, z, &w)
+}
+
+/// [`residual`] when `w = M z + q` is already known.
+pub(crate) fn residual_with_w(q: &[f64], z: &[f64], w: &[f64]) -> f64 {
+    if z.len() != w.len()
+        || !z
+            .iter()
+            .chain(w.iter())
+            .chain(q.iter())
+            .all(|x| x.is_finite())
+    {
+        return f64::INFINITY;
+    }
+    let nat: Vec<f64> = z
+        .iter()
+        .zip(w.iter())
+        .map(|(&zi, &wi)| zi.min(wi))
+        .collect();
+    let num = norm2(&nat);
+    let den = norm2(q).max(RESIDUAL_DENOMINATOR_FLOOR);
+    let r = num / den;
+    if r.is_nan() {
+        f64::INFINITY
+    } else {
+        r
+    }
+}
+
+/// Euclidean norm, scaled by the largest magnitude so that it neither
+/// overflows nor underflows for finite input.
+pub(crate) fn norm2(v: &[f64]) -> f64 {
+    let s = v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    if s == 0.0 || !s.is_finite() {
+        return s;
+    }
+    s * v.iter().map(|x| (x / s) * (x / s)).sum::<f64>().sqrt()
+}

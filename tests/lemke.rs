@@ -1,0 +1,1102 @@
+//! Tests of the LCP module: Lemke's method, the robust driver and dumps.
+//!
+//! Random inputs come from a seeded SplitMix64 generator written here, so
+//! every run sees the same problems. Figures (pivots, time) are printed with
+//! `cargo test --release -- --nocapture`.
+
+use floebench::lcp::{
+    compute_w, lemke, residual, solve, DumpError, Lcp, LcpDump, LemkeOptions, PivotRule,
+    SolveCounters, SolveOptions, SolveStatus, Strategy, Termination,
+};
+use std::time::Instant;
+
+// ---------------------------------------------------------------------------
+// Deterministic PRNG and problem generators
+// ---------------------------------------------------------------------------
+
+/// SplitMix64 (Steele, Lea, Flood 2014): small, fast, good enough for tests.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
+    }
+    /// Uniform in [-1, 1).
+    fn sym(&mut self) -> f64 {
+        2.0 * self.unit() - 1.0
+    }
+    /// Uniform integer in [0, k).
+    fn below(&mut self, k: u64) -> u64 {
+        self.next_u64() % k
+    }
+}
+
+fn random_matrix(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
+    (0..n * n).map(|_| rng.sym()).collect()
+}
+
+/// Symmetric positive definite: A Aᵀ / n + δ I, δ in [0.01, 1].
+fn spd(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
+    let a = random_matrix(rng, n);
+    let delta = 0.01 + 0.99 * rng.unit();
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let s: f64 = (0..n).map(|k| a[i * n + k] * a[j * n + k]).sum();
+            m[i * n + j] = s / n as f64 + if i == j { delta } else { 0.0 };
+        }
+    }
+    m
+}
+
+/// Non-symmetric positive definite (hence P): SPD + σ (S − Sᵀ), σ in [0, 2].
+fn nonsym_pd(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
+    let mut m = spd(rng, n);
+    let s = random_matrix(rng, n);
+    let sigma = 2.0 * rng.unit();
+    for i in 0..n {
+        for j in 0..n {
+            m[i * n + j] += sigma * (s[i * n + j] - s[j * n + i]);
+        }
+    }
+    m
+}
+
+/// Strictly row diagonally dominant with positive diagonal and random-sign
+/// off-diagonal entries (a non-symmetric P-matrix).
+fn diag_dominant(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
+    let mut m = random_matrix(rng, n);
+    for i in 0..n {
+        let off: f64 = (0..n).filter(|&j| j != i).map(|j| m[i * n + j].abs()).sum();
+        m[i * n + i] = off * (1.05 + rng.unit()) + 0.1;
+    }
+    m
+}
+
+fn random_q(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
+    (0..n).map(|_| rng.sym()).collect()
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
+}
+
+/// Asserts that `z` solves LCP(M, q) up to a tolerance relative to the
+/// magnitudes in `w = M z + q`.
+fn assert_valid_solution(m: &[f64], q: &[f64], z: &[f64], rel_tol: f64, label: &str) {
+    // w computed here, independently of the library's (compensated) compute_w.
+    let n = q.len();
+    assert_eq!(z.len(), n, "{label}");
+    let w: Vec<f64> = (0..n)
+        .map(|i| (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>() + q[i])
+        .collect();
+    let s = max_abs(q)
+        .max(max_abs(m) * max_abs(z))
+        .max(f64::MIN_POSITIVE);
+    for (i, (&zi, &wi)) in z.iter().zip(w.iter()).enumerate() {
+        assert!(zi >= 0.0, "{label}: z[{i}] = {zi} < 0");
+        assert!(
+            wi >= -rel_tol * s,
+            "{label}: w[{i}] = {wi} < -{rel_tol}*{s}"
+        );
+    }
+    let ztw: f64 = z.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
+    let z1: f64 = z.iter().sum();
+    assert!(
+        ztw.abs() <= rel_tol * s * z1.max(f64::MIN_POSITIVE),
+        "{label}: zᵀw = {ztw} too large (s = {s}, ‖z‖₁ = {z1})"
+    );
+}
+
+/// Dense Gaussian elimination with partial pivoting (test-local reference).
+fn solve_dense(mut a: Vec<f64>, mut b: Vec<f64>, k: usize) -> Option<Vec<f64>> {
+    for c in 0..k {
+        let p = (c..k).max_by(|&x, &y| a[x * k + c].abs().total_cmp(&a[y * k + c].abs()))?;
+        if a[p * k + c].abs() < 1e-13 {
+            return None;
+        }
+        for j in 0..k {
+            a.swap(c * k + j, p * k + j);
+        }
+        b.swap(c, p);
+        for r in c + 1..k {
+            let f = a[r * k + c] / a[c * k + c];
+            for j in c..k {
+                a[r * k + j] -= f * a[c * k + j];
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    for r in (0..k).rev() {
+        let s: f64 = (r + 1..k).map(|j| a[r * k + j] * b[j]).sum();
+        b[r] = (b[r] - s) / a[r * k + r];
+    }
+    Some(b)
+}
+
+/// Solution of a small LCP by enumerating all 2ⁿ complementary bases
+/// (independent of Lemke). Returns the first solution found.
+fn brute_force(m: &[f64], q: &[f64]) -> Option<Vec<f64>> {
+    let n = q.len();
+    for mask in 0u32..(1 << n) {
+        let idx: Vec<usize> = (0..n).filter(|&i| mask & (1 << i) != 0).collect();
+        let k = idx.len();
+        let mut a = vec![0.0; k * k];
+        for (r, &i) in idx.iter().enumerate() {
+            for (c, &j) in idx.iter().enumerate() {
+                a[r * k + c] = m[i * n + j];
+            }
+        }
+        let b: Vec<f64> = idx.iter().map(|&i| -q[i]).collect();
+        let Some(x) = solve_dense(a, b, k) else {
+            continue;
+        };
+        let mut z = vec![0.0; n];
+        for (r, &i) in idx.iter().enumerate() {
+            z[i] = x[r];
+        }
+        let w = compute_w(m, q, &z).ok()?;
+        // 1e-9: well-conditioned small systems are solved to ~1e-14.
+        if z.iter().all(|&v| v >= -1e-9) && w.iter().all(|&v| v >= -1e-9) {
+            return Some(z.iter().map(|&v| v.max(0.0)).collect());
+        }
+    }
+    None
+}
+
+// ---------------------------------------------------------------------------
+// Random P-matrix LCPs
+// ---------------------------------------------------------------------------
+
+#[test]
+fn random_p_matrix_lcps_solved_by_first_attempt() {
+    let mut rng = SplitMix64(0x5EED_F10E_0001);
+    let opts = SolveOptions::default();
+    let mut counters = SolveCounters::default();
+    let (mut pivots_sum, mut pivots_max, mut max_res) = (0usize, 0usize, 0.0_f64);
+    let mut per_n_max = 0.0_f64; // max pivots / n
+    let start = Instant::now();
+    let count = 1000;
+    for k in 0..count {
+        let n = 1 + (rng.below(60) as usize);
+        let family = k % 3;
+        let mut m = match family {
+            0 => spd(&mut rng, n),
+            1 => nonsym_pd(&mut rng, n),
+            _ => diag_dominant(&mut rng, n),
+        };
+        let mut q = random_q(&mut rng, n);
+        // Random scales 10^-3..10^3 of M and q: the solver must be scale-free.
+        let sm = 10f64.powi(rng.below(7) as i32 - 3);
+        let sq = 10f64.powi(rng.below(7) as i32 - 3);
+        m.iter_mut().for_each(|x| *x *= sm);
+        q.iter_mut().for_each(|x| *x *= sq);
+        let lcp = Lcp::new(n, m, q).expect("sizes");
+        let sol = solve(&lcp, &opts);
+        let label = format!("problem {k} (n = {n}, family {family})");
+        assert_eq!(
+            sol.status,
+            SolveStatus::Solved,
+            "{label}: {:?}",
+            sol.attempts
+        );
+        assert_eq!(sol.attempts.len(), 1, "{label}");
+        assert_eq!(sol.accepted_by, Some(Strategy::Lexicographic), "{label}");
+        assert_eq!(sol.attempts[0].termination, Termination::Solved, "{label}");
+        // Spec requirement: residual below 1e-10 (the default tolerance).
+        assert!(sol.residual < 1e-10, "{label}: residual {}", sol.residual);
+        // 1e-10 relative to the magnitudes entering w = Mz + q: ~1e5 ulps for n <= 60.
+        assert_valid_solution(&lcp.m, &lcp.q, &sol.z, 1e-10, &label);
+        pivots_sum += sol.pivots;
+        pivots_max = pivots_max.max(sol.pivots);
+        per_n_max = per_n_max.max(sol.pivots as f64 / n as f64);
+        max_res = max_res.max(sol.residual);
+        counters.record(&sol);
+    }
+    let elapsed = start.elapsed();
+    assert_eq!(counters.solved, count as u64);
+    eprintln!(
+        "random P-matrix LCPs: {count} problems, n in 1..=60, pivots mean {:.1} max {} (max pivots/n {:.2}), \
+         max residual {:.2e}, total {:.3} s",
+        pivots_sum as f64 / count as f64,
+        pivots_max,
+        per_n_max,
+        max_res,
+        elapsed.as_secs_f64()
+    );
+    eprintln!(
+        "counters: {}",
+        serde_json::to_string(&counters).expect("json")
+    );
+}
+
+#[test]
+fn small_random_p_matrix_lcps_match_brute_force() {
+    let mut rng = SplitMix64(0x5EED_F10E_0002);
+    for k in 0..300 {
+        let n = 1 + (rng.below(8) as usize);
+        let m = if k % 2 == 0 {
+            nonsym_pd(&mut rng, n)
+        } else {
+            diag_dominant(&mut rng, n)
+        };
+        let q = random_q(&mut rng, n);
+        let expected = brute_force(&m, &q).expect("a P-matrix LCP has a solution");
+        let sol = solve(&Lcp::new(n, m, q).expect("sizes"), &SolveOptions::default());
+        assert_eq!(sol.status, SolveStatus::Solved);
+        for (a, b) in sol.z.iter().zip(expected.iter()) {
+            // 1e-8: the unique solution, both computed to ~1e-13 on these well-conditioned matrices.
+            assert!(
+                (a - b).abs() <= 1e-8 * (1.0 + b.abs()),
+                "problem {k}: z {:?} vs {:?}",
+                sol.z,
+                expected
+            );
+        }
+    }
+}
+
+#[test]
+fn every_pivot_rule_and_custom_covering_vector_solve_p_matrix_lcps() {
+    let mut rng = SplitMix64(0x5EED_F10E_0003);
+    for k in 0..200 {
+        let n = 1 + (rng.below(30) as usize);
+        let m = nonsym_pd(&mut rng, n);
+        let q = random_q(&mut rng, n);
+        let reference = lemke(&m, &q, &LemkeOptions::default());
+        assert_eq!(reference.termination, Termination::Solved, "problem {k}");
+        let d: Vec<f64> = (0..n).map(|_| 0.1 + rng.unit()).collect();
+        for rule in [
+            PivotRule::Lexicographic,
+            PivotRule::MinRatioSmallestIndex,
+            PivotRule::MinRatioLargestPivot,
+        ] {
+            for covering in [None, Some(d.clone())] {
+                let opts = LemkeOptions {
+                    rule,
+                    covering,
+                    ..LemkeOptions::default()
+                };
+                let r = lemke(&m, &q, &opts);
+                assert_eq!(r.termination, Termination::Solved, "problem {k}, {rule:?}");
+                // 1e-9: same unique solution, each within ~1e-13 relative.
+                assert!(r.residual < 1e-9, "problem {k}: residual {}", r.residual);
+                for (a, b) in r.z.iter().zip(reference.z.iter()) {
+                    assert!(
+                        (a - b).abs() <= 1e-8 * (1.0 + b.abs()),
+                        "problem {k}, {rule:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn trivial_case_q_nonnegative_needs_no_pivot() {
+    let lcp = Lcp::new(2, vec![1.0, -3.0, 2.0, 1.0], vec![0.0, 2.0]).expect("sizes");
+    let r = lemke(&lcp.m, &lcp.q, &LemkeOptions::default());
+    assert_eq!((r.termination, r.pivots), (Termination::Solved, 0));
+    assert_eq!(r.z, vec![0.0, 0.0]);
+    let s = solve(&lcp, &SolveOptions::default());
+    assert_eq!(
+        (s.status, s.pivots, s.residual),
+        (SolveStatus::Solved, 0, 0.0)
+    );
+    // Empty problem.
+    let s = solve(
+        &Lcp::new(0, vec![], vec![]).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert_eq!(s.status, SolveStatus::Solved);
+    assert!(s.z.is_empty());
+}
+
+// ---------------------------------------------------------------------------
+// Degenerate problems
+// ---------------------------------------------------------------------------
+
+#[test]
+fn degenerate_ties_in_first_ratio_test() {
+    // q = −e: all n rows tie in the first (z0) ratio test.
+    // M is a P-matrix (principal minors 1, 1, 1, 1, 1, 1, 9).
+    let m = vec![1.0, 2.0, 0.0, 0.0, 1.0, 2.0, 2.0, 0.0, 1.0];
+    let q = vec![-1.0, -1.0, -1.0];
+    for rule in [
+        PivotRule::Lexicographic,
+        PivotRule::MinRatioSmallestIndex,
+        PivotRule::MinRatioLargestPivot,
+    ] {
+        let r = lemke(
+            &m,
+            &q,
+            &LemkeOptions {
+                rule,
+                ..LemkeOptions::default()
+            },
+        );
+        assert_eq!(r.termination, Termination::Solved, "{rule:?}");
+        // Exact data, few pivots: 1e-12 covers rounding.
+        assert_valid_solution(&m, &q, &r.z, 1e-12, "ties in first ratio test");
+    }
+    // Solution is z = (1/3, 1/3, 1/3) (w = 0): check the value itself.
+    let r = lemke(&m, &q, &LemkeOptions::default());
+    for &zi in &r.z {
+        assert!((zi - 1.0 / 3.0).abs() < 1e-14, "z = {:?}", r.z); // 1e-14: a few roundings of 1/3.
+    }
+}
+
+#[test]
+fn degenerate_zero_entries_in_q() {
+    // q has zeros (degenerate basic w's at 0) and ties.
+    let m = vec![
+        2.0, -1.0, 0.0, 1.0, //
+        -1.0, 2.0, -1.0, 0.0, //
+        0.0, -1.0, 2.0, -1.0, //
+        1.0, 0.0, -1.0, 2.0,
+    ];
+    let q = vec![0.0, -1.0, 0.0, -1.0];
+    let expected = brute_force(&m, &q).expect("solvable");
+    let sol = solve(
+        &Lcp::new(4, m.clone(), q.clone()).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert_eq!(sol.status, SolveStatus::Solved);
+    assert_valid_solution(&m, &q, &sol.z, 1e-12, "zeros in q"); // exact small data
+    for (a, b) in sol.z.iter().zip(expected.iter()) {
+        assert!((a - b).abs() < 1e-12, "{:?} vs {:?}", sol.z, expected); // unique (P-matrix)
+    }
+}
+
+#[test]
+fn random_degenerate_integer_lcps_solved_by_lexicographic_rule() {
+    // Small integer P-matrices (strictly diagonally dominant) with q in
+    // {-1, 0, 1}: ratio ties and zero right-hand sides are the rule here.
+    let mut rng = SplitMix64(0x5EED_F10E_0004);
+    let mut pivots_max = 0;
+    for k in 0..2000 {
+        let n = 2 + (rng.below(7) as usize);
+        let mut m: Vec<f64> = (0..n * n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        for i in 0..n {
+            let off: f64 = (0..n).filter(|&j| j != i).map(|j| m[i * n + j].abs()).sum();
+            m[i * n + i] = off + 1.0;
+        }
+        let q: Vec<f64> = (0..n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        let r = lemke(&m, &q, &LemkeOptions::default());
+        assert_eq!(
+            r.termination,
+            Termination::Solved,
+            "problem {k}: M = {m:?}, q = {q:?}"
+        );
+        pivots_max = pivots_max.max(r.pivots);
+        let expected = brute_force(&m, &q).expect("P-matrix");
+        for (a, b) in r.z.iter().zip(expected.iter()) {
+            // 1e-10: exact small integer data, unique solution.
+            assert!(
+                (a - b).abs() < 1e-10,
+                "problem {k}: {:?} vs {:?}",
+                r.z,
+                expected
+            );
+        }
+    }
+    eprintln!("degenerate integer LCPs: max pivots {pivots_max}");
+}
+
+/// Number of ways to choose k of n (bases of the augmented system).
+fn binomial(n: u64, k: u64) -> u64 {
+    (0..k).fold(1, |acc, i| acc * (n - i) / (i + 1))
+}
+
+#[test]
+fn lexicographic_rule_terminates_where_plain_min_ratio_cycles() {
+    // Honest provenance: these are NOT published examples (I could not recall
+    // Kostreva's 1979 cycling example exactly). They were found by a computer
+    // search over seeded random 3×3 LCPs with entries in {−2..2} and q = −e.
+    // Every ratio test after the first is degenerate. The augmented system
+    // has C(7, 3) = 35 bases, so more than 35 pivots prove a basis repeated,
+    // i.e. the plain rule cycles; the lexicographic rule cannot repeat a
+    // basis and must stop within 35 pivots.
+    let cases: [(PivotRule, [f64; 9], [f64; 3]); 2] = [
+        // Ties to the smallest variable index cycle; solution z = (2, 0, 5/2).
+        (
+            PivotRule::MinRatioSmallestIndex,
+            [3.0, 0.0, -2.0, 2.0, 1.0, 1.0, -2.0, 2.0, 2.0],
+            [-1.0, -1.0, -1.0],
+        ),
+        // Ties to the largest pivot cycle; solution z = (0, 1, 0).
+        (
+            PivotRule::MinRatioLargestPivot,
+            [1.0, 2.0, 1.0, 2.0, 1.0, -1.0, -1.0, 1.0, 0.0],
+            [-1.0, -1.0, -1.0],
+        ),
+    ];
+    let bases = binomial(7, 3) as usize;
+    for (plain, m, q) in cases {
+        let cap = 10 * bases;
+        let r = lemke(
+            &m,
+            &q,
+            &LemkeOptions {
+                rule: plain,
+                max_pivots: Some(cap),
+                ..LemkeOptions::default()
+            },
+        );
+        assert_eq!(
+            (r.termination, r.pivots),
+            (Termination::MaxPivots, cap),
+            "{plain:?} should cycle"
+        );
+        let r = lemke(&m, &q, &LemkeOptions::default());
+        assert_eq!(r.termination, Termination::Solved, "lexicographic on {m:?}");
+        assert!(r.pivots <= bases, "pivots {}", r.pivots);
+        assert_valid_solution(&m, &q, &r.z, 1e-12, "cycling example"); // exact small data
+        let s = solve(
+            &Lcp::new(3, m.to_vec(), q.to_vec()).expect("sizes"),
+            &SolveOptions::default(),
+        );
+        assert_eq!(s.status, SolveStatus::Solved);
+    }
+}
+
+#[test]
+fn lexicographic_path_equals_plain_path_on_epsilon_perturbed_q() {
+    // Characterisation of the lexicographic rule (CPS §4.9): it follows the
+    // path that the plain minimum-ratio rule follows on the perturbed,
+    // nondegenerate q(ε) = q + (ε, ε², …, εⁿ) for all small ε > 0, because the
+    // right-hand side becomes B⁻¹q(ε) = b + Σ_k ε^k (B⁻¹)_{·k}. We compare the
+    // pivot counts, terminations and solutions on heavily degenerate random
+    // 3×3 integer LCPs (z0 preference off on both sides, since it is a
+    // deliberate shortcut that the perturbed path does not take).
+    let mut rng = SplitMix64(0x5EED_F10E_0009);
+    let eps: f64 = 1e-4; // small against the 1/48-scale gaps of these integer tableaus; ε³ = 1e-12 still resolvable
+    let mut compared = 0;
+    for k in 0..20_000 {
+        let n = 3;
+        let m: Vec<f64> = (0..n * n).map(|_| rng.below(5) as f64 - 2.0).collect();
+        let q: Vec<f64> = (0..n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        if q.iter().all(|&x| x >= 0.0) {
+            continue;
+        }
+        let lex = lemke(
+            &m,
+            &q,
+            &LemkeOptions {
+                prefer_z0: false,
+                ..LemkeOptions::default()
+            },
+        );
+        let q_eps: Vec<f64> = (0..n).map(|i| q[i] + eps.powi(i as i32 + 1)).collect();
+        let plain = lemke(
+            &m,
+            &q_eps,
+            &LemkeOptions {
+                rule: PivotRule::MinRatioSmallestIndex,
+                tie_tol: 0.0,
+                prefer_z0: false,
+                ..LemkeOptions::default()
+            },
+        );
+        if q_eps.iter().all(|&x| x >= 0.0) {
+            continue; // q(ε) >= 0 needs no pivot while q does: not comparable
+        }
+        assert_eq!(
+            (lex.termination, lex.pivots),
+            (plain.termination, plain.pivots),
+            "problem {k}: M = {m:?}, q = {q:?}"
+        );
+        if lex.termination == Termination::Solved {
+            for (a, b) in lex.z.iter().zip(plain.z.iter()) {
+                // The solutions differ by O(ε) times entries of B⁻¹ (<= ~50 here).
+                assert!(
+                    (a - b).abs() <= 100.0 * eps,
+                    "problem {k}: {:?} vs {:?}",
+                    lex.z,
+                    plain.z
+                );
+            }
+        }
+        compared += 1;
+    }
+    assert!(compared > 10_000);
+}
+
+#[test]
+fn lexicographic_rule_never_cycles_on_random_degenerate_lcps() {
+    // Arbitrary small integer matrices (no structure: P, copositive or not)
+    // with q in {−1, 0, 1}: heavily degenerate. The lexicographic rule must
+    // always stop by a solution or a ray, within the number of bases
+    // C(2n+1, n); the plain rules are counted to show cycling does occur here.
+    let mut rng = SplitMix64(0x5EED_F10E_0008);
+    let (mut plain_cycles, mut solved, mut lex_max) = (0, 0, 0);
+    let count = 30_000;
+    for k in 0..count {
+        let n = 3 + (rng.below(2) as usize);
+        let m: Vec<f64> = (0..n * n).map(|_| rng.below(5) as f64 - 2.0).collect();
+        let q: Vec<f64> = (0..n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        let bases = binomial(2 * n as u64 + 1, n as u64) as usize;
+        let r = lemke(&m, &q, &LemkeOptions::default());
+        assert!(
+            matches!(
+                r.termination,
+                Termination::Solved | Termination::RayTermination
+            ),
+            "problem {k}: {:?} after {} pivots, M = {m:?}, q = {q:?}",
+            r.termination,
+            r.pivots
+        );
+        assert!(
+            r.pivots <= bases,
+            "problem {k}: {} pivots > {bases} bases",
+            r.pivots
+        );
+        lex_max = lex_max.max(r.pivots);
+        if r.termination == Termination::Solved {
+            solved += 1;
+            assert_valid_solution(&m, &q, &r.z, 1e-10, &format!("problem {k}"));
+            // exact small data
+        }
+        for rule in [
+            PivotRule::MinRatioSmallestIndex,
+            PivotRule::MinRatioLargestPivot,
+        ] {
+            let p = lemke(
+                &m,
+                &q,
+                &LemkeOptions {
+                    rule,
+                    max_pivots: Some(bases + 1),
+                    ..LemkeOptions::default()
+                },
+            );
+            if p.termination == Termination::MaxPivots {
+                plain_cycles += 1;
+            }
+        }
+    }
+    eprintln!(
+        "random degenerate 3×3/4×4 LCPs: {count} problems, lexicographic solved {solved} (max pivots {lex_max}), \
+         plain-rule runs that cycled: {plain_cycles}"
+    );
+    assert!(
+        plain_cycles > 0,
+        "the generator no longer produces cycling instances"
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Infeasible problems, pivot cap, non-finite input, bad options
+// ---------------------------------------------------------------------------
+
+#[test]
+fn infeasible_1x1_reports_ray_termination() {
+    let lcp = Lcp::new(1, vec![-1.0], vec![-1.0]).expect("sizes");
+    let r = lemke(&lcp.m, &lcp.q, &LemkeOptions::default());
+    assert_eq!(r.termination, Termination::RayTermination);
+    assert!(r.pivots <= 2, "pivots {}", r.pivots);
+    let s = solve(&lcp, &SolveOptions::default());
+    assert_eq!(s.status, SolveStatus::Failed);
+    assert_eq!(s.accepted_by, None);
+    assert_eq!(s.attempts.len(), 5, "{:?}", s.attempts); // lexicographic, alternative, 3 perturbed
+    assert!(s.attempts.iter().all(|a| !a.accepted));
+    assert!(s.z.iter().all(|x| x.is_finite() && *x >= 0.0));
+    assert!(
+        s.residual.is_finite() && s.residual > 0.1,
+        "residual {}",
+        s.residual
+    );
+}
+
+#[test]
+fn infeasible_2x2_psd_reports_ray_termination() {
+    // M = [[1, −1], [−1, 1]] is PSD (copositive-plus); w1 + w2 = −2 < 0 for
+    // every z, so the LCP is infeasible and Lemke must end on a ray.
+    let lcp = Lcp::new(2, vec![1.0, -1.0, -1.0, 1.0], vec![-1.0, -1.0]).expect("sizes");
+    let r = lemke(&lcp.m, &lcp.q, &LemkeOptions::default());
+    assert_eq!(r.termination, Termination::RayTermination);
+    let cap = LemkeOptions::default().max_pivots.unwrap_or(50 * 3);
+    assert!(r.pivots < cap);
+    let s = solve(&lcp, &SolveOptions::default());
+    assert_eq!(s.status, SolveStatus::Failed);
+    assert_eq!(s.attempts.len(), 5);
+    for a in &s.attempts {
+        assert!(a.pivots <= 50 * 3, "{a:?}");
+        assert!(!a.accepted && a.residual > 0.1, "{a:?}");
+        if a.strategy == Strategy::Perturbed {
+            // M + εI is positive definite, so Lemke solves the perturbed
+            // problem (ε_rel = 1e-9, 1e-6), but that z is rejected on the
+            // original data; with ε_rel = 1e-12 the blocking entries (~ε) are
+            // below the pivot tolerance: "pivot too small".
+            let expected = if a.epsilon_rel < 1e-11 {
+                Termination::NumericalFailure
+            } else {
+                Termination::Solved
+            };
+            assert_eq!(a.termination, expected, "{a:?}");
+        } else {
+            assert_eq!(a.termination, Termination::RayTermination, "{a:?}");
+        }
+    }
+    assert!(s.z.iter().all(|x| x.is_finite() && *x >= 0.0));
+}
+
+#[test]
+fn pivot_cap_reports_max_pivots() {
+    let mut rng = SplitMix64(0x5EED_F10E_0005);
+    let n = 20;
+    let m = diag_dominant(&mut rng, n);
+    let q = vec![-1.0; n];
+    let full = lemke(&m, &q, &LemkeOptions::default());
+    assert_eq!(full.termination, Termination::Solved);
+    assert!(full.pivots > 3);
+    let r = lemke(
+        &m,
+        &q,
+        &LemkeOptions {
+            max_pivots: Some(3),
+            ..LemkeOptions::default()
+        },
+    );
+    assert_eq!((r.termination, r.pivots), (Termination::MaxPivots, 3));
+    assert!(r.z.iter().all(|x| x.is_finite()));
+    let s = solve(
+        &Lcp::new(n, m, q).expect("sizes"),
+        &SolveOptions {
+            max_pivots: Some(3),
+            polish: false,
+            ..SolveOptions::default()
+        },
+    );
+    assert_eq!(s.status, SolveStatus::Failed);
+    assert!(s
+        .attempts
+        .iter()
+        .all(|a| a.termination == Termination::MaxPivots && a.pivots == 3));
+}
+
+#[test]
+fn non_finite_input_gives_failure_status_not_panic() {
+    let mut q = vec![-1.0, 0.5, f64::NAN];
+    let m = vec![2.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 2.0];
+    let r = lemke(&m, &q, &LemkeOptions::default());
+    assert_eq!(r.termination, Termination::NumericalFailure);
+    assert!(r.z.iter().all(|x| x.is_finite()));
+    assert_eq!(r.residual, f64::INFINITY);
+    let s = solve(
+        &Lcp::new(3, m.clone(), q.clone()).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert_eq!(s.status, SolveStatus::Failed);
+    assert_eq!(s.z, vec![0.0; 3]);
+    assert_eq!(
+        s.attempts.len(),
+        1,
+        "non-finite data: no pointless fallbacks"
+    );
+    assert_eq!(s.residual, f64::INFINITY);
+    // The summary serialises (Infinity as a string) and reads back.
+    let json = serde_json::to_string(&s).expect("serialise");
+    let back: floebench::lcp::LcpSolution = serde_json::from_str(&json).expect("deserialise");
+    assert_eq!(back.residual, f64::INFINITY);
+    assert_eq!(back.status, SolveStatus::Failed);
+
+    q[2] = 1.0;
+    let mut m_inf = m.clone();
+    m_inf[4] = f64::INFINITY;
+    let s = solve(
+        &Lcp::new(3, m_inf, q.clone()).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert_eq!(s.status, SolveStatus::Failed);
+    assert!(s.z.iter().all(|x| x.is_finite()));
+
+    // Bad covering vector / sizes / options: InvalidInput, no panic.
+    let bad = LemkeOptions {
+        covering: Some(vec![1.0, -1.0, 1.0]),
+        ..LemkeOptions::default()
+    };
+    assert_eq!(lemke(&m, &q, &bad).termination, Termination::InvalidInput);
+    let bad = LemkeOptions {
+        covering: Some(vec![1.0]),
+        ..LemkeOptions::default()
+    };
+    assert_eq!(lemke(&m, &q, &bad).termination, Termination::InvalidInput);
+    let bad = LemkeOptions {
+        pivot_tol: f64::NAN,
+        ..LemkeOptions::default()
+    };
+    assert_eq!(lemke(&m, &q, &bad).termination, Termination::InvalidInput);
+    assert_eq!(
+        lemke(&m[..8], &q, &LemkeOptions::default()).termination,
+        Termination::InvalidInput
+    );
+    let inconsistent = Lcp {
+        n: 3,
+        m: vec![1.0; 4],
+        q: q.clone(),
+    };
+    let s = solve(&inconsistent, &SolveOptions::default());
+    assert_eq!((s.status, s.attempts.len()), (SolveStatus::Failed, 0));
+    let s = solve(
+        &Lcp::new(3, m, q).expect("sizes"),
+        &SolveOptions {
+            tolerance: f64::NAN,
+            ..SolveOptions::default()
+        },
+    );
+    assert_eq!(s.status, SolveStatus::Failed);
+}
+
+#[test]
+fn driver_never_accepts_a_non_solution_and_fallbacks_do_work() {
+    // Arbitrary small integer LCPs (mostly neither P nor copositive: Lemke may
+    // end on a ray although a solution exists, or the LCP may be infeasible).
+    // Whatever happens, an accepted z must pass an independent check, and the
+    // fallback strategies must rescue some instances.
+    let mut rng = SplitMix64(0x5EED_F10E_000A);
+    let mut by = std::collections::BTreeMap::new();
+    let count = 20_000;
+    for k in 0..count {
+        let n = 2 + (rng.below(2) as usize);
+        let m: Vec<f64> = (0..n * n).map(|_| rng.below(9) as f64 - 4.0).collect();
+        let q: Vec<f64> = (0..n).map(|_| rng.below(5) as f64 - 2.0).collect();
+        let sol = solve(
+            &Lcp::new(n, m.clone(), q.clone()).expect("sizes"),
+            &SolveOptions::default(),
+        );
+        assert!(
+            sol.z.iter().all(|x| x.is_finite() && *x >= 0.0),
+            "problem {k}"
+        );
+        if sol.status.is_solved() {
+            // 1e-9: accepted residual <= 1e-10 on small integer data.
+            assert_valid_solution(
+                &m,
+                &q,
+                &sol.z,
+                1e-9,
+                &format!("problem {k}: M = {m:?}, q = {q:?}"),
+            );
+        }
+        *by.entry(format!("{:?}", sol.accepted_by)).or_insert(0) += 1;
+    }
+    eprintln!("arbitrary 2×2/3×3 integer LCPs ({count}): accepted by {by:?}");
+    assert!(
+        by.get("Some(AlternativeRule)").copied().unwrap_or(0) > 0,
+        "{by:?}"
+    );
+    assert!(
+        by.get("Some(Perturbed)").copied().unwrap_or(0) > 0,
+        "{by:?}"
+    );
+
+    // Regression: Lemke (largest-pivot rule) returns z ≈ 3e16·(1, 2, 1), on
+    // the ray Mz = 0, with w3 = −1. The literal residual z − max(0, z − w)
+    // rounds to 0 there and once accepted it; this LCP has no solution
+    // (z1 w1 = 0 and z2 w2 = 0 force w3 = −1).
+    let m = vec![4.0, -2.0, 0.0, 2.0, 0.0, -2.0, 1.0, -1.0, 1.0];
+    let q = vec![0.0, 0.0, -1.0];
+    let sol = solve(
+        &Lcp::new(3, m.clone(), q.clone()).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert_eq!(sol.status, SolveStatus::Failed, "{:?}", sol.attempts);
+    assert!(
+        residual(
+            &m,
+            &q,
+            &[
+                3.0701474676908772e16,
+                6.1402949353817544e16,
+                3.0701474676908772e16
+            ]
+        ) >= 1.0
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Copositive-plus (not P) matrices
+// ---------------------------------------------------------------------------
+
+#[test]
+fn psd_singular_lcps_are_solved() {
+    // M = [[1, 1], [1, 1]] (PSD, singular, not P): solutions z1 + z2 = 1.
+    let m = vec![1.0, 1.0, 1.0, 1.0];
+    let q = vec![-1.0, -1.0];
+    let s = solve(
+        &Lcp::new(2, m.clone(), q.clone()).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert!(s.status.is_solved(), "{:?}", s.attempts);
+    assert_valid_solution(&m, &q, &s.z, 1e-12, "[[1,1],[1,1]]"); // exact tiny data
+    assert!((s.z[0] + s.z[1] - 1.0).abs() < 1e-12); // same reason
+
+    // M = [[1, −1], [−1, 1]], q = (−1, 1): z = (1, 0), w = 0 (unique up to z1 − z2 = 1).
+    let m = vec![1.0, -1.0, -1.0, 1.0];
+    let q = vec![-1.0, 1.0];
+    let r = lemke(&m, &q, &LemkeOptions::default());
+    assert_eq!(r.termination, Termination::Solved);
+    assert_valid_solution(&m, &q, &r.z, 1e-12, "[[1,-1],[-1,1]]"); // exact tiny data
+}
+
+#[test]
+fn random_feasible_copositive_plus_lcps_are_solved() {
+    // M = B Bᵀ + (S − Sᵀ) with B n×r, r < n: positive semidefinite, singular,
+    // non-symmetric, hence copositive-plus but not P. q = w* − M z* with a
+    // complementary pair (z*, w*) >= 0 makes the LCP feasible, so Lemke with
+    // the lexicographic rule cannot end on a ray (CPS Thm 4.4.13).
+    let mut rng = SplitMix64(0x5EED_F10E_0006);
+    let mut fallback = 0;
+    let mut pivots_sum = 0;
+    let count = 300;
+    for k in 0..count {
+        let n = 2 + (rng.below(29) as usize);
+        let rank = 1 + (rng.below(n as u64 - 1) as usize);
+        let b: Vec<f64> = (0..n * rank).map(|_| rng.sym()).collect();
+        let s = random_matrix(&mut rng, n);
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                let bb: f64 = (0..rank).map(|t| b[i * rank + t] * b[j * rank + t]).sum();
+                m[i * n + j] = bb + (s[i * n + j] - s[j * n + i]);
+            }
+        }
+        let mut zs = vec![0.0; n];
+        let mut ws = vec![0.0; n];
+        for i in 0..n {
+            match rng.below(3) {
+                0 => zs[i] = rng.unit(),
+                1 => ws[i] = rng.unit(),
+                _ => {}
+            }
+        }
+        let mz = compute_w(&m, &vec![0.0; n], &zs).expect("sizes");
+        let q: Vec<f64> = (0..n).map(|i| ws[i] - mz[i]).collect();
+        let sol = solve(
+            &Lcp::new(n, m.clone(), q.clone()).expect("sizes"),
+            &SolveOptions::default(),
+        );
+        assert!(
+            sol.status.is_solved(),
+            "problem {k} (n = {n}, rank {rank}): {:?}",
+            sol.attempts
+        );
+        assert!(sol.residual <= 1e-10, "problem {k}"); // default acceptance tolerance
+        assert_valid_solution(&m, &q, &sol.z, 1e-9, &format!("copositive-plus {k}")); // singular M: looser
+        if sol.status == SolveStatus::SolvedByFallback {
+            fallback += 1;
+        }
+        pivots_sum += sol.pivots;
+    }
+    eprintln!(
+        "copositive-plus PSD LCPs: {count} problems, {fallback} needed a fallback, mean pivots {:.1}",
+        pivots_sum as f64 / count as f64
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Residual and constructors
+// ---------------------------------------------------------------------------
+
+#[test]
+fn residual_matches_hand_computation() {
+    // M = I, q = (−1, 2); z = (1, 0) is the solution; z = (0, 0) gives
+    // min(z, w) = (min(0, −1), min(0, 2)) = (−1, 0): residual 1 / √5.
+    let m = vec![1.0, 0.0, 0.0, 1.0];
+    let q = vec![-1.0, 2.0];
+    assert_eq!(residual(&m, &q, &[1.0, 0.0]), 0.0);
+    assert!((residual(&m, &q, &[0.0, 0.0]) - 1.0 / 5f64.sqrt()).abs() < 1e-15); // one rounding
+    assert_eq!(residual(&m, &q, &[1.0]), f64::INFINITY);
+    assert_eq!(residual(&m, &q, &[f64::NAN, 0.0]), f64::INFINITY);
+    // q = 0: denominator floor f64::EPSILON, z = 0 has residual 0.
+    assert_eq!(residual(&m, &[0.0, 0.0], &[0.0, 0.0]), 0.0);
+    // Huge but finite data do not overflow the norms.
+    assert!(residual(&m, &[-1e200, 1e200], &[1e200, 0.0]) == 0.0);
+}
+
+#[test]
+fn lcp_constructors_validate_sizes() {
+    assert!(Lcp::new(2, vec![1.0; 4], vec![0.0; 2]).is_ok());
+    let e = Lcp::new(2, vec![1.0; 3], vec![0.0; 2]).expect_err("bad M");
+    assert!(e.to_string().contains("matrix M has 3 entries"), "{e}");
+    let e = Lcp::new(2, vec![1.0; 4], vec![0.0; 3]).expect_err("bad q");
+    assert!(e.to_string().contains("vector q has 3 entries"), "{e}");
+    let e = Lcp::from_rows(&[vec![1.0, 2.0], vec![3.0]], vec![0.0; 2]).expect_err("ragged");
+    assert!(e.to_string().contains("row 1 of M has 1 entries"), "{e}");
+    let lcp = Lcp::from_rows(&[vec![1.0, 2.0], vec![3.0, 4.0]], vec![5.0, 6.0]).expect("ok");
+    assert_eq!(lcp.m, vec![1.0, 2.0, 3.0, 4.0]);
+    assert_eq!(lcp.w(&[1.0, 1.0]).expect("sizes"), vec![8.0, 13.0]);
+}
+
+// ---------------------------------------------------------------------------
+// Dumps
+// ---------------------------------------------------------------------------
+
+fn temp_dir(tag: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("floebench_lcp_test_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    dir
+}
+
+#[test]
+fn dump_round_trip_is_bit_exact() {
+    let dir = temp_dir("roundtrip");
+    let mut rng = SplitMix64(0x5EED_F10E_0007);
+    for k in 0..20 {
+        let n = 1 + (rng.below(12) as usize);
+        let mut m = nonsym_pd(&mut rng, n);
+        // Awkward magnitudes: 17-significant-digit values, tiny, huge, subnormal.
+        m[0] *= 1e-300;
+        if n > 1 {
+            m[1] = 5e-324;
+            m[n] *= 1e250;
+        }
+        let q: Vec<f64> = (0..n)
+            .map(|_| rng.sym() * 10f64.powi(rng.below(40) as i32 - 20))
+            .collect();
+        let lcp = Lcp::new(n, m, q).expect("sizes");
+        let sol = solve(&lcp, &SolveOptions::default());
+        let dump = LcpDump::from_solution(&lcp, &sol, 12.5 + k as f64 / 3.0, 7 * k);
+        let path = dir.join(format!("lcp_{k}.json"));
+        dump.write(&path).expect("write");
+        let back = LcpDump::read(&path).expect("read");
+        assert_eq!(back, dump);
+        for (a, b) in back.m.iter().flatten().zip(dump.m.iter().flatten()) {
+            assert_eq!(a.to_bits(), b.to_bits());
+        }
+        let lcp_back = back.to_lcp().expect("square");
+        assert_eq!(lcp_back, lcp);
+        assert_eq!(back.status, sol.status.as_str());
+    }
+    // Non-finite values survive too.
+    let dump = LcpDump {
+        m: vec![vec![1.0, f64::INFINITY], vec![f64::NEG_INFINITY, 2.0]],
+        q: vec![f64::NAN, -1.0],
+        z: vec![0.0, 0.0],
+        w: vec![f64::NAN, -1.0],
+        t: 0.0,
+        contacts: 1,
+        pivots: 0,
+        status: "Failed".into(),
+    };
+    let path = dir.join("nonfinite.json");
+    dump.write(&path).expect("write");
+    let back = LcpDump::read(&path).expect("read");
+    assert!(
+        back.q[0].is_nan() && back.m[0][1] == f64::INFINITY && back.m[1][0] == f64::NEG_INFINITY
+    );
+    // Atomic write leaves no temporary file behind.
+    let names: Vec<String> = std::fs::read_dir(&dir)
+        .expect("dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    assert!(names.iter().all(|s| !s.contains(".tmp")), "{names:?}");
+    // The file has the documented keys.
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("lcp_3.json")).expect("read"))
+            .expect("plain JSON");
+    for key in ["M", "q", "z", "w", "t", "contacts", "pivots", "status"] {
+        assert!(v.get(key).is_some(), "missing key {key}");
+    }
+    assert!(v["M"][0].is_array() && v["contacts"].is_u64() && v["status"].is_string());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn malformed_dumps_give_errors_naming_the_problem() {
+    let dir = temp_dir("malformed");
+    let case = |name: &str, text: &str| -> DumpError {
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("write");
+        let e = LcpDump::read(&path).expect_err(name);
+        let msg = e.to_string();
+        assert!(msg.contains(name), "error does not name the file: {msg}");
+        e
+    };
+    let tail = r#""q": [1, 2], "z": [0, 0], "w": [1, 2], "t": 0.5, "contacts": 2, "pivots": 0, "status": "Solved""#;
+    let e = case("ragged.json", &format!(r#"{{"M": [[1, 0], [0]], {tail}}}"#));
+    assert!(
+        matches!(
+            e,
+            DumpError::RowLength {
+                row: 1,
+                len: 1,
+                expected: 2,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("row 1 of M has 1 entries"), "{e}");
+    let e = case(
+        "nonsquare.json",
+        &format!(r#"{{"M": [[1, 0, 0], [0, 1, 0]], {tail}}}"#),
+    );
+    assert!(
+        matches!(
+            e,
+            DumpError::NotSquare {
+                rows: 2,
+                cols: 3,
+                ..
+            }
+        ),
+        "{e}"
+    );
+    assert!(e.to_string().contains("not square"), "{e}");
+    let e = case(
+        "shortq.json",
+        r#"{"M": [[1, 0], [0, 1]], "q": [1], "z": [0, 0], "w": [1, 2], "t": 0, "contacts": 2, "pivots": 0, "status": "Solved"}"#,
+    );
+    assert!(e.to_string().contains("vector q has 1 entries"), "{e}");
+    let e = case(
+        "missing.json",
+        r#"{"M": [[1]], "q": [1], "z": [0], "w": [1], "t": 0, "pivots": 0, "status": "x"}"#,
+    );
+    assert!(e.to_string().contains("missing field `contacts`"), "{e}");
+    let e = case(
+        "badnum.json",
+        &format!(r#"{{"M": [[1, 0], [0, 1.2.3]], {tail}}}"#),
+    );
+    assert!(e.to_string().contains("invalid number \"1.2.3\""), "{e}");
+    let e = case(
+        "badcount.json",
+        r#"{"M": [[1]], "q": [1], "z": [0], "w": [1], "t": 0, "contacts": -1, "pivots": 0, "status": "x"}"#,
+    );
+    assert!(e.to_string().contains("non-negative integer"), "{e}");
+    let e = case("notjson.json", "this is not json");
+    assert!(matches!(e, DumpError::Parse { .. }), "{e}");
+    let missing = dir.join("does_not_exist.json");
+    let e = LcpDump::read(&missing).expect_err("missing file");
+    assert!(
+        matches!(e, DumpError::Io { .. }) && e.to_string().contains("does_not_exist.json"),
+        "{e}"
+    );
+    // Writing an inconsistent dump is refused before touching the disk.
+    let bad = LcpDump {
+        m: vec![vec![1.0, 2.0]],
+        q: vec![1.0],
+        z: vec![0.0],
+        w: vec![1.0],
+        t: 0.0,
+        contacts: 0,
+        pivots: 0,
+        status: String::new(),
+    };
+    let e = bad
+        .write(dir.join("bad_write.json"))
+        .expect_err("not square");
+    assert!(matches!(e, DumpError::NotSquare { .. }), "{e}");
+    assert!(!dir.join("bad_write.json").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,373 @@
+//! The floe model, the environment forces and the smooth integrator against
+//! closed forms (physics.md sections 1, 2 and 4).
+
+use floebench::formulation::{build, FormulationOptions};
+use floebench::geometry::{area_properties, Vec2};
+use floebench::model::{parse_case, IntegratorKind, Scenario};
+use floebench::physics::{environment_forces, Quadrature, SmoothIntegrator};
+use floebench::run::{RunOptions, RunResult, Runner};
+use floebench::state::{BodyState, Ledger, System};
+use std::f64::consts::PI;
+use std::path::Path;
+
+fn case(text: &str) -> Scenario {
+    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(scn: &Scenario, name: &str, integrator: Option<IntegratorKind>) -> RunResult {
+    let mut f = build(name, scn, &FormulationOptions { integrator }).unwrap();
+    Runner::new(RunOptions::default()).run(scn, f.as_mut())
+}
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs()
+}
+
+const HEADER: &str = r#"
+[contact]
+restitution = 0.5
+friction = 0.3
+"#;
+
+// ---------------------------------------------------------------------------
+// Mass properties. Polygons are placed far from the origin so that the
+// formulas' rounding is exercised; 1e-12 relative is the issue's bound.
+
+fn offset(p: &[(f64, f64)], o: (f64, f64)) -> Vec<Vec2> {
+    p.iter()
+        .map(|&(x, y)| Vec2::new(x + o.0, y + o.1))
+        .collect()
+}
+
+#[test]
+fn mass_properties_of_a_square() {
+    let a = 7.5;
+    let poly = offset(&[(0.0, 0.0), (a, 0.0), (a, a), (0.0, a)], (1234.5, -987.25));
+    let p = area_properties(&poly);
+    assert!(rel(p.area, a * a) < 1e-12);
+    assert!(rel(p.polar_moment, a.powi(4) / 6.0) < 1e-12);
+    assert!((p.centroid - Vec2::new(1234.5 + a / 2.0, -987.25 + a / 2.0)).norm() < 1e-12 * 1234.5);
+}
+
+#[test]
+fn mass_properties_of_a_right_triangle() {
+    let (a, b) = (30.0, 12.0);
+    let poly = offset(&[(0.0, 0.0), (a, 0.0), (0.0, b)], (5e3, 2e3));
+    let p = area_properties(&poly);
+    assert!(rel(p.area, a * b / 2.0) < 1e-12);
+    // Ix + Iy about the centroid: a b (a² + b²) / 36.
+    assert!(rel(p.polar_moment, a * b * (a * a + b * b) / 36.0) < 1e-12);
+    assert!((p.centroid - Vec2::new(5e3 + a / 3.0, 2e3 + b / 3.0)).norm() < 1e-12 * 5e3);
+}
+
+#[test]
+fn mass_properties_of_a_regular_heptagon_and_the_floe_built_on_it() {
+    let (n, r) = (7usize, 250.0);
+    let pts: Vec<(f64, f64)> = (0..n)
+        .map(|k| {
+            let t = 2.0 * PI * k as f64 / n as f64 + 0.3;
+            (r * t.cos(), r * t.sin())
+        })
+        .collect();
+    let poly = offset(&pts, (-4e4, 7e4));
+    let p = area_properties(&poly);
+    let phi = 2.0 * PI / n as f64;
+    let area = 0.5 * n as f64 * r * r * phi.sin();
+    // Fan of n isosceles triangles: n R⁴ sin φ (2 + cos φ) / 12.
+    let polar = n as f64 * r.powi(4) * phi.sin() * (2.0 + phi.cos()) / 12.0;
+    assert!(rel(p.area, area) < 1e-12, "area {}", rel(p.area, area));
+    assert!(
+        rel(p.polar_moment, polar) < 1e-12,
+        "polar {}",
+        rel(p.polar_moment, polar)
+    );
+
+    let text = format!(
+        "[case]\nversion = 1\nname = \"t\"\nduration = 1.0\noutput_interval = 1.0\n{HEADER}[[floe]]\npolygon = {:?}\nthickness = 1.5\ndensity = 900.0\n",
+        poly.iter().map(|v| [v.x, v.y]).collect::<Vec<_>>()
+    );
+    let scn = case(&text);
+    let f = &scn.floes[0];
+    assert!(rel(f.mass, 900.0 * 1.5 * area) < 1e-12);
+    assert!(rel(f.inertia, 900.0 * 1.5 * polar) < 1e-12);
+    assert!(rel(f.radius, r) < 1e-12);
+}
+
+// ---------------------------------------------------------------------------
+// Forces.
+
+fn one_floe(env: &str, extra: &str, floe: &str) -> Scenario {
+    case(&format!(
+        r#"# test
+[case]
+version = 1
+name = "t"
+{extra}
+[environment]
+{env}
+[contact]
+restitution = 0.5
+friction = 0.3
+[[floe]]
+{floe}
+"#
+    ))
+}
+
+const PENTAGON: &str = "polygon = [[0.0, 0.0], [400.0, -50.0], [600.0, 200.0], [350.0, 500.0], [-50.0, 300.0]]\nthickness = 1.0";
+
+#[test]
+fn drag_integral_of_a_translating_floe_is_area_times_traction() {
+    let scn = one_floe(
+        "air = { density = 1.3, drag = 1.7e-3, velocity = [8.0, -3.0] }\nwater = { density = 1025.0, drag = 5.5e-3, velocity = [0.2, 0.1] }",
+        "duration = 1.0\noutput_interval = 1.0",
+        PENTAGON,
+    );
+    let f = &scn.floes[0];
+    let quad = Quadrature::for_shape(&f.shape);
+    for angle in [0.0, 0.7, 2.9] {
+        let b = BodyState {
+            position: f.position,
+            angle,
+            velocity: Vec2::new(-0.3, 0.45),
+            angular_velocity: 0.0,
+        };
+        let forces = environment_forces(&scn.environment, f, &quad, 0.0, &b);
+        let u = Vec2::new(0.2, 0.1) - b.velocity;
+        let expected = u * (1025.0 * 5.5e-3 * u.norm() * f.area);
+        assert!((forces.water - expected).norm() < 1e-12 * expected.norm());
+        let ua = Vec2::new(8.0, -3.0);
+        let expected_air = ua * (1.3 * 1.7e-3 * ua.norm() * f.area);
+        assert!((forces.air - expected_air).norm() < 1e-12 * expected_air.norm());
+        // Uniform traction about the centroid: no torque, to rounding of ∫ GP.
+        assert!(forces.water_torque.abs() < 1e-12 * expected.norm() * f.radius);
+    }
+}
+
+#[test]
+fn a_spinning_floe_in_still_water_loses_angular_momentum() {
+    let scn = one_floe(
+        "water = { density = 1025.0, drag = 5.5e-3, velocity = [0.0, 0.0] }",
+        "duration = 2000.0\noutput_interval = 100.0",
+        &format!("{PENTAGON}\nangular_velocity = 0.01"),
+    );
+    let f = &scn.floes[0];
+    let quad = Quadrature::for_shape(&f.shape);
+    let b = BodyState {
+        position: f.position,
+        angle: 0.0,
+        velocity: Vec2::zeros(),
+        angular_velocity: 0.01,
+    };
+    let forces = environment_forces(&scn.environment, f, &quad, 0.0, &b);
+    assert!(forces.water_torque < 0.0, "drag torque opposes the spin");
+    let r = run(&scn, "free-drift", None);
+    let omegas: Vec<f64> = r.trajectory.iter().map(|row| row.omega).collect();
+    for w in omegas.windows(2) {
+        assert!(
+            w[1] < w[0] && w[1] > 0.0,
+            "|ω| must decrease monotonically: {w:?}"
+        );
+    }
+    assert!(omegas.last().unwrap() < &(0.5 * 0.01));
+}
+
+// ---------------------------------------------------------------------------
+// Free drift.
+
+/// Solves `τ_a + k_w |U_w − u|(U_w − u) − ρ h f k ∧ u = 0` by Newton's method.
+fn steady_drift(ka: f64, ua: Vec2, kw: f64, uw: Vec2, rho_h: f64, f: f64) -> Vec2 {
+    let tau_a = ua * (ka * ua.norm());
+    let g = |u: Vec2| -> Vec2 {
+        let r = uw - u;
+        tau_a + r * (kw * r.norm()) - Vec2::new(-u.y, u.x) * (rho_h * f)
+    };
+    let mut u = uw + ua * (ka / kw).sqrt();
+    for _ in 0..100 {
+        let h = 1e-7;
+        let g0 = g(u);
+        let jx = (g(u + Vec2::new(h, 0.0)) - g0) / h;
+        let jy = (g(u + Vec2::new(0.0, h)) - g0) / h;
+        let det = jx.x * jy.y - jy.x * jx.y;
+        let du = Vec2::new(jy.y * g0.x - jy.x * g0.y, -jx.y * g0.x + jx.x * g0.y) / det;
+        u -= du;
+        if du.norm() < 1e-15 {
+            break;
+        }
+    }
+    assert!(g(u).norm() < 1e-12 * tau_a.norm());
+    u
+}
+
+#[test]
+fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
+    let scn = case(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/cases/free_drift.toml"
+        ))
+        .unwrap(),
+    );
+    let r = run(&scn, "free-drift", None);
+    let env = &scn.environment;
+    let expected = Vec2::new(0.1, 0.0)
+        + Vec2::new(10.0, 0.0) * (env.air.drag_factor() / env.water.drag_factor()).sqrt();
+    let last = r.final_state.bodies[0];
+    assert!(
+        (last.velocity - expected).norm() < 1e-6 * expected.norm(),
+        "{:?} vs {expected:?}",
+        last.velocity
+    );
+    // Energy ledger: E(t) − E(0) − W_ext + D stays below 1e-6 of the work exchanged.
+    let e = &r.summary.energy;
+    assert!(
+        e.max_abs_residual < 1e-6 * e.work_air,
+        "residual {} of {}",
+        e.max_abs_residual,
+        e.work_air
+    );
+}
+
+#[test]
+fn free_drift_reaches_the_analytic_velocity_with_coriolis() {
+    let scn = case(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/cases/free_drift_coriolis.toml"
+        ))
+        .unwrap(),
+    );
+    let r = run(&scn, "free-drift", None);
+    let env = &scn.environment;
+    let mut angles = Vec::new();
+    for (i, f) in scn.floes.iter().enumerate() {
+        let expected = steady_drift(
+            env.air.drag_factor(),
+            Vec2::new(10.0, 0.0),
+            env.water.drag_factor(),
+            Vec2::zeros(),
+            f.surface_density(),
+            env.coriolis,
+        );
+        let v = r.final_state.bodies[i].velocity;
+        assert!(
+            (v - expected).norm() < 1e-6 * expected.norm(),
+            "floe {i}: {v:?} vs {expected:?}"
+        );
+        angles.push(expected.y.atan2(expected.x));
+    }
+    // Turned to the right of the wind, more for the thicker floe.
+    assert!(angles[0] < 0.0 && angles[1] < angles[0], "{angles:?}");
+    let e = &r.summary.energy;
+    assert!(
+        e.max_abs_residual < 1e-6 * e.work_air,
+        "residual {} of {}",
+        e.max_abs_residual,
+        e.work_air
+    );
+}
+
+#[test]
+fn after_the_wind_stops_the_floe_makes_inertial_circles_of_period_two_pi_over_f() {
+    let scn = case(
+        &std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/cases/inertial_oscillation.toml"
+        ))
+        .unwrap(),
+    );
+    let r = run(&scn, "free-drift", None);
+    // Direction of the velocity after the wind has stopped, unwrapped.
+    let rows: Vec<_> = r.trajectory.iter().filter(|row| row.t >= 20200.0).collect();
+    let mut phase = Vec::new();
+    let mut prev = f64::NAN;
+    let mut turn = 0.0;
+    for row in &rows {
+        let a = row.vy.atan2(row.vx);
+        if prev.is_finite() {
+            let mut d = a - prev;
+            while d > PI {
+                d -= 2.0 * PI;
+            }
+            while d < -PI {
+                d += 2.0 * PI;
+            }
+            turn += d;
+        }
+        prev = a;
+        phase.push((row.t, turn));
+    }
+    let (t0, p0) = phase[0];
+    let (t1, p1) = *phase.last().unwrap();
+    let rate = (p1 - p0) / (t1 - t0);
+    let period = 2.0 * PI / rate.abs();
+    let expected = 2.0 * PI / scn.environment.coriolis;
+    assert!(rate < 0.0, "northern hemisphere: clockwise");
+    assert!(
+        rel(period, expected) < 1e-3,
+        "period {period} vs {expected}"
+    );
+}
+
+// ---------------------------------------------------------------------------
+// Integrators under a constant force.
+
+fn constant_wind(integrator: &str) -> Scenario {
+    one_floe(
+        "air = { density = 1.3, drag = 1.7e-3, velocity = [10.0, 4.0] }",
+        &format!("duration = 1000.0\noutput_interval = 1000.0\n[integrator]\n{integrator}"),
+        "polygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]\nthickness = 1.0\nvelocity = [-0.3, 0.2]",
+    )
+}
+
+#[test]
+fn the_default_integrator_is_exact_under_a_constant_force() {
+    let scn = constant_wind("method = \"dopri5\"");
+    let f = &scn.floes[0];
+    let ua = Vec2::new(10.0, 4.0);
+    let a = ua * (1.3 * 1.7e-3 * ua.norm() / (917.0 * 1.0));
+    let mut integ = SmoothIntegrator::new(&scn, None);
+    for &dt in &[1e-3, 1.0, 137.0, 5000.0] {
+        let mut sys = System::initial(&scn);
+        let mut ledger = Ledger::default();
+        integ
+            .advance(&scn, 0, &mut sys.bodies[0], &mut ledger, 0.0, dt)
+            .unwrap();
+        let x = f.position + f.velocity * dt + a * (0.5 * dt * dt);
+        let got = sys.bodies[0].position;
+        // Relative to x(t) (5 m from the origin here, so rounding of the
+        // position itself is 1e-16 relative and the bound is not lenient).
+        assert!(
+            (got - x).norm() <= 1e-12 * x.norm(),
+            "dt {dt}: {got:?} vs {x:?}"
+        );
+        let v = f.velocity + a * dt;
+        assert!((sys.bodies[0].velocity - v).norm() <= 1e-12 * v.norm());
+    }
+}
+
+#[test]
+fn explicit_euler_shows_its_first_order_error() {
+    let ua = Vec2::new(10.0, 4.0);
+    let a = ua * (1.3 * 1.7e-3 * ua.norm() / 917.0);
+    let t = 1000.0;
+    let mut errors = Vec::new();
+    for h in [10.0, 5.0, 2.5] {
+        let scn = constant_wind(&format!("method = \"euler\"\nmax_step = {h}"));
+        let r = run(&scn, "free-drift", None);
+        let f = &scn.floes[0];
+        let exact = f.position + f.velocity * t + a * (0.5 * t * t);
+        let err = (r.final_state.bodies[0].position - exact).norm();
+        // Explicit Euler under a constant force errs by exactly a T h / 2.
+        assert!(rel(err, 0.5 * a.norm() * t * h) < 1e-6, "h {h}: {err}");
+        errors.push(err);
+    }
+    for w in errors.windows(2) {
+        let order = (w[0] / w[1]).log2();
+        assert!((order - 1.0).abs() < 1e-6, "observed order {order}");
+    }
+    // And it is selectable from the command line's option too.
+    let scn = constant_wind("max_step = 5.0");
+    let r = run(&scn, "free-drift", Some(IntegratorKind::Euler));
+    assert!(r.summary.counters.counts["integrator_steps"] == 200);
+}
