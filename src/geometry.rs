@@ -210,6 +210,38 @@ pub fn radius_about(poly: &[Vec2], c: &Vec2) -> f64 {
     poly.iter().map(|p| (p - c).norm()).fold(0.0, f64::max)
 }
 
+/// Signed distance from point `p` to the convex counter-clockwise polygon
+/// `poly`, m: the Euclidean distance when outside, minus the distance to the
+/// nearest edge line when inside. Continuous in `p`.
+pub fn point_polygon_signed_distance(p: &Vec2, poly: &[Vec2]) -> f64 {
+    let n = poly.len();
+    let mut inside_depth = f64::INFINITY;
+    let mut outside = false;
+    let mut best = f64::INFINITY;
+    for i in 0..n {
+        let a = poly[i];
+        let e = poly[(i + 1) % n] - a;
+        let len2 = e.norm_squared();
+        if len2 == 0.0 {
+            continue;
+        }
+        let d = p - a;
+        // Outward normal distance to the edge line.
+        let h = cross(&d, &e) / len2.sqrt();
+        if h > 0.0 {
+            outside = true;
+        }
+        inside_depth = inside_depth.min(-h);
+        let s = (d.dot(&e) / len2).clamp(0.0, 1.0);
+        best = best.min((d - e * s).norm());
+    }
+    if outside {
+        best
+    } else {
+        -inside_depth
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -252,5 +284,13 @@ mod tests {
         assert!(convex_overlap(&a, &c, 0.0));
         let d: Vec<_> = a.iter().map(|p| p + v(1.0, 0.0)).collect();
         assert!(!convex_overlap(&a, &d, 0.0), "edge contact is not overlap");
+    }
+
+    #[test]
+    fn point_distances_are_signed() {
+        let a = [v(0., 0.), v(1., 0.), v(1., 1.), v(0., 1.)];
+        assert!((point_polygon_signed_distance(&v(2., 0.5), &a) - 1.0).abs() < 1e-15);
+        assert!((point_polygon_signed_distance(&v(2., 2.), &a) - 2f64.sqrt()).abs() < 1e-15);
+        assert!((point_polygon_signed_distance(&v(0.9, 0.5), &a) + 0.1).abs() < 1e-15);
     }
 }

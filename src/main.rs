@@ -43,15 +43,24 @@ enum Command {
         /// constant forces) or `euler` (explicit, as in Rabatel's report).
         #[arg(long)]
         integrator: Option<IntegratorKind>,
+        /// Write every LCP the formulation solves into DIR as <seq>.json
+        /// (keys M, q, z, w, t, contacts, pivots, status; see README).
+        #[arg(long, value_name = "DIR")]
+        dump_lcp: Option<PathBuf>,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
+    },
+    /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual.
+    Lcp {
+        /// A dump file `<seq>.json`.
+        file: PathBuf,
     },
     /// List the formulations.
     Formulations,
 }
 
-const DEFAULT_FORMULATION: &str = "free-drift";
+const DEFAULT_FORMULATION: &str = "event-driven";
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
@@ -62,8 +71,10 @@ fn main() -> ExitCode {
             formulation,
             out,
             integrator,
+            dump_lcp,
             quiet,
-        } => run(&case, &formulation, out, integrator, quiet),
+        } => run(&case, &formulation, out, integrator, dump_lcp, quiet),
+        Command::Lcp { file } => resolve_lcp(&file),
         Command::Formulations => {
             for (name, what) in formulation::NAMES {
                 println!("{name:<14} {what}");
@@ -112,6 +123,7 @@ fn run(
     name: &str,
     out: Option<PathBuf>,
     integrator: Option<IntegratorKind>,
+    dump_lcp: Option<PathBuf>,
     quiet: bool,
 ) -> ExitCode {
     let scn = match load_case(case) {
@@ -121,7 +133,16 @@ fn run(
             return ExitCode::FAILURE;
         }
     };
-    let opts = FormulationOptions { integrator };
+    if let Some(dir) = &dump_lcp {
+        if let Err(e) = std::fs::create_dir_all(dir) {
+            eprintln!("error: cannot create {}: {e}", dir.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    let opts = FormulationOptions {
+        integrator,
+        dump_lcp,
+    };
     let mut form = match formulation::build(name, &scn, &opts) {
         Ok(f) => f,
         Err(e) => {
@@ -164,5 +185,54 @@ fn run(
             eprintln!("run did not complete: {other:?}");
             ExitCode::FAILURE
         }
+    }
+}
+
+fn resolve_lcp(file: &Path) -> ExitCode {
+    use floebench::lcp::{residual, solve, LcpDump, SolveOptions};
+    let dump = match LcpDump::read(file) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let lcp = match dump.to_lcp() {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {}: {e}", file.display());
+            return ExitCode::FAILURE;
+        }
+    };
+    let stored = residual(&lcp.m, &lcp.q, &dump.z);
+    let sol = solve(&lcp, &SolveOptions::default());
+    println!(
+        "{}: n = {}, contacts = {}, t = {} s",
+        file.display(),
+        lcp.n,
+        dump.contacts,
+        dump.t
+    );
+    println!(
+        "stored solution: status {}, {} pivots, residual {:.3e}",
+        dump.status, dump.pivots, stored
+    );
+    println!(
+        "re-solved:       status {}, {} pivots, residual {:.3e}, accepted by {:?}",
+        sol.status.as_str(),
+        sol.pivots,
+        sol.residual,
+        sol.accepted_by
+    );
+    for a in &sol.attempts {
+        println!(
+            "  attempt {:?} (rule {:?}, eps {:.1e}): {:?} after {} pivots, residual {:.3e}",
+            a.strategy, a.rule, a.epsilon_rel, a.termination, a.pivots, a.residual
+        );
+    }
+    if sol.status.is_solved() {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
     }
 }

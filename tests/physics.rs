@@ -15,7 +15,15 @@ fn case(text: &str) -> Scenario {
 }
 
 fn run(scn: &Scenario, name: &str, integrator: Option<IntegratorKind>) -> RunResult {
-    let mut f = build(name, scn, &FormulationOptions { integrator }).unwrap();
+    let mut f = build(
+        name,
+        scn,
+        &FormulationOptions {
+            integrator,
+            ..Default::default()
+        },
+    )
+    .unwrap();
     Runner::new(RunOptions::default()).run(scn, f.as_mut())
 }
 

@@ -30,6 +30,7 @@
 
 mod broad;
 mod narrow;
+pub mod problem;
 
 pub use broad::{Aabb, BroadPhase};
 pub use narrow::{

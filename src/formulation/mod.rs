@@ -9,6 +9,7 @@
 //! To add a formulation: write a module here implementing [`Formulation`],
 //! and add its name to [`NAMES`] and [`build`].
 
+pub mod event_driven;
 pub mod free_drift;
 
 use crate::model::{IntegratorKind, Scenario};
@@ -51,13 +52,21 @@ pub trait Formulation {
 pub struct FormulationOptions {
     /// Override of the case's smooth integrator.
     pub integrator: Option<IntegratorKind>,
+    /// Write every LCP solved into this folder as `<seq>.json` (event-driven).
+    pub dump_lcp: Option<std::path::PathBuf>,
 }
 
 /// Names accepted by [`build`], with a one-line description each.
-pub const NAMES: &[(&str, &str)] = &[(
-    "free-drift",
-    "no contacts: every floe drifts under the environment forces alone",
-)];
+pub const NAMES: &[(&str, &str)] = &[
+    (
+        "event-driven",
+        "Rabatel (2015): advance to each impact, velocity-impulse LCP (Stewart-Trinkle friction) by Lemke, Poisson restitution",
+    ),
+    (
+        "free-drift",
+        "no contacts: every floe drifts under the environment forces alone",
+    ),
+];
 
 /// The formulation called `name`, set up for `scn`.
 pub fn build(
@@ -66,6 +75,7 @@ pub fn build(
     opts: &FormulationOptions,
 ) -> Result<Box<dyn Formulation>, String> {
     match name {
+        "event-driven" => Ok(Box::new(event_driven::EventDriven::new(scn, opts))),
         "free-drift" => Ok(Box::new(free_drift::FreeDrift::new(scn, opts))),
         other => Err(format!(
             "unknown formulation `{other}`; known: {}",

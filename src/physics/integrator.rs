@@ -3,7 +3,7 @@
 //!
 //! Floes do not interact through the smooth forces, so each floe is
 //! integrated on its own, with its own steps. The state of a floe is
-//! `y = (G, θ, Ġ, θ̇, W_air, W_water, W_cor)`: the work of each force is
+//! `y = (G, θ, Ġ, θ̇, W_air, W_water, W_cor, W_extra)`: the work of each force is
 //! integrated with the motion, so the energy ledger is as accurate as the
 //! trajectory.
 //!
@@ -61,8 +61,18 @@ pub struct IntegratorStats {
     pub force_evaluations: u64,
 }
 
-const N: usize = 9;
+const N: usize = 10;
 type Y = [f64; N];
+
+/// A constant force and torque added to the environment forces over a step
+/// (the contact forces of an event-driven step).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Wrench {
+    /// Force, N.
+    pub force: crate::geometry::Vec2,
+    /// Torque about the centre of mass, N·m.
+    pub torque: f64,
+}
 
 /// The smooth integrator of a scenario, with per-floe step memory.
 #[derive(Debug, Clone)]
@@ -178,8 +188,26 @@ impl SmoothIntegrator {
         t0: f64,
         t1: f64,
     ) -> Result<(), IntegrationError> {
+        self.advance_with(scn, i, b, ledger, t0, t1, &Wrench::default())
+            .map(|_| ())
+    }
+
+    /// Like [`SmoothIntegrator::advance`], with a constant `extra` wrench added
+    /// to the environment forces; returns the work of `extra` (J), which is
+    /// not added to the ledger (the caller knows what it is).
+    #[allow(clippy::too_many_arguments)]
+    pub fn advance_with(
+        &mut self,
+        scn: &Scenario,
+        i: usize,
+        b: &mut BodyState,
+        ledger: &mut Ledger,
+        t0: f64,
+        t1: f64,
+        extra: &Wrench,
+    ) -> Result<f64, IntegrationError> {
         if t1 <= t0 {
-            return Ok(());
+            return Ok(0.0);
         }
         let mut y: Y = [
             b.position.x,
@@ -188,6 +216,7 @@ impl SmoothIntegrator {
             b.velocity.x,
             b.velocity.y,
             b.angular_velocity,
+            0.0,
             0.0,
             0.0,
             0.0,
@@ -203,8 +232,8 @@ impl SmoothIntegrator {
             .collect();
         for end in kinks {
             match self.kind {
-                IntegratorKind::Dopri5 => self.dopri5(scn, i, &mut y, t, end)?,
-                IntegratorKind::Euler => self.euler(scn, i, &mut y, t, end)?,
+                IntegratorKind::Dopri5 => self.dopri5(scn, i, &mut y, t, end, extra)?,
+                IntegratorKind::Euler => self.euler(scn, i, &mut y, t, end, extra)?,
             }
             t = end;
         }
@@ -215,18 +244,19 @@ impl SmoothIntegrator {
         ledger.work_air += y[6];
         ledger.work_water += y[7];
         ledger.work_coriolis += y[8];
-        Ok(())
+        Ok(y[9])
     }
 
-    fn rhs(&mut self, scn: &Scenario, i: usize, t: f64, y: &Y) -> Y {
+    fn rhs(&mut self, scn: &Scenario, i: usize, t: f64, y: &Y, extra: &Wrench) -> Y {
         self.stats.force_evaluations += 1;
         let b = unpack(y);
         let f = self.forces(scn, i, t, &b);
         let floe = &scn.floes[i];
-        let a = f.force() / floe.mass;
-        let alpha = f.torque() / floe.inertia;
+        let a = (f.force() + extra.force) / floe.mass;
+        let alpha = (f.torque() + extra.torque) / floe.inertia;
         let (pa, pw, pc) = f.powers(&b);
-        [y[3], y[4], y[5], a.x, a.y, alpha, pa, pw, pc]
+        let pe = extra.force.dot(&b.velocity) + extra.torque * b.angular_velocity;
+        [y[3], y[4], y[5], a.x, a.y, alpha, pa, pw, pc, pe]
     }
 
     fn euler(
@@ -236,13 +266,14 @@ impl SmoothIntegrator {
         y: &mut Y,
         t0: f64,
         t1: f64,
+        extra: &Wrench,
     ) -> Result<(), IntegrationError> {
         let hmax = self.max_step[i];
         let n = ((t1 - t0) / hmax).ceil().max(1.0);
         let h = (t1 - t0) / n;
         let mut t = t0;
         for _ in 0..n as u64 {
-            let k = self.rhs(scn, i, t, y);
+            let k = self.rhs(scn, i, t, y, extra);
             for (yj, kj) in y.iter_mut().zip(k.iter()) {
                 *yj += h * kj;
             }
@@ -262,6 +293,7 @@ impl SmoothIntegrator {
         y: &mut Y,
         t0: f64,
         t1: f64,
+        extra: &Wrench,
     ) -> Result<(), IntegrationError> {
         // Dormand–Prince 5(4) coefficients (Hairer, Nørsett & Wanner, table 5.2).
         const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -325,6 +357,7 @@ impl SmoothIntegrator {
             rtol * energy,
             rtol * energy,
             rtol * energy,
+            rtol * energy,
         ];
         let span = t1 - t0;
         let hmax = self.max_step[i].min(span);
@@ -338,7 +371,7 @@ impl SmoothIntegrator {
         while t < t1 {
             let last = t + h >= t1 - 1e-15 * t1.abs().max(1.0);
             let hh = if last { t1 - t } else { h };
-            k[0] = self.rhs(scn, i, t, y);
+            k[0] = self.rhs(scn, i, t, y, extra);
             for s in 1..7 {
                 let mut ys = *y;
                 for (j, yj) in ys.iter_mut().enumerate() {
@@ -348,7 +381,7 @@ impl SmoothIntegrator {
                     }
                     *yj += hh * acc;
                 }
-                k[s] = self.rhs(scn, i, t + C[s] * hh, &ys);
+                k[s] = self.rhs(scn, i, t + C[s] * hh, &ys, extra);
             }
             let mut ynew = *y;
             let mut err2 = 0.0;

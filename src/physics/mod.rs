@@ -5,4 +5,4 @@ pub mod forces;
 pub mod integrator;
 
 pub use forces::{environment_forces, Forces, Quadrature};
-pub use integrator::{IntegrationError, IntegratorStats, SmoothIntegrator};
+pub use integrator::{IntegrationError, IntegratorStats, SmoothIntegrator, Wrench};

@@ -1,0 +1,291 @@
+//! The frictional contact problem of a group of touching floes, as the
+//! velocity–impulse LCP of physics.md section 3.1 (Rabatel 2015;
+//! Stewart & Trinkle 1996), shared by the event-driven and the Moreau–Jean
+//! formulations.
+//!
+//! For `m` contacts between the floes of one connected group, with `J` (`D`)
+//! the normal (tangential, both directions `±T_j`) Jacobians, `M` the block
+//! mass matrix (obstacles have no rows: zero inverse mass), `E` summing the
+//! two friction entries of a contact and `W_free` the velocities the floes
+//! would have without contact:
+//!
+//! ```text
+//! W⁺ = W_free + M⁻¹ (J λ + D β̃)
+//! w = Jᵀ W⁺ + c     ≥ 0 ⟂ λ ≥ 0        (Signorini, with an offset c)
+//! γ = Dᵀ W⁺ + E α   ≥ 0 ⟂ β̃ ≥ 0       (friction directions)
+//! σ = μ λ − Eᵀ β̃    ≥ 0 ⟂ α ≥ 0       (Coulomb cone, facets ±T)
+//! ```
+//!
+//! so `z = (λ, β̃, α)` (size `4m`) solves `w = A z + q ≥ 0 ⟂ z ≥ 0` with
+//! `A = [[JᵀM⁻¹J, JᵀM⁻¹D, 0], [DᵀM⁻¹J, DᵀM⁻¹D, E], [μ, −Eᵀ, 0]]` and
+//! `q = (JᵀW_free + c, DᵀW_free, 0)`. The Delassus blocks `HᵀM⁻¹H`,
+//! `H = (J, D)`, are formed with faer. Without friction (`μ = 0`) only the
+//! normal block is kept (size `m`): the friction unknowns would be zero and
+//! the slack `α` undetermined.
+//!
+//! The offset `c` is Rabatel's relaxed Signorini condition `Jᵀ W⁺ ≥ −c`:
+//! zero at an impact; for a penetrating sustained contact `c = g / h < 0`
+//! asks the contact to separate by `−g` over the step.
+
+use super::Contact;
+use crate::geometry::{cross, Vec2};
+use crate::lcp::Lcp;
+use crate::model::Scenario;
+use faer::Mat;
+
+/// Generalised velocity (or impulse) of one floe: `(x, y, θ)` components.
+pub type Gen = [f64; 3];
+
+/// A connected group of floes linked by contacts (obstacles do not link).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ContactGroup {
+    /// Floe indices, sorted.
+    pub floes: Vec<usize>,
+    /// Indices into the contact list, sorted.
+    pub contacts: Vec<usize>,
+}
+
+/// Splits `contacts` into connected groups of floes (union–find). Bodies
+/// with index `>= n_floes` are obstacles and link nothing.
+pub fn groups(contacts: &[Contact], n_floes: usize) -> Vec<ContactGroup> {
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    let mut parent: Vec<usize> = (0..n_floes).collect();
+    for c in contacts {
+        if c.a < n_floes && c.b < n_floes {
+            let (ra, rb) = (find(&mut parent, c.a), find(&mut parent, c.b));
+            if ra != rb {
+                parent[ra.max(rb)] = ra.min(rb);
+            }
+        }
+    }
+    let mut by_root: std::collections::BTreeMap<usize, ContactGroup> = Default::default();
+    for (k, c) in contacts.iter().enumerate() {
+        let floe = if c.a < n_floes { c.a } else { c.b };
+        if floe >= n_floes {
+            continue; // obstacle–obstacle: never reported by detection
+        }
+        let root = find(&mut parent, floe);
+        let g = by_root.entry(root).or_default();
+        g.contacts.push(k);
+        for body in [c.a, c.b] {
+            if body < n_floes {
+                g.floes.push(body);
+            }
+        }
+    }
+    by_root
+        .into_values()
+        .map(|mut g| {
+            g.floes.sort_unstable();
+            g.floes.dedup();
+            g
+        })
+        .collect()
+}
+
+/// The assembled LCP of one group, with what is needed to turn its solution
+/// into velocity changes.
+#[derive(Debug, Clone)]
+pub struct ContactLcp {
+    /// The LCP `w = A z + q`.
+    pub lcp: Lcp,
+    /// Number of contacts `m`.
+    pub m: usize,
+    /// Whether friction unknowns are present (size `4m`, else `m`).
+    pub friction: bool,
+    /// Friction coefficient `μ`.
+    pub mu: f64,
+    /// `H = (J, D)`: `3 n_g × (m + 2m)` (or `× m` without friction).
+    h: Mat<f64>,
+    /// Inverse mass per generalised coordinate of the group (`3 n_g`).
+    minv: Vec<f64>,
+    /// Floe indices of the group.
+    pub floes: Vec<usize>,
+}
+
+/// One Jacobian column block: `(n, r × n)` for a direction `n` at lever arm `r`.
+fn jac(n: &Vec2, r: &Vec2) -> Gen {
+    [n.x, n.y, cross(r, n)]
+}
+
+impl ContactLcp {
+    /// Assembles the LCP of `group`.
+    ///
+    /// - `centres[i]`: centre of mass of floe `i` (m), for the lever arms;
+    /// - `w_free[i]`: free velocity of floe `i`;
+    /// - `offset[k]`: the offset `c` of contact `k` (m/s; 0 at an impact).
+    pub fn assemble(
+        scn: &Scenario,
+        centres: &[Vec2],
+        contacts: &[Contact],
+        group: &ContactGroup,
+        w_free: &[Gen],
+        offset: &[f64],
+    ) -> ContactLcp {
+        let n_floes = scn.floes.len();
+        let mu = scn.contact.friction;
+        let friction = mu > 0.0;
+        let m = group.contacts.len();
+        let ng = group.floes.len();
+        let cols = if friction { 3 * m } else { m };
+        let local = |i: usize| group.floes.binary_search(&i).ok();
+        let mut h = Mat::<f64>::zeros(3 * ng, cols);
+        for (j, &k) in group.contacts.iter().enumerate() {
+            let c = &contacts[k];
+            let n = c.geom.normal;
+            let t = c.geom.tangent;
+            for (body, sign) in [(c.a, -1.0), (c.b, 1.0)] {
+                if body >= n_floes {
+                    continue;
+                }
+                let Some(l) = local(body) else { continue };
+                let r = c.geom.point - centres[body];
+                let jn = jac(&n, &r);
+                let jt = jac(&t, &r);
+                for d in 0..3 {
+                    h[(3 * l + d, j)] += sign * jn[d];
+                    if friction {
+                        h[(3 * l + d, m + 2 * j)] += sign * jt[d];
+                        h[(3 * l + d, m + 2 * j + 1)] -= sign * jt[d];
+                    }
+                }
+            }
+        }
+        let mut minv = Vec::with_capacity(3 * ng);
+        for &i in &group.floes {
+            let f = &scn.floes[i];
+            minv.extend([1.0 / f.mass, 1.0 / f.mass, 1.0 / f.inertia]);
+        }
+        let mut minv_h = h.clone();
+        for r in 0..3 * ng {
+            for c in 0..cols {
+                minv_h[(r, c)] *= minv[r];
+            }
+        }
+        let g: Mat<f64> = h.transpose() * &minv_h;
+        // Free velocities in group order.
+        let mut wf = vec![0.0; 3 * ng];
+        for (l, &i) in group.floes.iter().enumerate() {
+            wf[3 * l..3 * l + 3].copy_from_slice(&w_free[i]);
+        }
+        let n = if friction { 4 * m } else { m };
+        let mut a = vec![0.0; n * n];
+        let mut q = vec![0.0; n];
+        for r in 0..cols {
+            for c in 0..cols {
+                a[r * n + c] = g[(r, c)];
+            }
+            let mut hw = 0.0;
+            for k in 0..3 * ng {
+                hw += h[(k, r)] * wf[k];
+            }
+            q[r] = hw;
+        }
+        for (j, &k) in group.contacts.iter().enumerate() {
+            q[j] += offset[k];
+        }
+        if friction {
+            for j in 0..m {
+                // γ rows: + E α.
+                a[(m + 2 * j) * n + 3 * m + j] = 1.0;
+                a[(m + 2 * j + 1) * n + 3 * m + j] = 1.0;
+                // σ row: μ λ − Eᵀ β̃.
+                let s = 3 * m + j;
+                a[s * n + j] = mu;
+                a[s * n + m + 2 * j] = -1.0;
+                a[s * n + m + 2 * j + 1] = -1.0;
+            }
+        }
+        ContactLcp {
+            lcp: Lcp { n, m: a, q },
+            m,
+            friction,
+            mu,
+            h,
+            minv,
+            floes: group.floes.clone(),
+        }
+    }
+
+    /// The generalised impulses `H (λ, β̃)` per floe of the group, in group order.
+    pub fn impulses(&self, z: &[f64]) -> Vec<Gen> {
+        let cols = self.h.ncols();
+        let mut out = vec![[0.0; 3]; self.floes.len()];
+        for (l, o) in out.iter_mut().enumerate() {
+            for (d, od) in o.iter_mut().enumerate() {
+                let r = 3 * l + d;
+                *od = z
+                    .iter()
+                    .take(cols)
+                    .enumerate()
+                    .map(|(c, zc)| self.h[(r, c)] * zc)
+                    .sum();
+            }
+        }
+        out
+    }
+
+    /// The velocity changes `M⁻¹ H (λ, β̃)` per floe of the group.
+    pub fn velocity_changes(&self, z: &[f64]) -> Vec<Gen> {
+        let mut p = self.impulses(z);
+        for (l, g) in p.iter_mut().enumerate() {
+            for (d, gd) in g.iter_mut().enumerate() {
+                *gd *= self.minv[3 * l + d];
+            }
+        }
+        p
+    }
+
+    /// Normal impulses `λ` (N·s).
+    pub fn normal<'a>(&self, z: &'a [f64]) -> &'a [f64] {
+        &z[..self.m.min(z.len())]
+    }
+
+    /// Signed tangential impulses `β_j = β̃⁺_j − β̃⁻_j` along `T_j` (N·s).
+    pub fn tangential(&self, z: &[f64]) -> Vec<f64> {
+        if !self.friction {
+            return vec![0.0; self.m];
+        }
+        (0..self.m)
+            .map(|j| z[self.m + 2 * j] - z[self.m + 2 * j + 1])
+            .collect()
+    }
+
+    /// The frictionless sub-problem (normal block only), for the last resort
+    /// when the frictional LCP cannot be solved.
+    pub fn frictionless(&self) -> ContactLcp {
+        let m = self.m;
+        let n = self.lcp.n;
+        let mut a = vec![0.0; m * m];
+        for r in 0..m {
+            for c in 0..m {
+                a[r * m + c] = self.lcp.m[r * n + c];
+            }
+        }
+        let mut h = Mat::<f64>::zeros(self.h.nrows(), m);
+        for r in 0..self.h.nrows() {
+            for c in 0..m {
+                h[(r, c)] = self.h[(r, c)];
+            }
+        }
+        ContactLcp {
+            lcp: Lcp {
+                n: m,
+                m: a,
+                q: self.lcp.q[..m].to_vec(),
+            },
+            m,
+            friction: false,
+            mu: self.mu,
+            h,
+            minv: self.minv.clone(),
+            floes: self.floes.clone(),
+        }
+    }
+}

@@ -1,0 +1,774 @@
+//! The event-driven LCP formulation of M. Rabatel (2015), with our own Lemke.
+//!
+//! # Scheme
+//!
+//! From a state at time `t` (physics.md sections 3, 4; report section 3.2):
+//!
+//! 1. **Detection.** Contacts are found by sweep and prune and exact convex
+//!    polygon distances ([`crate::contact`]): every vertex–edge point whose
+//!    gap is below the contact distance `δ` is *closed*.
+//! 2. **Impacts.** If a closed contact approaches (`u_N < 0`), the connected
+//!    group of floes it belongs to goes through an impact: the compression
+//!    LCP of physics.md 3.1 with `e = 0` and no external impulse gives `W_c`
+//!    and the impulse `P_c`; decompression applies `e P_c` more, i.e. Poisson's
+//!    law in Rabatel's energy-consistent form `W⁺ = (1 + e) W_c − e W⁻`, which
+//!    never increases the kinetic energy for `e ≤ 1` and conserves it for
+//!    `e = 1, μ = 0`. Repeated until no closed contact approaches (a
+//!    decompression may push another closed contact into approach).
+//! 3. **Smooth step with sustained contacts.** A trial step `h` is bounded by
+//!    the time left to the next output, the drag stability bound `Δt_max` of
+//!    physics.md section 4, and a quarter of the smallest floe radius divided
+//!    by the largest point speed (no floe tunnels through another). Closed
+//!    contacts that persist (resting, sliding) receive a constant contact
+//!    force over the step: the LCP is solved with the velocity–impulse form of
+//!    3.1, `h_free = −M W_free` where `W_free` is the free velocity after `h`
+//!    (the external impulse `∫𝓗 dt` included), and its impulse divided by `h`
+//!    is added to the environment forces while the step is integrated by the
+//!    shared smooth integrator. A constant force balance is therefore exact
+//!    (a floe pressed on a wall by a constant wind stays put; a sliding floe
+//!    decelerates at exactly `μ a`). A penetrating sustained contact asks for
+//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini `JᵀW⁺ ≥ c`).
+//! 4. **Event location in time.** After the trial step, every vertex of each
+//!    close pair (floes and obstacles both ways) that was open (`d > δ`) and
+//!    ends below `δ/2` is an event: the first instant its signed distance to
+//!    the other body reaches `3δ/4` is found by Illinois root finding on the
+//!    re-integrated motion, and the step is cut there. Impacts therefore
+//!    happen at a gap in `[δ/2, δ]`: with the default `δ` (1e-9 of the
+//!    smallest floe radius) the impact instant is the root of the gap; with
+//!    the report's positive contact distance each impact comes early by about
+//!    `δ / approach speed`.
+//! 5. **Penetration.** A penetration deeper than the tolerance at the end of
+//!    a step rejects it; it is retried with half the step (counted).
+//!
+//! Every LCP goes through [`crate::lcp::solve`] (lexicographic Lemke, another
+//! pivot rule, a perturbed matrix), whose residual is recomputed on the
+//! original data. When all fail, the documented last resort is the
+//! frictionless LCP of the same contacts; if that fails too, no impulse is
+//! applied. Each outcome is counted.
+//!
+//! # References
+//!
+//! - M. Rabatel, S. Labbé, J. Weiss (2015), *Dynamics of an assembly of rigid
+//!   ice floes*, J. Geophys. Res. Oceans 120, 5887–5909; M. Rabatel (2015),
+//!   PhD thesis, Université Grenoble Alpes.
+//! - D. Stewart, J. Trinkle (1996), *An implicit time-stepping scheme for rigid
+//!   body dynamics with inelastic collisions and Coulomb friction*, IJNME 39.
+//! - R. Cottle, J.-S. Pang, R. Stone (1992), *The Linear Complementarity
+//!   Problem*, Academic Press (Lemke's algorithm, lexicographic rule).
+//! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
+//!   Contacts* (Poisson's impact law).
+
+use super::{Formulation, FormulationError, FormulationOptions};
+use crate::contact::problem::{groups, ContactLcp, Gen};
+use crate::contact::{detect, Aabb, BroadPhase, Contact};
+use crate::geometry::{aabb, perp, point_polygon_signed_distance, Vec2};
+use crate::lcp::{solve, LcpDump, SolveCounters, SolveOptions};
+use crate::model::Scenario;
+use crate::physics::{SmoothIntegrator, Wrench};
+use crate::run::{Counters, Stage, StageClock};
+use crate::state::{BodyState, Ledger, System};
+use std::path::PathBuf;
+
+/// Default contact distance as a fraction of the smallest floe radius, when
+/// the case leaves `[contact] distance = 0`.
+pub const DEFAULT_DISTANCE_FRACTION: f64 = 1e-9;
+/// Default penetration tolerance as a fraction of the smallest floe radius.
+pub const DEFAULT_PENETRATION_FRACTION: f64 = 1e-4;
+/// A closed contact approaches when `u_N` is below minus this, m/s.
+const APPROACH_TOLERANCE: f64 = 1e-10;
+/// Impact rounds at one instant before giving up (counted).
+const MAX_IMPACT_ROUNDS: usize = 100;
+/// Halvings of a step that penetrates before it is accepted anyway (counted).
+const MAX_REJECTIONS: usize = 12;
+
+/// One resolved impact, for analysis.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ImpactRecord {
+    /// Time, s.
+    pub t: f64,
+    /// Floes of the group.
+    pub floes: Vec<usize>,
+    /// Number of contacts in the LCP.
+    pub contacts: usize,
+    /// Kinetic energy of the group before and after, J.
+    pub energy: (f64, f64),
+}
+
+/// The event-driven formulation.
+#[derive(Debug)]
+pub struct EventDriven {
+    integ: SmoothIntegrator,
+    distance: f64,
+    pen_tol: f64,
+    max_step: f64,
+    opts: SolveOptions,
+    bp: BroadPhase,
+    sweep_bp: BroadPhase,
+    dump: Option<PathBuf>,
+    dump_seq: u64,
+    counters: Counters,
+    lcp_counters: SolveCounters,
+    impacts: Vec<ImpactRecord>,
+    max_coulomb_ratio: f64,
+    max_penetration: f64,
+}
+
+/// Keeps at most this many impact records.
+const MAX_IMPACT_RECORDS: usize = 100_000;
+
+impl EventDriven {
+    /// Sets up the formulation for `scn`.
+    pub fn new(scn: &Scenario, opts: &FormulationOptions) -> EventDriven {
+        faer::set_global_parallelism(faer::Par::Seq);
+        let rmin = scn.min_floe_radius();
+        let rmin = if rmin.is_finite() { rmin } else { 1.0 };
+        let distance = if scn.contact.distance > 0.0 {
+            scn.contact.distance
+        } else {
+            DEFAULT_DISTANCE_FRACTION * rmin
+        };
+        let pen_tol = scn
+            .formulations
+            .event_driven
+            .penetration_tolerance
+            .unwrap_or(DEFAULT_PENETRATION_FRACTION * rmin)
+            .max(distance);
+        let max_step = (0..scn.floes.len())
+            .map(|i| scn.euler_stability_bound(i))
+            .fold(f64::INFINITY, f64::min);
+        let mut counters = Counters::default();
+        counters.set_value("contact_distance_m", distance);
+        counters.set_value("penetration_tolerance_m", pen_tol);
+        EventDriven {
+            integ: SmoothIntegrator::new(scn, opts.integrator),
+            distance,
+            pen_tol,
+            max_step,
+            opts: SolveOptions::default(),
+            bp: BroadPhase::new(),
+            sweep_bp: BroadPhase::new(),
+            dump: opts.dump_lcp.clone(),
+            dump_seq: 0,
+            counters,
+            lcp_counters: SolveCounters::default(),
+            impacts: Vec::new(),
+            max_coulomb_ratio: 0.0,
+            max_penetration: 0.0,
+        }
+    }
+
+    /// The impacts resolved so far (the first [`MAX_IMPACT_RECORDS`]).
+    pub fn impacts(&self) -> &[ImpactRecord] {
+        &self.impacts
+    }
+
+    /// The contact distance `δ` in use, m.
+    pub fn distance(&self) -> f64 {
+        self.distance
+    }
+
+    /// Largest `|β| / (μ λ)` over every contact impulse so far (0 without friction).
+    pub fn max_coulomb_ratio(&self) -> f64 {
+        self.max_coulomb_ratio
+    }
+
+    /// World polygons of all bodies: floes at `bodies`, then obstacles.
+    fn polygons(scn: &Scenario, bodies: &[BodyState]) -> Vec<Vec<Vec2>> {
+        let mut out = Vec::with_capacity(bodies.len() + scn.obstacles.len());
+        for (f, b) in scn.floes.iter().zip(bodies) {
+            let mut p = Vec::with_capacity(f.shape.len());
+            f.world_polygon(&b.position, b.angle, &mut p);
+            out.push(p);
+        }
+        out.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
+        out
+    }
+
+    fn detect(&mut self, scn: &Scenario, bodies: &[BodyState]) -> Vec<Contact> {
+        let polys = Self::polygons(scn, bodies);
+        let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
+        let n = scn.floes.len();
+        let fixed: Vec<bool> = (0..refs.len()).map(|i| i >= n).collect();
+        let mut out = Vec::new();
+        detect(&refs, &fixed, self.distance, &mut self.bp, &mut out);
+        out
+    }
+
+    /// Normal relative velocity of a contact (positive: separating), m/s.
+    fn normal_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64 {
+        let n = scn.floes.len();
+        let vel = |i: usize| -> Vec2 {
+            if i >= n {
+                return Vec2::zeros();
+            }
+            let b = &bodies[i];
+            b.velocity + perp(&(c.geom.point - b.position)) * b.angular_velocity
+        };
+        (vel(c.b) - vel(c.a)).dot(&c.geom.normal)
+    }
+
+    /// Solves one contact LCP with the fallbacks and the last resort;
+    /// returns `z` (never NaN) and records counters and dumps.
+    fn solve_contact(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
+        let sol = solve(&lcp.lcp, &self.opts);
+        self.record_solve(lcp, &sol, t);
+        if sol.status.is_solved() {
+            return sol.z;
+        }
+        if lcp.friction {
+            self.counters.add("lcp_last_resort_frictionless", 1);
+            let fl = lcp.frictionless();
+            let sol2 = solve(&fl.lcp, &self.opts);
+            self.record_solve(&fl, &sol2, t);
+            if sol2.status.is_solved() {
+                let mut z = vec![0.0; lcp.lcp.n];
+                z[..lcp.m].copy_from_slice(&sol2.z);
+                return z;
+            }
+        }
+        self.counters.add("lcp_unresolved", 1);
+        vec![0.0; lcp.lcp.n]
+    }
+
+    fn record_solve(&mut self, lcp: &ContactLcp, sol: &crate::lcp::LcpSolution, t: f64) {
+        self.lcp_counters.record(sol);
+        self.counters.add("lcp_solves", 1);
+        self.counters.add("lcp_unknowns_total", lcp.lcp.n as u64);
+        let e = self
+            .counters
+            .values
+            .entry("lcp_size_max".into())
+            .or_insert(0.0);
+        *e = e.max(lcp.lcp.n as f64);
+        if let Some(dir) = &self.dump {
+            let path = dir.join(format!("{:06}.json", self.dump_seq));
+            self.dump_seq += 1;
+            if LcpDump::from_solution(&lcp.lcp, sol, t, lcp.m)
+                .write(&path)
+                .is_err()
+            {
+                self.counters.add("lcp_dump_failures", 1);
+            }
+        }
+        // Coulomb on the accepted impulses.
+        if sol.status.is_solved() && lcp.friction {
+            let lam = lcp.normal(&sol.z);
+            let beta = lcp.tangential(&sol.z);
+            let mu = lcp.mu;
+            for (l, b) in lam.iter().zip(&beta) {
+                let bound = mu * l;
+                if b.abs() > 0.0 {
+                    let ratio = if bound > 0.0 {
+                        b.abs() / bound
+                    } else {
+                        f64::INFINITY
+                    };
+                    self.max_coulomb_ratio = self.max_coulomb_ratio.max(ratio);
+                    if b.abs() > bound * (1.0 + 1e-9) + 1e-300 {
+                        self.counters.add("coulomb_violations", 1);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Resolves the impacts of every group with an approaching closed contact.
+    /// Returns whether any impact happened.
+    fn impacts_at(&mut self, scn: &Scenario, sys: &mut System, contacts: &[Contact]) -> bool {
+        let n = scn.floes.len();
+        let approaching: Vec<bool> = contacts
+            .iter()
+            .map(|c| Self::normal_velocity(scn, &sys.bodies, c) < -APPROACH_TOLERANCE)
+            .collect();
+        if !approaching.iter().any(|&a| a) {
+            return false;
+        }
+        let centres: Vec<Vec2> = sys.bodies.iter().map(|b| b.position).collect();
+        let w: Vec<Gen> = sys
+            .bodies
+            .iter()
+            .map(|b| [b.velocity.x, b.velocity.y, b.angular_velocity])
+            .collect();
+        let zeros = vec![0.0; contacts.len()];
+        let e = scn.contact.restitution;
+        for g in groups(contacts, n) {
+            if !g.contacts.iter().any(|&k| approaching[k]) {
+                continue;
+            }
+            let lcp = ContactLcp::assemble(scn, &centres, contacts, &g, &w, &zeros);
+            let z = self.solve_contact(&lcp, sys.t);
+            let dv = lcp.velocity_changes(&z);
+            let before = group_energy(scn, &sys.bodies, &g.floes);
+            let w_minus: Vec<BodyState> = g.floes.iter().map(|&i| sys.bodies[i]).collect();
+            let apply = |bodies: &mut [BodyState], k: f64| {
+                for (l, &i) in g.floes.iter().enumerate() {
+                    let b = &mut bodies[i];
+                    b.velocity = w_minus[l].velocity + Vec2::new(dv[l][0], dv[l][1]) * k;
+                    b.angular_velocity = w_minus[l].angular_velocity + dv[l][2] * k;
+                }
+            };
+            apply(&mut sys.bodies, 1.0 + e);
+            if e < 1.0 && self.accumulates(scn, sys, contacts, &g.contacts, e) {
+                // The remaining bounces accumulate within the step: complete
+                // them at once (plastic), as a time-stepping scheme would.
+                apply(&mut sys.bodies, 1.0);
+                self.counters.add("zeno_truncations", 1);
+            }
+            let after = group_energy(scn, &sys.bodies, &g.floes);
+            if after > before * (1.0 + 1e-12) + 1e-300 {
+                self.counters.add("impact_energy_increases", 1);
+            }
+            sys.ledger.dissipated += before - after;
+            self.counters.add("impacts", 1);
+            if self.impacts.len() < MAX_IMPACT_RECORDS {
+                self.impacts.push(ImpactRecord {
+                    t: sys.t,
+                    floes: g.floes.clone(),
+                    contacts: g.contacts.len(),
+                    energy: (before, after),
+                });
+            }
+        }
+        true
+    }
+
+    /// Whether, after an impact, a separating contact of the group will
+    /// bounce back and accumulate (Zeno) within the accumulation horizon
+    /// `τ = min(Δt_max, output_interval)`: its remaining accumulation time is
+    /// `2 u_N / (|a_N| (1 − e))` with `a_N` the normal relative acceleration
+    /// from the environment forces.
+    fn accumulates(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        contacts: &[Contact],
+        which: &[usize],
+        e: f64,
+    ) -> bool {
+        let tau = self.max_step.min(scn.output_interval);
+        let n = scn.floes.len();
+        for &k in which {
+            let c = &contacts[k];
+            let u = Self::normal_velocity(scn, &sys.bodies, c);
+            if u <= APPROACH_TOLERANCE {
+                continue;
+            }
+            let acc = |i: usize| -> Vec2 {
+                if i >= n {
+                    return Vec2::zeros();
+                }
+                let b = &sys.bodies[i];
+                let f = self.integ.forces(scn, i, sys.t, b);
+                let r = c.geom.point - b.position;
+                let alpha = f.torque() / scn.floes[i].inertia;
+                f.force() / scn.floes[i].mass + perp(&r) * alpha - r * b.angular_velocity.powi(2)
+            };
+            let a_n = (acc(c.b) - acc(c.a)).dot(&c.geom.normal);
+            if a_n < 0.0 && 2.0 * u / (-a_n * (1.0 - e)) < tau {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Constant contact wrenches over a step of length `h` for the closed
+    /// contacts (sustained contact), from the velocity–impulse LCP.
+    fn sustained_wrenches(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        contacts: &[Contact],
+        h: f64,
+        clock: &mut StageClock,
+    ) -> Result<(Vec<Wrench>, Option<f64>), FormulationError> {
+        let n = scn.floes.len();
+        let mut wrenches = vec![Wrench::default(); n];
+        if contacts.is_empty() {
+            return Ok((wrenches, None));
+        }
+        let gs = groups(contacts, n);
+        // Free velocities after h of the floes in contact.
+        let mut w_free: Vec<Gen> = vec![[0.0; 3]; n];
+        let t = sys.t;
+        let integ = &mut self.integ;
+        clock.time(Stage::Integration, || -> Result<(), FormulationError> {
+            for g in &gs {
+                for &i in &g.floes {
+                    let mut b = sys.bodies[i];
+                    let mut scratch = Ledger::default();
+                    integ.advance(scn, i, &mut b, &mut scratch, t, t + h)?;
+                    w_free[i] = [b.velocity.x, b.velocity.y, b.angular_velocity];
+                }
+            }
+            Ok(())
+        })?;
+        // A closed contact that separates now but whose free flight returns
+        // within h: cut the step to half the (linearly estimated) return
+        // time, so the return is located as an event, not absorbed.
+        let free_bodies: Vec<BodyState> = sys
+            .bodies
+            .iter()
+            .zip(&w_free)
+            .map(|(b, w)| BodyState {
+                velocity: Vec2::new(w[0], w[1]),
+                angular_velocity: w[2],
+                ..*b
+            })
+            .collect();
+        let mut cut = f64::INFINITY;
+        for c in contacts {
+            let u0 = Self::normal_velocity(scn, &sys.bodies, c);
+            if u0 > APPROACH_TOLERANCE {
+                let u1 = Self::normal_velocity(scn, &free_bodies, c);
+                if u1 < 0.0 {
+                    cut = cut.min(0.5 * h * u0 / (u0 - u1));
+                }
+            }
+        }
+        if cut < h {
+            return Ok((wrenches, Some(cut)));
+        }
+        let centres: Vec<Vec2> = sys.bodies.iter().map(|b| b.position).collect();
+        let offsets: Vec<f64> = contacts
+            .iter()
+            .map(|c| {
+                if c.geom.gap < 0.0 {
+                    c.geom.gap / h
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        if offsets.iter().any(|&o| o < 0.0) {
+            self.counters.add("position_corrections", 1);
+        }
+        let _ = clock;
+        for g in &gs {
+            let lcp = ContactLcp::assemble(scn, &centres, contacts, g, &w_free, &offsets);
+            let z = self.solve_contact(&lcp, t);
+            let p = lcp.impulses(&z);
+            for (l, &i) in g.floes.iter().enumerate() {
+                wrenches[i] = Wrench {
+                    force: Vec2::new(p[l][0], p[l][1]) / h,
+                    torque: p[l][2] / h,
+                };
+            }
+            self.counters.add("sustained_solves", 1);
+        }
+        Ok((wrenches, None))
+    }
+
+    /// Integrates every floe from `sys` over `s` with `wrenches`.
+    fn integrate(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        s: f64,
+        wrenches: &[Wrench],
+    ) -> Result<System, FormulationError> {
+        let mut out = sys.clone();
+        let mut contact_work = 0.0;
+        for (i, (b, w)) in out.bodies.iter_mut().zip(wrenches).enumerate() {
+            contact_work +=
+                self.integ
+                    .advance_with(scn, i, b, &mut out.ledger, sys.t, sys.t + s, w)?;
+        }
+        out.ledger.dissipated -= contact_work;
+        out.t = sys.t + s;
+        Ok(out)
+    }
+
+    /// The largest step allowed from `sys`, s.
+    fn step_cap(&self, scn: &Scenario, sys: &System) -> f64 {
+        let mut cap = self.max_step;
+        let speed = sys
+            .bodies
+            .iter()
+            .zip(&scn.floes)
+            .map(|(b, f)| b.velocity.norm() + b.angular_velocity.abs() * f.radius)
+            .fold(0.0, f64::max);
+        let rmin = scn.min_floe_radius();
+        if speed > 0.0 && rmin.is_finite() {
+            cap = cap.min(0.25 * rmin / speed);
+        }
+        cap
+    }
+
+    /// Candidate pairs over a step: swept boxes of the start and end states.
+    fn swept_pairs(
+        &mut self,
+        scn: &Scenario,
+        p0: &[Vec<Vec2>],
+        p1: &[Vec<Vec2>],
+    ) -> Vec<(usize, usize)> {
+        let n = scn.floes.len();
+        let boxes: Vec<Aabb> = p0
+            .iter()
+            .zip(p1)
+            .enumerate()
+            .map(|(i, (a, b))| {
+                let (lo0, hi0) = aabb(a);
+                let (lo1, hi1) = aabb(b);
+                Aabb {
+                    min: lo0.inf(&lo1),
+                    max: hi0.sup(&hi1),
+                    fixed: i >= n,
+                }
+            })
+            .collect();
+        let mut pairs = Vec::new();
+        self.sweep_bp.pairs(&boxes, self.distance, &mut pairs);
+        pairs
+    }
+
+    /// The smallest vertex signed distance between two bodies, both ways, m.
+    fn pair_min_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
+        let ab = a
+            .iter()
+            .map(|v| point_polygon_signed_distance(v, b))
+            .fold(f64::INFINITY, f64::min);
+        let ba = b
+            .iter()
+            .map(|v| point_polygon_signed_distance(v, a))
+            .fold(f64::INFINITY, f64::min);
+        ab.min(ba)
+    }
+
+    /// Finds the first event in `(0, h]`: a vertex that was open and closes.
+    #[allow(clippy::too_many_arguments)]
+    fn locate(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        end: &System,
+        h: f64,
+        wrenches: &[Wrench],
+        p0: &[Vec<Vec2>],
+        p1: &[Vec<Vec2>],
+    ) -> Result<Option<f64>, FormulationError> {
+        let n = scn.floes.len();
+        let delta = self.distance;
+        let mut first: Option<f64> = None;
+        let _ = end;
+        for (i, j) in self.swept_pairs(scn, p0, p1) {
+            // Vertices open at the start and closing at the end: (owner, index).
+            let mut cand: Vec<(usize, usize)> = Vec::new();
+            for (owner, other) in [(i, j), (j, i)] {
+                for (k, (v0, v1)) in p0[owner].iter().zip(&p1[owner]).enumerate() {
+                    let d0 = point_polygon_signed_distance(v0, &p0[other]);
+                    let d1 = point_polygon_signed_distance(v1, &p1[other]);
+                    if d0 > delta && d1 < 0.5 * delta {
+                        cand.push((owner, k));
+                    }
+                }
+            }
+            if cand.is_empty() {
+                continue;
+            }
+            let hi_limit = first.unwrap_or(h).min(h);
+            // φ(s) = min over candidates of d(s) − 3δ/4.
+            let target = 0.75 * delta;
+            let phi = |s: f64, me: &mut Self| -> Result<f64, FormulationError> {
+                let mut poly = |idx: usize| -> Result<Vec<Vec2>, FormulationError> {
+                    if idx >= n {
+                        return Ok(p0[idx].clone());
+                    }
+                    let mut b = sys.bodies[idx];
+                    let mut scratch = Ledger::default();
+                    me.integ.advance_with(
+                        scn,
+                        idx,
+                        &mut b,
+                        &mut scratch,
+                        sys.t,
+                        sys.t + s,
+                        &wrenches[idx],
+                    )?;
+                    let mut p = Vec::new();
+                    scn.floes[idx].world_polygon(&b.position, b.angle, &mut p);
+                    Ok(p)
+                };
+                let (pi, pj) = (poly(i)?, poly(j)?);
+                let mut m = f64::INFINITY;
+                for &(owner, k) in &cand {
+                    let (own, oth) = if owner == i { (&pi, &pj) } else { (&pj, &pi) };
+                    m = m.min(point_polygon_signed_distance(&own[k], oth));
+                }
+                Ok(m - target)
+            };
+            // Only search below the earliest event found so far.
+            let (mut lo, mut hi) = (0.0, hi_limit);
+            let mut f_hi = phi(hi, self)?;
+            if f_hi > 0.0 {
+                continue; // this pair closes after an earlier event
+            }
+            let mut f_lo = phi(lo, self)?;
+            let mut side = 0i8;
+            let mut s = hi;
+            for _ in 0..200 {
+                self.counters.add("root_iterations", 1);
+                s = if f_lo - f_hi != 0.0 {
+                    (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+                } else {
+                    0.5 * (lo + hi)
+                };
+                if !(s > lo && s < hi) {
+                    s = 0.5 * (lo + hi);
+                }
+                let f = phi(s, self)?;
+                if f.abs() <= 0.25 * delta {
+                    break;
+                }
+                if f > 0.0 {
+                    lo = s;
+                    f_lo = f;
+                    if side == 1 {
+                        f_hi *= 0.5;
+                    }
+                    side = 1;
+                } else {
+                    hi = s;
+                    f_hi = f;
+                    if side == -1 {
+                        f_lo *= 0.5;
+                    }
+                    side = -1;
+                }
+                if hi - lo <= 1e-15 * (sys.t + h).abs().max(1e-300) {
+                    s = hi;
+                    break;
+                }
+            }
+            first = Some(first.map_or(s, |f: f64| f.min(s)));
+        }
+        Ok(first)
+    }
+}
+
+fn group_energy(scn: &Scenario, bodies: &[BodyState], floes: &[usize]) -> f64 {
+    floes
+        .iter()
+        .map(|&i| {
+            let (f, b) = (&scn.floes[i], &bodies[i]);
+            0.5 * f.mass * b.velocity.norm_squared() + 0.5 * f.inertia * b.angular_velocity.powi(2)
+        })
+        .sum()
+}
+
+impl Formulation for EventDriven {
+    fn name(&self) -> &'static str {
+        "event-driven"
+    }
+
+    fn advance(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        t_end: f64,
+        clock: &mut StageClock,
+    ) -> Result<(), FormulationError> {
+        let n = scn.floes.len();
+        while sys.t < t_end {
+            // 1. Closed contacts at this instant.
+            let contacts = clock.time(Stage::Detection, || self.detect(scn, &sys.bodies));
+            // 2. Impacts.
+            let mut rounds = 0;
+            let mut any = false;
+            loop {
+                let hit = clock.time(Stage::Solve, || self.impacts_at(scn, sys, &contacts));
+                if !hit {
+                    break;
+                }
+                any = true;
+                rounds += 1;
+                if rounds >= MAX_IMPACT_ROUNDS {
+                    self.counters.add("impact_rounds_capped", 1);
+                    break;
+                }
+            }
+            if any {
+                self.counters.add("impact_instants", 1);
+            }
+            // 3. Trial step with sustained contact forces.
+            let mut h = (t_end - sys.t).min(self.step_cap(scn, sys));
+            let p0 = Self::polygons(scn, &sys.bodies);
+            let mut rejections = 0;
+            loop {
+                let (wrenches, cut) = self.sustained_wrenches(scn, sys, &contacts, h, clock)?;
+                if let Some(shorter) = cut {
+                    self.counters.add("steps_cut_for_flight", 1);
+                    h = shorter;
+                    continue;
+                }
+                let trial = clock.time(Stage::Integration, || {
+                    self.integrate(scn, sys, h, &wrenches)
+                })?;
+                let p1 = Self::polygons(scn, &trial.bodies);
+                // 4. Event location.
+                let event = {
+                    let t0 = crate::run::thread_cpu_seconds();
+                    let r = self.locate(scn, sys, &trial, h, &wrenches, &p0, &p1);
+                    clock.charge(Stage::Detection, crate::run::thread_cpu_seconds() - t0);
+                    r?
+                };
+                let next = match event {
+                    Some(s) if s < h => {
+                        self.counters.add("events_located", 1);
+                        clock.time(Stage::Integration, || {
+                            self.integrate(scn, sys, s, &wrenches)
+                        })?
+                    }
+                    _ => trial,
+                };
+                // 5. Penetration check.
+                let p_next = if next.t == sys.t + h {
+                    p1
+                } else {
+                    Self::polygons(scn, &next.bodies)
+                };
+                let pairs =
+                    clock.time(Stage::Detection, || self.swept_pairs(scn, &p_next, &p_next));
+                let depth = pairs
+                    .iter()
+                    .map(|&(i, j)| -Self::pair_min_distance(&p_next[i], &p_next[j]))
+                    .fold(0.0, f64::max);
+                if depth > self.pen_tol && rejections < MAX_REJECTIONS {
+                    rejections += 1;
+                    self.counters.add("steps_rejected_penetration", 1);
+                    h *= 0.5;
+                    continue;
+                }
+                if depth > self.pen_tol {
+                    self.counters.add("penetrations_beyond_tolerance", 1);
+                }
+                self.max_penetration = self.max_penetration.max(depth);
+                let t_new = if next.t >= t_end { t_end } else { next.t };
+                *sys = next;
+                sys.t = t_new;
+                self.counters.add("steps", 1);
+                break;
+            }
+            if sys.bodies.len() != n {
+                return Err(FormulationError::Other("state size changed".into()));
+            }
+        }
+        Ok(())
+    }
+
+    fn counters(&self) -> Counters {
+        let mut c = self.counters.clone();
+        c.integrator(&self.integ.stats);
+        let l = &self.lcp_counters;
+        c.add("lemke_pivots", l.total_pivots);
+        c.add("lemke_max_pivots", l.max_pivots);
+        c.add("lcp_solved_first_attempt", l.solved);
+        c.add("lcp_solved_by_fallback", l.solved_by_fallback);
+        c.add("lcp_fallback_alternative_rule", l.by_alternative_rule);
+        c.add("lcp_fallback_perturbed", l.by_perturbed);
+        c.add("lcp_failed", l.failed);
+        c.set_value("lcp_max_accepted_residual", l.max_accepted_residual);
+        c.set_value("max_penetration_m", self.max_penetration);
+        c.set_value("max_coulomb_ratio", self.max_coulomb_ratio);
+        c
+    }
+}
