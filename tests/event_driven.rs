@@ -1,0 +1,351 @@
+//! The event-driven LCP formulation against the closed forms of physics.md
+//! section 6. Every test also checks Coulomb on every contact impulse, the
+//! penetration tolerance, and that no impact gained energy.
+
+use floebench::formulation::event_driven::EventDriven;
+use floebench::formulation::FormulationOptions;
+use floebench::geometry::Vec2;
+use floebench::lcp::{residual, LcpDump};
+use floebench::model::{parse_case, Scenario};
+use floebench::run::{EndReason, RunOptions, RunResult, Runner};
+use std::path::Path;
+
+fn case_text(name: &str) -> String {
+    std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("cases")
+            .join(format!("{name}.toml")),
+    )
+    .unwrap()
+}
+
+fn scenario(text: &str) -> Scenario {
+    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run_with(scn: &Scenario, opts: FormulationOptions) -> (RunResult, EventDriven) {
+    let mut ed = EventDriven::new(scn, &opts);
+    let r = Runner::new(RunOptions::default()).run(scn, &mut ed);
+    physical_checks(&r);
+    (r, ed)
+}
+
+fn run(scn: &Scenario) -> (RunResult, EventDriven) {
+    run_with(scn, FormulationOptions::default())
+}
+
+/// Checks that apply to every run.
+fn physical_checks(r: &RunResult) {
+    let s = &r.summary;
+    assert_eq!(s.end, EndReason::Completed, "{}", s.case);
+    let counts = &s.counters.counts;
+    let values = &s.counters.values;
+    for bad in [
+        "coulomb_violations",
+        "impact_energy_increases",
+        "lcp_unresolved",
+        "penetrations_beyond_tolerance",
+    ] {
+        assert_eq!(
+            counts.get(bad).copied().unwrap_or(0),
+            0,
+            "{}: {bad}",
+            s.case
+        );
+    }
+    // |β| ≤ μ λ for every accepted contact impulse, to 1e-9 relative.
+    assert!(
+        values["max_coulomb_ratio"] <= 1.0 + 1e-9,
+        "{}: Coulomb ratio {}",
+        s.case,
+        values["max_coulomb_ratio"]
+    );
+    assert!(
+        values["max_penetration_m"] <= values["penetration_tolerance_m"],
+        "{}: penetration {} beyond {}",
+        s.case,
+        values["max_penetration_m"],
+        values["penetration_tolerance_m"]
+    );
+}
+
+fn final_velocity(r: &RunResult, floe: usize) -> Vec2 {
+    r.final_state.bodies[floe].velocity
+}
+
+#[test]
+fn head_on_impact_matches_the_closed_form_for_three_restitutions() {
+    for e in [0.0, 0.4, 1.0] {
+        let scn = scenario(
+            &case_text("head_on").replace("restitution = 0.4", &format!("restitution = {e:?}")),
+        );
+        let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
+        let (v1, v2) = (0.5, -0.1);
+        let v1p = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
+        let v2p = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
+        let (r, ed) = run(&scn);
+        assert_eq!(ed.impacts().len(), 1, "e = {e}: one impact");
+        let (a, b) = (final_velocity(&r, 0), final_velocity(&r, 1));
+        assert!(
+            (a.x - v1p).abs() <= 1e-9 * v1p.abs().max(1e-3),
+            "e = {e}: v1' {} vs {v1p}",
+            a.x
+        );
+        assert!(
+            (b.x - v2p).abs() <= 1e-9 * v2p.abs().max(1e-3),
+            "e = {e}: v2' {} vs {v2p}",
+            b.x
+        );
+        assert!(a.y.abs() < 1e-12 && b.y.abs() < 1e-12);
+        let p0 = m1 * v1 + m2 * v2;
+        let p1 = r.final_state.momentum(&scn);
+        assert!(
+            (p1.x - p0).abs() <= 1e-12 * p0.abs(),
+            "e = {e}: momentum {} vs {p0}",
+            p1.x
+        );
+        // The impact instant: the 5 m gap closes at 0.6 m/s.
+        let t = ed.impacts()[0].t;
+        assert!((t - 5.0 / 0.6).abs() < 1e-6, "impact at {t}");
+    }
+}
+
+#[test]
+fn elastic_frictionless_pool_conserves_kinetic_energy_over_a_hundred_impacts() {
+    let scn = scenario(&case_text("elastic_pool"));
+    let (r, ed) = run(&scn);
+    assert!(
+        ed.impacts().len() >= 100,
+        "only {} impacts",
+        ed.impacts().len()
+    );
+    let e0 = r.summary.energy.initial_kinetic;
+    for s in &r.energy {
+        assert!(
+            (s.kinetic - e0).abs() <= 1e-9 * e0,
+            "t = {}: E = {} vs {e0}",
+            s.t,
+            s.kinetic
+        );
+    }
+    // Every floe stays in the box.
+    for row in &r.trajectory {
+        assert!((0.0..100.0).contains(&row.x) && (0.0..100.0).contains(&row.y));
+    }
+}
+
+/// Wind acceleration `a = ρ_a C_a |U_a|² / (ρ_i h)` of the bouncing and sliding cases.
+fn wind_acceleration(scn: &Scenario) -> f64 {
+    let u = scn.environment.air.velocity.at(0.0).norm();
+    scn.environment.air.drag_factor() * u * u / scn.floes[0].surface_density()
+}
+
+#[test]
+fn bouncing_floe_impact_times_match_t_k() {
+    // e = 0.8 keeps ten impacts well before the accumulation point.
+    let e = 0.8;
+    let text = case_text("bouncing_floe")
+        .replace("restitution = 0.5", "restitution = 0.8")
+        .replace("duration = 400.0", "duration = 1000.0");
+    let scn = scenario(&text);
+    let a = wind_acceleration(&scn);
+    let d = 1.0;
+    let t1 = (2.0 * d / a).sqrt();
+    let v1 = a * t1;
+    let (_, ed) = run(&scn);
+    let times: Vec<f64> = ed.impacts().iter().map(|i| i.t).collect();
+    assert!(times.len() >= 10, "{} impacts", times.len());
+    let mut sum = 0.0;
+    for (k, &t) in times.iter().take(10).enumerate() {
+        if k > 0 {
+            sum += e_pow(e, k);
+        }
+        let tk = t1 + 2.0 * v1 / a * sum;
+        assert!((t - tk).abs() <= 1e-6 * tk, "impact {}: {t} vs {tk}", k + 1);
+    }
+}
+
+fn e_pow(e: f64, k: usize) -> f64 {
+    e.powi(k as i32)
+}
+
+#[test]
+fn bouncing_floe_comes_to_rest_at_the_accumulation_time_without_stalling() {
+    let scn = scenario(&case_text("bouncing_floe"));
+    let e = scn.contact.restitution;
+    let a = wind_acceleration(&scn);
+    let t1 = (2.0 / a).sqrt();
+    let t_inf = t1 * (1.0 + e) / (1.0 - e);
+    let (r, ed) = run(&scn);
+    // Rest: the last sample where the floe still moves.
+    let moving: Vec<f64> = r
+        .trajectory
+        .iter()
+        .filter(|row| row.vx.abs() > 1e-12)
+        .map(|row| row.t)
+        .collect();
+    let last_move = moving.last().copied().unwrap();
+    let rest = r
+        .trajectory
+        .iter()
+        .map(|row| row.t)
+        .find(|&t| t > last_move)
+        .unwrap();
+    assert!(
+        (rest - t_inf).abs() <= 0.01 * t_inf,
+        "rest at {rest} vs t_inf {t_inf}"
+    );
+    // It stays at the wall (gap within the contact distance), no drift.
+    let x_end = r.final_state.bodies[0].position.x;
+    assert!(
+        (6.0 - x_end) >= 0.0 && (6.0 - x_end) <= ed.distance(),
+        "gap {}",
+        6.0 - x_end
+    );
+    // The run did not stall: a handful of impacts and a bounded number of steps.
+    let counts = &r.summary.counters.counts;
+    assert!(ed.impacts().len() < 30, "{} impacts", ed.impacts().len());
+    assert!(counts["steps"] < 2000, "{} steps", counts["steps"]);
+}
+
+#[test]
+fn a_positive_contact_distance_shifts_each_impact_by_about_distance_over_speed() {
+    let delta = 0.01;
+    let scn = scenario(&case_text("bouncing_floe").replace(
+        "friction = 0.0",
+        &format!("friction = 0.0\ndistance = {delta}"),
+    ));
+    let a = wind_acceleration(&scn);
+    let t1 = (2.0 / a).sqrt();
+    let (_, ed) = run(&scn);
+    let t = ed.impacts()[0].t;
+    // Located where the gap reaches 3δ/4 (in [δ/2, δ]); exact time of that gap:
+    let t_band = (2.0 * (1.0 - 0.75 * delta) / a).sqrt();
+    let shift = t1 - t;
+    let speed = a * t1;
+    assert!(shift > 0.0, "impacts come early");
+    assert!(
+        (t - t_band).abs() <= 0.25 * delta / speed,
+        "t {t} vs {t_band}"
+    );
+    assert!(
+        (shift - 0.75 * delta / speed).abs() <= 0.25 * delta / speed,
+        "shift {shift}"
+    );
+}
+
+#[test]
+fn sliding_floe_stops_at_the_exact_time_and_distance() {
+    let scn = scenario(&case_text("sliding_floe"));
+    let a = wind_acceleration(&scn);
+    let (mu, v0) = (scn.contact.friction, 0.05);
+    let t_stop = v0 / (mu * a);
+    let dist = v0 * v0 / (2.0 * mu * a);
+    let (r, _) = run(&scn);
+    let moving: Vec<_> = r
+        .trajectory
+        .iter()
+        .filter(|row| row.vy.abs() > 1e-12)
+        .collect();
+    let last = moving.last().unwrap().t;
+    let stop = r
+        .trajectory
+        .iter()
+        .map(|row| row.t)
+        .find(|&t| t > last)
+        .unwrap();
+    assert!(
+        (stop - t_stop).abs() <= 0.01 * t_stop,
+        "stops at {stop} vs {t_stop}"
+    );
+    let y = r.final_state.bodies[0].position.y - 5.0;
+    assert!((y - dist).abs() <= 0.01 * dist, "slides {y} vs {dist}");
+    // Pressed on the wall: no drift into or away from it.
+    let x = r.final_state.bodies[0].position.x;
+    assert!((x - 5.0).abs() < 1e-9, "x drift {}", x - 5.0);
+    // Sliding friction saturates the cone.
+    let ratio = r.summary.counters.values["max_coulomb_ratio"];
+    assert!(
+        (ratio - 1.0).abs() < 1e-9,
+        "sliding must be on the cone: {ratio}"
+    );
+}
+
+#[test]
+fn newtons_cradle_with_gaps_passes_v0_to_the_last_floe() {
+    let scn = scenario(&case_text("cradle_gaps"));
+    let (r, ed) = run(&scn);
+    let v0 = 0.5;
+    assert_eq!(ed.impacts().len(), 4, "sequential impacts");
+    for i in 0..4 {
+        assert!(
+            final_velocity(&r, i).norm() <= 1e-9 * v0,
+            "floe {i} must rest"
+        );
+    }
+    assert!((final_velocity(&r, 4).x - v0).abs() <= 1e-9 * v0);
+}
+
+#[test]
+fn newtons_cradle_touching_gives_the_simultaneous_lcp_answer() {
+    // The documented limitation: one simultaneous LCP, not the physical answer.
+    let scn = scenario(&case_text("cradle_touching"));
+    let (r, _) = run(&scn);
+    let (v0, n) = (0.5, 5.0);
+    let expected = [
+        (2.0 - n) / n * v0,
+        2.0 / n * v0,
+        2.0 / n * v0,
+        2.0 / n * v0,
+        2.0 / n * v0,
+    ];
+    for (i, &v) in expected.iter().enumerate() {
+        assert!(
+            (final_velocity(&r, i).x - v).abs() <= 1e-9 * v0,
+            "floe {i}: {} vs {v}",
+            final_velocity(&r, i).x
+        );
+    }
+    let e0 = r.summary.energy.initial_kinetic;
+    assert!((r.summary.energy.final_kinetic - e0).abs() <= 1e-12 * e0);
+}
+
+#[test]
+fn every_lcp_can_be_dumped_and_re_solved() {
+    let dir = tempfile::tempdir().unwrap();
+    let scn = scenario(&case_text("sliding_floe").replace("duration = 1000.0", "duration = 20.0"));
+    let (r, _) = run_with(
+        &scn,
+        FormulationOptions {
+            dump_lcp: Some(dir.path().to_path_buf()),
+            ..Default::default()
+        },
+    );
+    let mut files: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    files.sort();
+    assert_eq!(files.len() as u64, r.summary.counters.counts["lcp_solves"]);
+    let first = &files[0];
+    assert_eq!(first.file_name().unwrap().to_string_lossy(), "000000.json");
+    let text = std::fs::read_to_string(first).unwrap();
+    for key in [
+        "\"M\"",
+        "\"q\"",
+        "\"z\"",
+        "\"w\"",
+        "\"t\"",
+        "\"contacts\"",
+        "\"pivots\"",
+        "\"status\"",
+    ] {
+        assert!(text.contains(key), "missing {key}");
+    }
+    for f in &files {
+        let d = LcpDump::read(f).unwrap();
+        let lcp = d.to_lcp().unwrap();
+        assert_eq!(lcp.n, 4 * d.contacts, "Stewart–Trinkle size 4m");
+        assert!(residual(&lcp.m, &lcp.q, &d.z) < 1e-10);
+    }
+}
