@@ -104,9 +104,13 @@ fn head_on_impact_matches_the_closed_form_for_three_restitutions() {
             "e = {e}: momentum {} vs {p0}",
             p1.x
         );
-        // The impact instant: the 5 m gap closes at 0.6 m/s.
-        let t = ed.impacts()[0].t;
-        assert!((t - 5.0 / 0.6).abs() < 1e-6, "impact at {t}");
+        // The impact instant: located where the 5 m gap has closed to 3δ/4
+        // (± δ/4) at 0.6 m/s.
+        let (t, d) = (ed.impacts()[0].t, ed.distance());
+        assert!(
+            (t - (5.0 - 0.75 * d) / 0.6).abs() <= 0.25 * d / 0.6,
+            "impact at {t}"
+        );
     }
 }
 
@@ -142,10 +146,12 @@ fn wind_acceleration(scn: &Scenario) -> f64 {
 
 #[test]
 fn bouncing_floe_impact_times_match_t_k() {
-    // e = 0.8 keeps ten impacts well before the accumulation point.
+    // e = 0.8 keeps ten impacts well before the accumulation point; a tiny
+    // contact distance locates each impact at the root of the gap.
     let e = 0.8;
     let text = case_text("bouncing_floe")
         .replace("restitution = 0.5", "restitution = 0.8")
+        .replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9")
         .replace("duration = 400.0", "duration = 1000.0");
     let scn = scenario(&text);
     let a = wind_acceleration(&scn);
@@ -169,28 +175,33 @@ fn e_pow(e: f64, k: usize) -> f64 {
     e.powi(k as i32)
 }
 
+/// The first sample time after which floe 0 no longer moves.
+fn rest_time(r: &RunResult) -> f64 {
+    let last_move = r
+        .trajectory
+        .iter()
+        .filter(|row| row.vx.abs() > 1e-12)
+        .map(|row| row.t)
+        .fold(0.0, f64::max);
+    r.trajectory
+        .iter()
+        .map(|row| row.t)
+        .find(|&t| t > last_move)
+        .unwrap()
+}
+
 #[test]
 fn bouncing_floe_comes_to_rest_at_the_accumulation_time_without_stalling() {
-    let scn = scenario(&case_text("bouncing_floe"));
+    // Root finding on the gap (tiny contact distance).
+    let scn = scenario(
+        &case_text("bouncing_floe").replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9"),
+    );
     let e = scn.contact.restitution;
     let a = wind_acceleration(&scn);
     let t1 = (2.0 / a).sqrt();
     let t_inf = t1 * (1.0 + e) / (1.0 - e);
     let (r, ed) = run(&scn);
-    // Rest: the last sample where the floe still moves.
-    let moving: Vec<f64> = r
-        .trajectory
-        .iter()
-        .filter(|row| row.vx.abs() > 1e-12)
-        .map(|row| row.t)
-        .collect();
-    let last_move = moving.last().copied().unwrap();
-    let rest = r
-        .trajectory
-        .iter()
-        .map(|row| row.t)
-        .find(|&t| t > last_move)
-        .unwrap();
+    let rest = rest_time(&r);
     assert!(
         (rest - t_inf).abs() <= 0.01 * t_inf,
         "rest at {rest} vs t_inf {t_inf}"
@@ -209,29 +220,23 @@ fn bouncing_floe_comes_to_rest_at_the_accumulation_time_without_stalling() {
 }
 
 #[test]
-fn a_positive_contact_distance_shifts_each_impact_by_about_distance_over_speed() {
-    let delta = 0.01;
-    let scn = scenario(&case_text("bouncing_floe").replace(
-        "friction = 0.0",
-        &format!("friction = 0.0\ndistance = {delta}"),
-    ));
+fn with_the_default_contact_distance_the_floe_rests_slightly_before_t_inf() {
+    // A measured finding, not a tolerance: with the report's positive
+    // contact distance δ (7.07 mm here), the last bounces, whose rebound stays
+    // within δ of the wall, are resolved at step starts instead of being
+    // located in time, and the accumulation ends early: measured rest at
+    // 267 s against t∞ = 273.3 s (2.3 % early). Pinned to [0.95, 1.0] t∞.
+    let scn = scenario(&case_text("bouncing_floe"));
+    let e = scn.contact.restitution;
     let a = wind_acceleration(&scn);
-    let t1 = (2.0 / a).sqrt();
-    let (_, ed) = run(&scn);
-    let t = ed.impacts()[0].t;
-    // Located where the gap reaches 3δ/4 (in [δ/2, δ]); exact time of that gap:
-    let t_band = (2.0 * (1.0 - 0.75 * delta) / a).sqrt();
-    let shift = t1 - t;
-    let speed = a * t1;
-    assert!(shift > 0.0, "impacts come early");
+    let t_inf = (2.0 / a).sqrt() * (1.0 + e) / (1.0 - e);
+    let (r, ed) = run(&scn);
+    let rest = rest_time(&r);
     assert!(
-        (t - t_band).abs() <= 0.25 * delta / speed,
-        "t {t} vs {t_band}"
+        rest >= 0.95 * t_inf && rest <= t_inf,
+        "rest at {rest} vs t_inf {t_inf}"
     );
-    assert!(
-        (shift - 0.75 * delta / speed).abs() <= 0.25 * delta / speed,
-        "shift {shift}"
-    );
+    assert!(ed.impacts().len() < 30);
 }
 
 #[test]
