@@ -1,0 +1,90 @@
+//! The command line: `validate`, `run` (outputs, dumps), `lcp`.
+
+use std::path::Path;
+use std::process::Command;
+
+fn floebench() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_floebench"))
+}
+
+fn case(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[test]
+fn validate_accepts_good_cases_and_names_the_fault_in_bad_ones() {
+    let ok = floebench()
+        .args(["validate", &case("head_on.toml")])
+        .output()
+        .unwrap();
+    assert!(ok.status.success());
+    assert!(String::from_utf8_lossy(&ok.stdout).contains("head_on: 2 floes"));
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/clockwise.toml");
+    let out = floebench().arg("validate").arg(&bad).output().unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("clockwise.toml:14") && err.contains("[[floe]] #0"),
+        "{err}"
+    );
+}
+
+#[test]
+fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let dumps = dir.path().join("lcp");
+    let st = floebench()
+        .args(["run", &case("head_on.toml"), "--quiet", "-o"])
+        .arg(&out)
+        .arg("--dump-lcp")
+        .arg(&dumps)
+        .status()
+        .unwrap();
+    assert!(st.success());
+    let traj = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    assert!(traj.starts_with("t,floe,x,y,theta,vx,vy,omega\n"));
+    assert_eq!(
+        traj.lines().count(),
+        1 + 2 * 41,
+        "2 floes every 0.5 s over 20 s"
+    );
+    let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
+    assert!(energy.starts_with("t,kinetic,work_air,work_water,work_coriolis,dissipated,residual\n"));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["end"]["reason"], "completed");
+    assert_eq!(summary["formulation"], "event-driven");
+    assert!(summary["counters"]["counts"]["impacts"].as_u64().unwrap() == 1);
+    for key in ["cpu_total", "stages", "wall"] {
+        assert!(summary["timing"].get(key).is_some(), "{key}");
+    }
+    let first = dumps.join("000000.json");
+    let re = floebench().arg("lcp").arg(&first).output().unwrap();
+    assert!(re.status.success());
+    let text = String::from_utf8_lossy(&re.stdout);
+    assert!(
+        text.contains("re-solved:") && text.contains("residual"),
+        "{text}"
+    );
+}
+
+#[test]
+fn a_bad_case_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/floes_overlap.toml");
+    let st = floebench()
+        .arg("run")
+        .arg(&bad)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(!st.success());
+    assert!(!out.exists(), "no partial output for a bad case");
+}
