@@ -496,6 +496,7 @@ impl Tableau {
         }
         self.prow[j] = 1.0;
         self.t[r * cols..(r + 1) * cols].copy_from_slice(&self.prow);
+        let mut finite = self.prow.iter().all(|x| x.is_finite());
         for i in 0..self.n {
             if i == r {
                 continue;
@@ -507,11 +508,13 @@ impl Tableau {
                     *x -= f * pr;
                 }
                 row[j] = 0.0;
+                // Only updated rows can become non-finite.
+                finite &= row.iter().fold(true, |ok, x| ok & x.is_finite());
             }
         }
         self.basis[r] = j;
         self.pivots += 1;
-        self.t.iter().all(|x| x.is_finite())
+        finite
     }
 
     /// Current values of `z` in scaled units (non-basic entries are 0).

@@ -252,13 +252,29 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
     (s, (a - (s - bb)) + (b - bb))
 }
 
+/// Error-free product `a b = h + r` by Dekker's splitting (Ogita, Rump &
+/// Oishi 2005, TwoProduct): exact without a hardware fused multiply–add,
+/// which `f64::mul_add` would emulate in software on a baseline x86-64 target.
+fn two_prod(a: f64, b: f64) -> (f64, f64) {
+    const SPLIT: f64 = 134_217_729.0; // 2^27 + 1
+    let h = a * b;
+    let split = |x: f64| {
+        let c = SPLIT * x;
+        let hi = c - (c - x);
+        (hi, x - hi)
+    };
+    let (ah, al) = split(a);
+    let (bh, bl) = split(b);
+    let r = al * bl - (((h - ah * bh) - al * bh) - ah * bl);
+    (h, r)
+}
+
 /// `Σ x_i y_i + c` with Dot2 compensation. Non-finite only if the data are
 /// or an intermediate overflows (then the plain sum is returned).
 fn dot2_plus(x: &[f64], y: &[f64], c: f64) -> f64 {
     let (mut p, mut s) = (c, 0.0_f64);
     for (&a, &b) in x.iter().zip(y.iter()) {
-        let h = a * b;
-        let r = a.mul_add(b, -h);
+        let (h, r) = two_prod(a, b);
         let (np, t) = two_sum(p, h);
         p = np;
         s += t + r;
