@@ -6,6 +6,7 @@ use floebench::contact::{
     ContactGeom, Feature, NarrowOptions,
 };
 use floebench::geometry::{area_properties, check_convex_ccw, perp, rotate, sat_separation, Vec2};
+use floebench::rng::SplitMix64;
 
 fn v(x: f64, y: f64) -> Vec2 {
     Vec2::new(x, y)
@@ -28,29 +29,6 @@ fn translate(poly: &[Vec2], d: Vec2) -> Vec<Vec2> {
 /// Rotation of `poly` by `theta` about the point `c`.
 fn rotate_about(poly: &[Vec2], c: Vec2, theta: f64) -> Vec<Vec2> {
     poly.iter().map(|p| c + rotate(&(p - c), theta)).collect()
-}
-
-/// Minimal SplitMix64 generator: deterministic test data without `rand`.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[0, 1)`.
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in `[lo, hi)`.
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
 }
 
 /// A random strictly convex CCW polygon of 3–9 vertices, size about 1 m,
@@ -203,7 +181,7 @@ fn signed_distance_is_continuous_across_touching() {
 
 #[test]
 fn signed_distance_agrees_with_brute_force_on_random_pairs() {
-    let mut rng = SplitMix64(0x5EED_F10E);
+    let mut rng = SplitMix64::new(0x5EED_F10E);
     let (mut disjoint, mut overlapping) = (0, 0);
     for _ in 0..600 {
         let a = random_convex(&mut rng, 1.0);
@@ -385,7 +363,7 @@ fn parallel_tolerance_is_an_option() {
 
 #[test]
 fn random_contacts_are_consistent_with_the_signed_distance() {
-    let mut rng = SplitMix64(42);
+    let mut rng = SplitMix64::new(42);
     for _ in 0..400 {
         let a = random_convex(&mut rng, 0.0);
         let b = random_convex(&mut rng, 2.5);
@@ -426,7 +404,7 @@ fn interval_gap_overlap(a0: f64, a1: f64, b0: f64, b1: f64) -> (f64, f64) {
 fn grid_rectangles_with_exact_ties_give_the_expected_manifolds() {
     // Corners on a 0.25 m grid: aligned corners, touching and coincident
     // edges occur often, and every expected value is exact.
-    let mut rng = SplitMix64(2024);
+    let mut rng = SplitMix64::new(2024);
     let mut grid = |lo: u64, span: u64| 0.25 * (lo + rng.next_u64() % span) as f64;
     let (mut ones, mut twos) = (0, 0);
     for case in 0..1500 {
@@ -527,7 +505,7 @@ fn random_boxes(rng: &mut SplitMix64, n: usize) -> Vec<Aabb> {
             Aabb {
                 min: c - h,
                 max: c + h,
-                fixed: rng.unit() < 0.2,
+                fixed: rng.uniform() < 0.2,
             }
         })
         .collect()
@@ -552,7 +530,7 @@ fn brute_pairs(boxes: &[Aabb], margin: f64) -> Vec<(usize, usize)> {
 
 #[test]
 fn broad_phase_equals_all_pairs_on_random_boxes() {
-    let mut rng = SplitMix64(7);
+    let mut rng = SplitMix64::new(7);
     let mut bp = BroadPhase::new();
     let mut out = Vec::new();
     let mut boxes = random_boxes(&mut rng, 3000);

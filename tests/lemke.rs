@@ -1,6 +1,6 @@
 //! Tests of the LCP module: Lemke's method, the robust driver and dumps.
 //!
-//! Random inputs come from a seeded SplitMix64 generator written here, so
+//! Random inputs come from the crate's seeded SplitMix64 generator, so
 //! every run sees the same problems. Figures (pivots, time) are printed with
 //! `cargo test --release -- --nocapture`.
 
@@ -8,45 +8,21 @@ use floebench::lcp::{
     compute_w, lemke, residual, solve, DumpError, Lcp, LcpDump, LemkeOptions, PivotRule,
     SolveCounters, SolveOptions, SolveStatus, Strategy, Termination,
 };
+use floebench::rng::SplitMix64;
 use std::time::Instant;
 
 // ---------------------------------------------------------------------------
 // Deterministic PRNG and problem generators
 // ---------------------------------------------------------------------------
 
-/// SplitMix64 (Steele, Lea, Flood 2014): small, fast, good enough for tests.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Uniform in [-1, 1).
-    fn sym(&mut self) -> f64 {
-        2.0 * self.unit() - 1.0
-    }
-    /// Uniform integer in [0, k).
-    fn below(&mut self, k: u64) -> u64 {
-        self.next_u64() % k
-    }
-}
-
 fn random_matrix(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
-    (0..n * n).map(|_| rng.sym()).collect()
+    (0..n * n).map(|_| rng.range(-1.0, 1.0)).collect()
 }
 
 /// Symmetric positive definite: A Aᵀ / n + δ I, δ in [0.01, 1].
 fn spd(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
     let a = random_matrix(rng, n);
-    let delta = 0.01 + 0.99 * rng.unit();
+    let delta = 0.01 + 0.99 * rng.uniform();
     let mut m = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..n {
@@ -61,7 +37,7 @@ fn spd(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
 fn nonsym_pd(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
     let mut m = spd(rng, n);
     let s = random_matrix(rng, n);
-    let sigma = 2.0 * rng.unit();
+    let sigma = 2.0 * rng.uniform();
     for i in 0..n {
         for j in 0..n {
             m[i * n + j] += sigma * (s[i * n + j] - s[j * n + i]);
@@ -76,13 +52,13 @@ fn diag_dominant(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
     let mut m = random_matrix(rng, n);
     for i in 0..n {
         let off: f64 = (0..n).filter(|&j| j != i).map(|j| m[i * n + j].abs()).sum();
-        m[i * n + i] = off * (1.05 + rng.unit()) + 0.1;
+        m[i * n + i] = off * (1.05 + rng.uniform()) + 0.1;
     }
     m
 }
 
 fn random_q(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
-    (0..n).map(|_| rng.sym()).collect()
+    (0..n).map(|_| rng.range(-1.0, 1.0)).collect()
 }
 
 fn max_abs(v: &[f64]) -> f64 {
@@ -178,7 +154,7 @@ fn brute_force(m: &[f64], q: &[f64]) -> Option<Vec<f64>> {
 
 #[test]
 fn random_p_matrix_lcps_solved_by_first_attempt() {
-    let mut rng = SplitMix64(0x5EED_F10E_0001);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0001);
     let opts = SolveOptions::default();
     let mut counters = SolveCounters::default();
     let (mut pivots_sum, mut pivots_max, mut max_res) = (0usize, 0usize, 0.0_f64);
@@ -186,7 +162,7 @@ fn random_p_matrix_lcps_solved_by_first_attempt() {
     let start = Instant::now();
     let count = 1000;
     for k in 0..count {
-        let n = 1 + (rng.below(60) as usize);
+        let n = 1 + ((rng.next_u64() % 60) as usize);
         let family = k % 3;
         let mut m = match family {
             0 => spd(&mut rng, n),
@@ -195,8 +171,8 @@ fn random_p_matrix_lcps_solved_by_first_attempt() {
         };
         let mut q = random_q(&mut rng, n);
         // Random scales 10^-3..10^3 of M and q: the solver must be scale-free.
-        let sm = 10f64.powi(rng.below(7) as i32 - 3);
-        let sq = 10f64.powi(rng.below(7) as i32 - 3);
+        let sm = 10f64.powi((rng.next_u64() % 7) as i32 - 3);
+        let sq = 10f64.powi((rng.next_u64() % 7) as i32 - 3);
         m.iter_mut().for_each(|x| *x *= sm);
         q.iter_mut().for_each(|x| *x *= sq);
         let lcp = Lcp::new(n, m, q).expect("sizes");
@@ -240,9 +216,9 @@ fn random_p_matrix_lcps_solved_by_first_attempt() {
 
 #[test]
 fn small_random_p_matrix_lcps_match_brute_force() {
-    let mut rng = SplitMix64(0x5EED_F10E_0002);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0002);
     for k in 0..300 {
-        let n = 1 + (rng.below(8) as usize);
+        let n = 1 + ((rng.next_u64() % 8) as usize);
         let m = if k % 2 == 0 {
             nonsym_pd(&mut rng, n)
         } else {
@@ -266,14 +242,14 @@ fn small_random_p_matrix_lcps_match_brute_force() {
 
 #[test]
 fn every_pivot_rule_and_custom_covering_vector_solve_p_matrix_lcps() {
-    let mut rng = SplitMix64(0x5EED_F10E_0003);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0003);
     for k in 0..200 {
-        let n = 1 + (rng.below(30) as usize);
+        let n = 1 + ((rng.next_u64() % 30) as usize);
         let m = nonsym_pd(&mut rng, n);
         let q = random_q(&mut rng, n);
         let reference = lemke(&m, &q, &LemkeOptions::default());
         assert_eq!(reference.termination, Termination::Solved, "problem {k}");
-        let d: Vec<f64> = (0..n).map(|_| 0.1 + rng.unit()).collect();
+        let d: Vec<f64> = (0..n).map(|_| 0.1 + rng.uniform()).collect();
         for rule in [
             PivotRule::Lexicographic,
             PivotRule::MinRatioSmallestIndex,
@@ -380,16 +356,18 @@ fn degenerate_zero_entries_in_q() {
 fn random_degenerate_integer_lcps_solved_by_lexicographic_rule() {
     // Small integer P-matrices (strictly diagonally dominant) with q in
     // {-1, 0, 1}: ratio ties and zero right-hand sides are the rule here.
-    let mut rng = SplitMix64(0x5EED_F10E_0004);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0004);
     let mut pivots_max = 0;
     for k in 0..2000 {
-        let n = 2 + (rng.below(7) as usize);
-        let mut m: Vec<f64> = (0..n * n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        let n = 2 + ((rng.next_u64() % 7) as usize);
+        let mut m: Vec<f64> = (0..n * n)
+            .map(|_| (rng.next_u64() % 3) as f64 - 1.0)
+            .collect();
         for i in 0..n {
             let off: f64 = (0..n).filter(|&j| j != i).map(|j| m[i * n + j].abs()).sum();
             m[i * n + i] = off + 1.0;
         }
-        let q: Vec<f64> = (0..n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        let q: Vec<f64> = (0..n).map(|_| (rng.next_u64() % 3) as f64 - 1.0).collect();
         let r = lemke(&m, &q, &LemkeOptions::default());
         assert_eq!(
             r.termination,
@@ -477,13 +455,15 @@ fn lexicographic_path_equals_plain_path_on_epsilon_perturbed_q() {
     // pivot counts, terminations and solutions on heavily degenerate random
     // 3×3 integer LCPs (z0 preference off on both sides, since it is a
     // deliberate shortcut that the perturbed path does not take).
-    let mut rng = SplitMix64(0x5EED_F10E_0009);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0009);
     let eps: f64 = 1e-4; // small against the 1/48-scale gaps of these integer tableaus; ε³ = 1e-12 still resolvable
     let mut compared = 0;
     for k in 0..20_000 {
         let n = 3;
-        let m: Vec<f64> = (0..n * n).map(|_| rng.below(5) as f64 - 2.0).collect();
-        let q: Vec<f64> = (0..n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        let m: Vec<f64> = (0..n * n)
+            .map(|_| (rng.next_u64() % 5) as f64 - 2.0)
+            .collect();
+        let q: Vec<f64> = (0..n).map(|_| (rng.next_u64() % 3) as f64 - 1.0).collect();
         if q.iter().all(|&x| x >= 0.0) {
             continue;
         }
@@ -536,13 +516,15 @@ fn lexicographic_rule_never_cycles_on_random_degenerate_lcps() {
     // with q in {−1, 0, 1}: heavily degenerate. The lexicographic rule must
     // always stop by a solution or a ray, within the number of bases
     // C(2n+1, n); the plain rules are counted to show cycling does occur here.
-    let mut rng = SplitMix64(0x5EED_F10E_0008);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0008);
     let (mut plain_cycles, mut solved, mut lex_max) = (0, 0, 0);
     let count = 30_000;
     for k in 0..count {
-        let n = 3 + (rng.below(2) as usize);
-        let m: Vec<f64> = (0..n * n).map(|_| rng.below(5) as f64 - 2.0).collect();
-        let q: Vec<f64> = (0..n).map(|_| rng.below(3) as f64 - 1.0).collect();
+        let n = 3 + ((rng.next_u64() % 2) as usize);
+        let m: Vec<f64> = (0..n * n)
+            .map(|_| (rng.next_u64() % 5) as f64 - 2.0)
+            .collect();
+        let q: Vec<f64> = (0..n).map(|_| (rng.next_u64() % 3) as f64 - 1.0).collect();
         let bases = binomial(2 * n as u64 + 1, n as u64) as usize;
         let r = lemke(&m, &q, &LemkeOptions::default());
         assert!(
@@ -651,7 +633,7 @@ fn infeasible_2x2_psd_reports_ray_termination() {
 
 #[test]
 fn pivot_cap_reports_max_pivots() {
-    let mut rng = SplitMix64(0x5EED_F10E_0005);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0005);
     let n = 20;
     let m = diag_dominant(&mut rng, n);
     let q = vec![-1.0; n];
@@ -762,13 +744,15 @@ fn driver_never_accepts_a_non_solution_and_fallbacks_do_work() {
     // end on a ray although a solution exists, or the LCP may be infeasible).
     // Whatever happens, an accepted z must pass an independent check, and the
     // fallback strategies must rescue some instances.
-    let mut rng = SplitMix64(0x5EED_F10E_000A);
+    let mut rng = SplitMix64::new(0x5EED_F10E_000A);
     let mut by = std::collections::BTreeMap::new();
     let count = 20_000;
     for k in 0..count {
-        let n = 2 + (rng.below(2) as usize);
-        let m: Vec<f64> = (0..n * n).map(|_| rng.below(9) as f64 - 4.0).collect();
-        let q: Vec<f64> = (0..n).map(|_| rng.below(5) as f64 - 2.0).collect();
+        let n = 2 + ((rng.next_u64() % 2) as usize);
+        let m: Vec<f64> = (0..n * n)
+            .map(|_| (rng.next_u64() % 9) as f64 - 4.0)
+            .collect();
+        let q: Vec<f64> = (0..n).map(|_| (rng.next_u64() % 5) as f64 - 2.0).collect();
         let sol = solve(
             &Lcp::new(n, m.clone(), q.clone()).expect("sizes"),
             &SolveOptions::default(),
@@ -854,14 +838,14 @@ fn random_feasible_copositive_plus_lcps_are_solved() {
     // non-symmetric, hence copositive-plus but not P. q = w* − M z* with a
     // complementary pair (z*, w*) >= 0 makes the LCP feasible, so Lemke with
     // the lexicographic rule cannot end on a ray (CPS Thm 4.4.13).
-    let mut rng = SplitMix64(0x5EED_F10E_0006);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0006);
     let mut fallback = 0;
     let mut pivots_sum = 0;
     let count = 300;
     for k in 0..count {
-        let n = 2 + (rng.below(29) as usize);
-        let rank = 1 + (rng.below(n as u64 - 1) as usize);
-        let b: Vec<f64> = (0..n * rank).map(|_| rng.sym()).collect();
+        let n = 2 + ((rng.next_u64() % 29) as usize);
+        let rank = 1 + ((rng.next_u64() % n as u64 - 1) as usize);
+        let b: Vec<f64> = (0..n * rank).map(|_| rng.range(-1.0, 1.0)).collect();
         let s = random_matrix(&mut rng, n);
         let mut m = vec![0.0; n * n];
         for i in 0..n {
@@ -873,9 +857,9 @@ fn random_feasible_copositive_plus_lcps_are_solved() {
         let mut zs = vec![0.0; n];
         let mut ws = vec![0.0; n];
         for i in 0..n {
-            match rng.below(3) {
-                0 => zs[i] = rng.unit(),
-                1 => ws[i] = rng.unit(),
+            match (rng.next_u64() % 3) {
+                0 => zs[i] = rng.uniform(),
+                1 => ws[i] = rng.uniform(),
                 _ => {}
             }
         }
@@ -951,9 +935,9 @@ fn temp_dir(tag: &str) -> std::path::PathBuf {
 #[test]
 fn dump_round_trip_is_bit_exact() {
     let dir = temp_dir("roundtrip");
-    let mut rng = SplitMix64(0x5EED_F10E_0007);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0007);
     for k in 0..20 {
-        let n = 1 + (rng.below(12) as usize);
+        let n = 1 + ((rng.next_u64() % 12) as usize);
         let mut m = nonsym_pd(&mut rng, n);
         // Awkward magnitudes: 17-significant-digit values, tiny, huge, subnormal.
         m[0] *= 1e-300;
@@ -962,7 +946,7 @@ fn dump_round_trip_is_bit_exact() {
             m[n] *= 1e250;
         }
         let q: Vec<f64> = (0..n)
-            .map(|_| rng.sym() * 10f64.powi(rng.below(40) as i32 - 20))
+            .map(|_| rng.range(-1.0, 1.0) * 10f64.powi((rng.next_u64() % 40) as i32 - 20))
             .collect();
         let lcp = Lcp::new(n, m, q).expect("sizes");
         let sol = solve(&lcp, &SolveOptions::default());
