@@ -857,7 +857,7 @@ fn random_feasible_copositive_plus_lcps_are_solved() {
         let mut zs = vec![0.0; n];
         let mut ws = vec![0.0; n];
         for i in 0..n {
-            match (rng.next_u64() % 3) {
+            match rng.next_u64() % 3 {
                 0 => zs[i] = rng.uniform(),
                 1 => ws[i] = rng.uniform(),
                 _ => {}
