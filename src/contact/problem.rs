@@ -23,6 +23,14 @@
 //! normal block is kept (size `m`): the friction unknowns would be zero and
 //! the slack `α` undetermined.
 //!
+//! **Scaling.** Delassus entries are inverse masses (1e-8 /kg for a
+//! 100 m floe) while `μ` and `E` are of order one; unscaled, Lemke's rounding
+//! on the friction rows would swamp the normal rows. The LCP is therefore
+//! solved for `z' = (g λ, g β̃, α)` with `g` the mean diagonal of the
+//! Delassus matrix: the blocks `HᵀM⁻¹H` are divided by `g`, `q` (velocities)
+//! is unchanged, so `w` keeps its unit (m/s) and so does `z'` for the
+//! impulses. Dumps hold this scaled LCP; [`ContactLcp::physical`] undoes it.
+//!
 //! The offset `c` is Rabatel's relaxed Signorini condition `Jᵀ W⁺ ≥ −c`:
 //! zero at an impact; for a penetrating sustained contact `c = g / h < 0`
 //! asks the contact to separate by `−g` over the step.
@@ -101,6 +109,9 @@ pub struct ContactLcp {
     pub friction: bool,
     /// Friction coefficient `μ`.
     pub mu: f64,
+    /// The scale `g` (kg⁻¹): mean diagonal of the Delassus matrix; the LCP
+    /// unknowns for impulses are `g λ`, `g β̃` (m/s).
+    pub scale: f64,
     /// `H = (J, D)`: `3 n_g × (m + 2m)` (or `× m` without friction).
     h: Mat<f64>,
     /// Inverse mass per generalised coordinate of the group (`3 n_g`).
@@ -169,6 +180,14 @@ impl ContactLcp {
             }
         }
         let g: Mat<f64> = h.transpose() * &minv_h;
+        let scale = {
+            let d: f64 = (0..cols).map(|k| g[(k, k)]).sum::<f64>() / cols.max(1) as f64;
+            if d.is_finite() && d > 0.0 {
+                d
+            } else {
+                1.0
+            }
+        };
         // Free velocities in group order.
         let mut wf = vec![0.0; 3 * ng];
         for (l, &i) in group.floes.iter().enumerate() {
@@ -179,7 +198,7 @@ impl ContactLcp {
         let mut q = vec![0.0; n];
         for r in 0..cols {
             for c in 0..cols {
-                a[r * n + c] = g[(r, c)];
+                a[r * n + c] = g[(r, c)] / scale;
             }
             let mut hw = 0.0;
             for k in 0..3 * ng {
@@ -207,20 +226,33 @@ impl ContactLcp {
             m,
             friction,
             mu,
+            scale,
             h,
             minv,
             floes: group.floes.clone(),
         }
     }
 
-    /// The generalised impulses `H (λ, β̃)` per floe of the group, in group order.
+    /// The physical unknowns `(λ, β̃, α)` (N·s, N·s, m/s) of an LCP
+    /// solution `z' = (g λ, g β̃, α)`.
+    pub fn physical(&self, z: &[f64]) -> Vec<f64> {
+        let cols = self.h.ncols();
+        z.iter()
+            .enumerate()
+            .map(|(k, v)| if k < cols { v / self.scale } else { *v })
+            .collect()
+    }
+
+    /// The generalised impulses `H (λ, β̃)` per floe of the group, in group
+    /// order, from an LCP solution `z'`.
     pub fn impulses(&self, z: &[f64]) -> Vec<Gen> {
         let cols = self.h.ncols();
+        let zp = self.physical(z);
         let mut out = vec![[0.0; 3]; self.floes.len()];
         for (l, o) in out.iter_mut().enumerate() {
             for (d, od) in o.iter_mut().enumerate() {
                 let r = 3 * l + d;
-                *od = z
+                *od = zp
                     .iter()
                     .take(cols)
                     .enumerate()
@@ -242,18 +274,18 @@ impl ContactLcp {
         p
     }
 
-    /// Normal impulses `λ` (N·s).
-    pub fn normal<'a>(&self, z: &'a [f64]) -> &'a [f64] {
-        &z[..self.m.min(z.len())]
+    /// Normal impulses `λ` (N·s) from an LCP solution `z'`.
+    pub fn normal(&self, z: &[f64]) -> Vec<f64> {
+        z.iter().take(self.m).map(|v| v / self.scale).collect()
     }
 
     /// Signed tangential impulses `β_j = β̃⁺_j − β̃⁻_j` along `T_j` (N·s).
     pub fn tangential(&self, z: &[f64]) -> Vec<f64> {
-        if !self.friction {
+        if !self.friction || z.len() < 3 * self.m {
             return vec![0.0; self.m];
         }
         (0..self.m)
-            .map(|j| z[self.m + 2 * j] - z[self.m + 2 * j + 1])
+            .map(|j| (z[self.m + 2 * j] - z[self.m + 2 * j + 1]) / self.scale)
             .collect()
     }
 
@@ -283,6 +315,7 @@ impl ContactLcp {
             m,
             friction: false,
             mu: self.mu,
+            scale: self.scale,
             h,
             minv: self.minv.clone(),
             floes: self.floes.clone(),
