@@ -27,6 +27,25 @@ fn run(scn: &Scenario, name: &str, integrator: Option<IntegratorKind>) -> RunRes
     Runner::new(RunOptions::default()).run(scn, f.as_mut())
 }
 
+fn bundled(name: &str) -> Scenario {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("cases")
+        .join(format!("{name}.toml"));
+    floebench::model::load_case(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The energy ledger `E(t) − E(0) − W_ext + D` stays below 1e-6 of the work
+/// of the wind at every sample.
+fn ledger_balances(r: &RunResult) {
+    let e = &r.summary.energy;
+    assert!(
+        e.max_abs_residual < 1e-6 * e.work_air,
+        "residual {} of {}",
+        e.max_abs_residual,
+        e.work_air
+    );
+}
+
 fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
@@ -209,13 +228,7 @@ fn steady_drift(ka: f64, ua: Vec2, kw: f64, uw: Vec2, rho_h: f64, f: f64) -> Vec
 
 #[test]
 fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
-    let scn = case(
-        &std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/cases/free_drift.toml"
-        ))
-        .unwrap(),
-    );
+    let scn = bundled("free_drift");
     let r = run(&scn, "free-drift", None);
     let env = &scn.environment;
     let expected = Vec2::new(0.1, 0.0)
@@ -226,25 +239,12 @@ fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
         "{:?} vs {expected:?}",
         last.velocity
     );
-    // Energy ledger: E(t) − E(0) − W_ext + D stays below 1e-6 of the work exchanged.
-    let e = &r.summary.energy;
-    assert!(
-        e.max_abs_residual < 1e-6 * e.work_air,
-        "residual {} of {}",
-        e.max_abs_residual,
-        e.work_air
-    );
+    ledger_balances(&r);
 }
 
 #[test]
 fn free_drift_reaches_the_analytic_velocity_with_coriolis() {
-    let scn = case(
-        &std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/cases/free_drift_coriolis.toml"
-        ))
-        .unwrap(),
-    );
+    let scn = bundled("free_drift_coriolis");
     let r = run(&scn, "free-drift", None);
     let env = &scn.environment;
     let mut angles = Vec::new();
@@ -266,24 +266,12 @@ fn free_drift_reaches_the_analytic_velocity_with_coriolis() {
     }
     // Turned to the right of the wind, more for the thicker floe.
     assert!(angles[0] < 0.0 && angles[1] < angles[0], "{angles:?}");
-    let e = &r.summary.energy;
-    assert!(
-        e.max_abs_residual < 1e-6 * e.work_air,
-        "residual {} of {}",
-        e.max_abs_residual,
-        e.work_air
-    );
+    ledger_balances(&r);
 }
 
 #[test]
 fn after_the_wind_stops_the_floe_makes_inertial_circles_of_period_two_pi_over_f() {
-    let scn = case(
-        &std::fs::read_to_string(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/cases/inertial_oscillation.toml"
-        ))
-        .unwrap(),
-    );
+    let scn = bundled("inertial_oscillation");
     let r = run(&scn, "free-drift", None);
     // Direction of the velocity after the wind has stopped, unwrapped.
     let rows: Vec<_> = r.trajectory.iter().filter(|row| row.t >= 20200.0).collect();
