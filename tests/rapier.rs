@@ -235,8 +235,9 @@ fn head_on_plastic_impact_is_exact() {
 
 #[test]
 fn head_on_with_restitution_misses_the_closed_form_by_a_pinned_error() {
-    // A measured finding of rapier 0.36, independent of step, substeps,
-    // softness and prediction distance (all varied: same figures): the
+    // A measured finding of rapier 0.36, the same for step 0.01–0.1 s, 4 or
+    // 8 substeps, softness 10–100 Hz with ζ 1–10 and any prediction distance
+    // (with a single substep it grows to +13.9 % on v1'): the
     // face-to-face contact has two points, and rapier applies restitution in
     // ONE sequential Gauss–Seidel sweep over them after the substeps, so the
     // second point undoes part of the first one's impulse. The rebound is
