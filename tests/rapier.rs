@@ -176,7 +176,7 @@ fn free_drift_matches_the_project_integrator_to_first_order_in_h() {
         );
     }
     // At the default step: gap proportional to h, from h = 1 s. Measured at
-    // h = 0.1 s over 2000 s: 1.558 cm in position (of 600 m travelled),
+    // h = 0.1 s over 2000 s: 1.558 cm in position (of 400 m travelled),
     // 7.52e-6 m/s in velocity, 5.56e-5 rad in angle, 2.73e-8 rad/s in spin.
     let g = gaps[2];
     assert!((g.0 / gaps[0].0 - 0.1).abs() <= 0.005, "{g:?}");
