@@ -11,6 +11,7 @@
 
 pub mod event_driven;
 pub mod free_drift;
+pub mod rapier_ref;
 
 use crate::model::{IntegratorKind, Scenario};
 use crate::run::{Counters, StageClock};
@@ -66,6 +67,10 @@ pub const NAMES: &[(&str, &str)] = &[
         "free-drift",
         "no contacts: every floe drifts under the environment forces alone",
     ),
+    (
+        "rapier",
+        "rapier2d-f64 0.36: soft contacts (TGS-soft, substeps), restitution on new contacts only; the regularised reference",
+    ),
 ];
 
 /// The formulation called `name`, set up for `scn`.
@@ -77,6 +82,7 @@ pub fn build(
     match name {
         "event-driven" => Ok(Box::new(event_driven::EventDriven::new(scn, opts))),
         "free-drift" => Ok(Box::new(free_drift::FreeDrift::new(scn, opts))),
+        "rapier" => Ok(Box::new(rapier_ref::RapierReference::new(scn, opts)?)),
         other => Err(format!(
             "unknown formulation `{other}`; known: {}",
             NAMES.iter().map(|n| n.0).collect::<Vec<_>>().join(", ")

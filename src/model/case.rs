@@ -538,7 +538,7 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
             }
             if let Some(f) = r.natural_frequency {
                 positive(ctx, &span, "formulation.rapier", "natural_frequency", f)?;
-                s.natural_frequency = f;
+                s.natural_frequency = Some(f);
             }
             if let Some(d) = r.damping_ratio {
                 positive(ctx, &span, "formulation.rapier", "damping_ratio", d)?;

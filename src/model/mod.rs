@@ -295,18 +295,53 @@ impl Default for MoreauSettings {
 }
 
 /// Settings of the rapier reference formulation (`[formulation.rapier]`).
+///
+/// They decide what "regularised" means for [`crate::formulation::rapier_ref`];
+/// the defaults are chosen for floes (metres to kilometres, tonnes to
+/// megatonnes, drift below 1 m/s, forcing time scales of minutes to hours),
+/// not rapier's game defaults (1/60 s steps, 30 Hz contacts with damping
+/// ratio 10, a 2 cm prediction distance): see the README, "The rapier
+/// reference".
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct RapierSettings {
-    /// Time step, s (default 0.1).
+    /// Time step `h`, s (default 0.1: a floe at 0.5 m/s moves 5 cm per step,
+    /// 0.5 % of the smallest bundled floe).
     pub step: f64,
-    /// Solver iterations (substeps) per step (default 4).
+    /// Substeps (rapier's solver iterations) per step, `n` (default 4,
+    /// rapier's default).
     pub iterations: usize,
-    /// Contact natural frequency, Hz (default 30).
-    pub natural_frequency: f64,
-    /// Contact damping ratio (default 5).
+    /// Contact softness: natural frequency of the spring that pushes a
+    /// penetration out, Hz (default `n / (4h)`, a quarter of the substep
+    /// rate: 10 Hz at the default step and substeps; a stiffer spring is not
+    /// resolved by the substeps and only gives energy back to piles).
+    pub natural_frequency: Option<f64>,
+    /// Damping ratio of that spring (default 1: critically damped, the
+    /// penetration is removed without overshoot; ice does not spring back,
+    /// restitution is applied separately).
     pub damping_ratio: f64,
-    /// Prediction distance, m (default 0.002 × smallest floe radius).
+    /// Prediction distance, m: pairs closer than this get speculative
+    /// contacts (default `h × 1 m/s`: an approach up to 1 m/s, twice the
+    /// fastest drift, is stopped at contact instead of penetrating).
     pub prediction: Option<f64>,
+}
+
+impl RapierSettings {
+    /// Speed (m/s) whose travel over one step is the default prediction distance.
+    pub const DEFAULT_PREDICTION_SPEED: f64 = 1.0;
+    /// The default natural frequency is this fraction of the substep rate `n/h`.
+    pub const DEFAULT_FREQUENCY_FRACTION: f64 = 0.25;
+
+    /// The natural frequency in use, Hz.
+    pub fn natural_frequency(&self) -> f64 {
+        self.natural_frequency
+            .unwrap_or(Self::DEFAULT_FREQUENCY_FRACTION * self.iterations as f64 / self.step)
+    }
+
+    /// The prediction distance in use, m.
+    pub fn prediction(&self) -> f64 {
+        self.prediction
+            .unwrap_or(Self::DEFAULT_PREDICTION_SPEED * self.step)
+    }
 }
 
 impl Default for RapierSettings {
@@ -314,8 +349,8 @@ impl Default for RapierSettings {
         RapierSettings {
             step: 0.1,
             iterations: 4,
-            natural_frequency: 30.0,
-            damping_ratio: 5.0,
+            natural_frequency: None,
+            damping_ratio: 1.0,
             prediction: None,
         }
     }

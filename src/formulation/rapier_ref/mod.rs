@@ -1,0 +1,569 @@
+//! rapier as the regularised reference formulation (issue #5).
+//!
+//! The widely used Rust physics engine [rapier] (`rapier2d-f64` 0.36.1, on
+//! parry2d-f64 0.31) runs the same case files as the nonsmooth schemes, so
+//! that researchers can see what a soft-constraint engine gives against them.
+//!
+//! # Mapping of a scenario onto rapier
+//!
+//! - Each floe is a dynamic rigid body whose origin is the floe's centre of
+//!   mass, with one convex polygon collider (the floe's outline about the
+//!   centre of mass, taken as it is: no convex hull). The collider carries the
+//!   floe's own mass `M` and polar inertia `I` about the centre of mass (its
+//!   density is not used), so rapier integrates the same bodies as the other
+//!   formulations. Sleeping is disabled, linear and angular damping are zero,
+//!   and rapier's angular speed cap is lifted (`allow_fast_rotation`).
+//! - Each obstacle is a fixed body with one convex polygon collider in world
+//!   coordinates.
+//! - No gravity. The environment forces (physics.md section 2) are computed
+//!   by the project's one force law, [`SmoothIntegrator::forces`] (Dunavant
+//!   quadrature of the water drag), from the state at the start of each step,
+//!   and given to rapier with `add_force`/`add_torque` after clearing the
+//!   previous step's (rapier keeps user forces until they are reset). They
+//!   are held constant over the step and its substeps: an explicit,
+//!   first-order treatment of the drag, so a free-drift trajectory differs
+//!   from the project's integrator by `O(h)`.
+//! - Every collider has the case's restitution `e` and friction `μ` with the
+//!   combine rule `Max`: the pair's coefficient is `max(e, e) = e`, exactly
+//!   the case's value, whatever pair touches.
+//! - rapier's continuous collision detection is turned off
+//!   (`max_ccd_substeps = 0`): its motion clamping drops part of a step's
+//!   motion, which would break the trajectory and the energy ledger. The
+//!   speculative contacts within the prediction distance (below) stop
+//!   approaching bodies instead.
+//! - rapier's linear velocity cap is lifted (`Real::MAX`); contact recycling
+//!   is off, so every contact is recomputed at every step (its `dist` is
+//!   never stale).
+//!
+//! # The scheme (as far as rapier documents it)
+//!
+//! One call to `PhysicsPipeline::step(dt)` is one step `h`:
+//!
+//! 1. collision detection at the poses at the start of the step: broad phase
+//!    (a BVH), then contact manifolds (at most 2 points in 2D) for every pair
+//!    closer than the prediction distance; separated points within it are
+//!    *speculative* contacts;
+//! 2. the TGS-soft solver ("temporal Gauss–Seidel with soft constraints",
+//!    after Catto's *Solver2D*, 2024): the step is cut into `iterations`
+//!    substeps `h/n`; each substep adds the external impulse `F h/n` to the
+//!    velocities, runs one projected Gauss–Seidel sweep on the contacts with
+//!    a soft penetration bias (a damped spring of natural frequency
+//!    `natural_frequency` and damping ratio `damping_ratio`), integrates the
+//!    positions with those velocities (symplectic Euler), then runs one rigid
+//!    sweep without bias ("relax"). Friction is solved in the relax sweep
+//!    only. A speculative contact lets the bodies close their gap within the
+//!    substep but not more;
+//! 3. after the last substep, restitution (Box2D style): every contact that
+//!    is *new* (it carried no impulse at the previous step) and was
+//!    approaching at the start of the step has its normal velocity driven to
+//!    `−e` times that approach velocity. A contact that persists from one step
+//!    to the next never bounces: this is how rapier reaches the accumulation
+//!    point of a bouncing body;
+//! 4. the contact impulses are stored and warm-start the next step.
+//!
+//! # Parameters (`[formulation.rapier]`)
+//!
+//! | key | unit | default | meaning |
+//! | --- | --- | --- | --- |
+//! | `step` | s | 0.1 | step `h`; the last step before an output time is shortened to land on it |
+//! | `iterations` | – | 4 | substeps `n` (rapier's solver iterations) per step |
+//! | `natural_frequency` | Hz | `n/(4h)` = 10 | contact softness: frequency of the spring that pushes penetration out (a quarter of the substep rate) |
+//! | `damping_ratio` | – | 1 | its damping ratio (critical: no overshoot) |
+//! | `prediction` | m | `h` × 1 m/s = 0.1 | speculative contact distance: approaches up to 1 m/s stop at contact |
+//!
+//! Why these and not rapier's game defaults (1/60 s, 30 Hz with ratio 10,
+//! 2 cm): see [`RapierSettings`] and the README ("The rapier reference").
+//!
+//! Derived, not settable: rapier's `length_unit` is the smallest floe
+//! radius (it scales rapier's internal tolerances, e.g. the broad phase's
+//! fat-AABB margin `0.04 length_unit`); the largest speed at which a
+//! penetration is pushed out is [`MAX_CORRECTIVE_VELOCITY`]; fixed bodies
+//! get the same softness as floe–floe contacts (rapier's default would make
+//! them twice as stiff).
+//!
+//! # Energy ledger
+//!
+//! Per step of length `h`, with the forces `F` (torque `τ`) from the start
+//! state, the displacement `ΔG` and rotation `Δθ` over the step, and the
+//! kinetic energies `E₀`, `E₁` at its start and end:
+//!
+//! - work of each environment force: `W = F · ΔG + τ Δθ` (the exact work of a
+//!   force held constant along the actual path), split into air, water and
+//!   Coriolis;
+//! - contact dissipation: `D += E₀ + W − E₁`, summed over the floes that
+//!   belong to a pair with contacts seen by the solver during the step
+//!   (speculative ones included). For the other floes, `E₀ + W − E₁` is the
+//!   kinetic-energy defect of rapier's substepped symplectic Euler under a
+//!   constant force, `δ = h² (|F|²/M + τ²/I) / (2n)` over `n` substeps (plus
+//!   the effect of rapier's linearised rotation, `atan(ω h/n)` per substep),
+//!   and it is left in the ledger's residual `E − E₀ − W + D`, which is then
+//!   `−Σδ`: the integration error, as for the other formulations. Free flight
+//!   gives `D = 0` exactly; `Σδ` is reported as `integration_defect_j`.
+//!
+//! The dissipation is therefore measured from kinetic energy and work, not
+//! from rapier's contact impulses (accumulated over substeps with a soft
+//! bias, their power is not available per substep). Steps where contacts
+//! *gave* energy (`D` decreasing) are summed in the counter
+//! `contact_energy_gained_j`.
+//!
+//! # Counters and CPU time
+//!
+//! `steps`, `contact_pair_steps` (sum over steps of the pairs with contacts
+//! seen by the solver, speculative ones included), `max_contact_pairs`,
+//! `max_penetration_m` (the most negative manifold `dist`, i.e. at the
+//! start of each step, as rapier's narrow phase saw it), `force_evaluations`,
+//! and the settings in use. rapier's `step` is one call: its CPU time
+//! (thread CPU time) is split between the stages in the proportions of
+//! rapier's own stage timers (crate feature `profiler`, wall clock):
+//! collision detection → `detection`, island construction, constraint
+//! collection and solver → `solve`, the rest (user changes, position
+//! update) → `integration`. The evaluation of the environment forces is
+//! charged to `integration`.
+//!
+//! # References
+//!
+//! - S. Crozet et al., rapier, <https://rapier.rs> (user guide, "Integration
+//!   parameters", "Rigid-body forces"), crate `rapier2d-f64` 0.36.1.
+//! - E. Catto (2024), *Solver2D*, <https://box2d.org/posts/2024/02/solver2d/>
+//!   (soft step, substepping, relax iterations, restitution after the solve).
+//! - M. Macklin et al. (2019), *Small steps in physics simulation*, SCA '19
+//!   (substepping).
+//!
+//! [rapier]: https://rapier.rs
+
+mod convert;
+
+use super::{Formulation, FormulationError, FormulationOptions};
+use crate::model::{RapierSettings, Scenario};
+use crate::physics::{Forces, SmoothIntegrator};
+use crate::run::{thread_cpu_seconds, Counters, Stage, StageClock};
+use crate::state::{BodyState, System};
+use rapier2d_f64::prelude::{
+    BroadPhaseBvh, CCDSolver, CoefficientCombineRule, ColliderSet, ImpulseJointSet,
+    IntegrationParameters, IslandManager, MultibodyJointSet, NarrowPhase, PhysicsPipeline,
+    RigidBodyBuilder, RigidBodyHandle, RigidBodySet, SoftBodySet, SpringCoefficients,
+};
+
+/// Largest speed at which rapier pushes a penetration out, m/s: twice the
+/// fastest sea-ice drift (physics.md: up to 0.5 m/s), instead of rapier's
+/// game default of 3 length units per second.
+pub const MAX_CORRECTIVE_VELOCITY: f64 = 1.0;
+
+/// Collider user data of obstacles (floes carry their index).
+const OBSTACLE: u128 = u128::MAX;
+
+/// The settings in use, with the case-dependent defaults resolved.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Resolved {
+    /// Step `h`, s.
+    pub step: f64,
+    /// Substeps (rapier's solver iterations) per step.
+    pub iterations: usize,
+    /// Contact softness: natural frequency of the penetration spring, Hz.
+    pub natural_frequency: f64,
+    /// Damping ratio of that spring (dimensionless).
+    pub damping_ratio: f64,
+    /// Prediction (speculative contact) distance, m.
+    pub prediction: f64,
+    /// rapier's `length_unit`, m (the smallest floe radius).
+    pub length_unit: f64,
+}
+
+impl Resolved {
+    /// The settings of `scn` with their defaults resolved.
+    pub fn of(scn: &Scenario) -> Resolved {
+        let s: &RapierSettings = &scn.formulations.rapier;
+        let rmin = scn.min_floe_radius();
+        let rmin = if rmin.is_finite() && rmin > 0.0 {
+            rmin
+        } else {
+            1.0
+        };
+        Resolved {
+            step: s.step,
+            iterations: s.iterations,
+            natural_frequency: s.natural_frequency(),
+            damping_ratio: s.damping_ratio,
+            prediction: s.prediction(),
+            length_unit: rmin,
+        }
+    }
+
+    /// rapier's integration parameters for these settings and a step `dt` (s).
+    fn integration_parameters(&self, dt: f64) -> IntegrationParameters {
+        let softness = SpringCoefficients::new(self.natural_frequency, self.damping_ratio);
+        let lu = self.length_unit;
+        IntegrationParameters {
+            dt,
+            contact_softness: softness,
+            static_contact_softness: softness,
+            length_unit: lu,
+            normalized_prediction_distance: self.prediction / lu,
+            normalized_max_corrective_velocity: MAX_CORRECTIVE_VELOCITY / lu,
+            normalized_max_linear_velocity: f64::MAX,
+            num_solver_iterations: self.iterations,
+            max_ccd_substeps: 0,
+            contact_recycling: false,
+            ..IntegrationParameters::default()
+        }
+    }
+}
+
+/// The rapier reference formulation.
+pub struct RapierReference {
+    settings: Resolved,
+    params: IntegrationParameters,
+    pipeline: PhysicsPipeline,
+    islands: IslandManager,
+    broad_phase: BroadPhaseBvh,
+    narrow_phase: NarrowPhase,
+    bodies: RigidBodySet,
+    colliders: ColliderSet,
+    impulse_joints: ImpulseJointSet,
+    multibody_joints: MultibodyJointSet,
+    soft_bodies: SoftBodySet,
+    ccd: CCDSolver,
+    /// One body per floe, in the scenario's order.
+    handles: Vec<RigidBodyHandle>,
+    /// The shared force law (quadratures); never used to integrate.
+    integ: SmoothIntegrator,
+    /// The state rapier holds, as last read or written (to detect a caller
+    /// that changed the state between calls).
+    synced: Vec<BodyState>,
+    /// Rapier's rotation angle of each floe at the last read, rad in (−π, π].
+    rapier_angle: Vec<f64>,
+    forces: Vec<Forces>,
+    /// Per floe, over the current step: `E₀ + W − E₁` (J) and the free-flight defect `δ` (J).
+    balance: Vec<(f64, f64)>,
+    /// Per floe: whether it belonged to a pair with contacts seen by the
+    /// solver (speculative ones included) during the current step.
+    touched: Vec<bool>,
+    counters: Counters,
+    max_penetration: f64,
+    max_pairs: u64,
+    energy_gained: f64,
+    integration_defect: f64,
+}
+
+impl std::fmt::Debug for RapierReference {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RapierReference")
+            .field("settings", &self.settings)
+            .field("floes", &self.handles.len())
+            .finish_non_exhaustive()
+    }
+}
+
+impl RapierReference {
+    /// Sets up rapier for `scn`. Fails if parry rejects a polygon.
+    pub fn new(scn: &Scenario, opts: &FormulationOptions) -> Result<RapierReference, String> {
+        let settings = Resolved::of(scn);
+        let params = settings.integration_parameters(settings.step);
+        let mut bodies = RigidBodySet::new();
+        let mut colliders = ColliderSet::new();
+        let (e, mu) = (scn.contact.restitution, scn.contact.friction);
+        let material = |c: rapier2d_f64::prelude::ColliderBuilder| {
+            c.restitution(e)
+                .restitution_combine_rule(CoefficientCombineRule::Max)
+                .friction(mu)
+                .friction_combine_rule(CoefficientCombineRule::Max)
+                .contact_skin(0.0)
+        };
+        let mut handles = Vec::with_capacity(scn.floes.len());
+        for (i, floe) in scn.floes.iter().enumerate() {
+            let rb =
+                convert::dynamic_body(&floe.position, 0.0, &floe.velocity, floe.angular_velocity)
+                    .can_sleep(false)
+                    .linear_damping(0.0)
+                    .angular_damping(0.0)
+                    .allow_fast_rotation(true)
+                    .build();
+            let h = bodies.insert(rb);
+            let collider = convert::convex_polygon(&floe.shape)
+                .ok_or_else(|| format!("rapier: floe {i}: parry rejects its polygon"))?
+                .mass_properties(convert::mass_properties(floe.mass, floe.inertia))
+                .user_data(i as u128);
+            colliders.insert_with_parent(material(collider), h, &mut bodies);
+            handles.push(h);
+        }
+        for (k, obstacle) in scn.obstacles.iter().enumerate() {
+            let h = bodies.insert(RigidBodyBuilder::fixed().build());
+            let collider = convert::convex_polygon(&obstacle.polygon)
+                .ok_or_else(|| format!("rapier: obstacle {k}: parry rejects its polygon"))?
+                .user_data(OBSTACLE);
+            colliders.insert_with_parent(material(collider), h, &mut bodies);
+        }
+        let synced = System::initial(scn).bodies;
+        let mut counters = Counters::default();
+        counters.set_value("step_s", settings.step);
+        counters.set_value("iterations", settings.iterations as f64);
+        counters.set_value("natural_frequency_hz", settings.natural_frequency);
+        counters.set_value("damping_ratio", settings.damping_ratio);
+        counters.set_value("prediction_m", settings.prediction);
+        counters.set_value("length_unit_m", settings.length_unit);
+        counters.set_value("max_corrective_velocity_m_per_s", MAX_CORRECTIVE_VELOCITY);
+        let mut pipeline = PhysicsPipeline::new();
+        pipeline.counters.enable();
+        Ok(RapierReference {
+            settings,
+            params,
+            pipeline,
+            islands: IslandManager::new(),
+            broad_phase: BroadPhaseBvh::new(),
+            narrow_phase: NarrowPhase::new(),
+            bodies,
+            colliders,
+            impulse_joints: ImpulseJointSet::new(),
+            multibody_joints: MultibodyJointSet::new(),
+            soft_bodies: SoftBodySet::new(),
+            ccd: CCDSolver::new(),
+            handles,
+            integ: SmoothIntegrator::new(scn, opts.integrator),
+            rapier_angle: vec![0.0; synced.len()],
+            synced,
+            forces: vec![Forces::default(); scn.floes.len()],
+            balance: vec![(0.0, 0.0); scn.floes.len()],
+            touched: vec![false; scn.floes.len()],
+            counters,
+            max_penetration: 0.0,
+            max_pairs: 0,
+            energy_gained: 0.0,
+            integration_defect: 0.0,
+        })
+    }
+
+    /// The settings in use, defaults resolved.
+    pub fn settings(&self) -> &Resolved {
+        &self.settings
+    }
+
+    /// Mass (kg) and polar inertia about the centre of mass (kg·m²) of floe
+    /// `i` as rapier holds them (to check that they are the floe model's).
+    pub fn body_mass_properties(&self, i: usize) -> Option<(f64, f64)> {
+        let rb = self.bodies.get(*self.handles.get(i)?)?;
+        let mp = rb.mass_properties().local_mprops;
+        Some((mp.mass(), mp.principal_inertia()))
+    }
+
+    /// Writes `bodies` into rapier if they are not what it holds.
+    fn sync_in(&mut self, bodies: &[BodyState]) {
+        if bodies == self.synced.as_slice() {
+            return;
+        }
+        for (i, b) in bodies.iter().enumerate() {
+            if self.synced.get(i) == Some(b) {
+                continue;
+            }
+            if let Some(rb) = self.bodies.get_mut(self.handles[i]) {
+                convert::write_body(rb, b);
+                self.rapier_angle[i] = convert::read_body(rb).1;
+            }
+        }
+        self.synced = bodies.to_vec();
+    }
+
+    /// One rapier step of length `h` from `sys` at `sys.t`.
+    fn step(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        h: f64,
+        clock: &mut StageClock,
+    ) -> Result<(), FormulationError> {
+        let t = sys.t;
+        // Environment forces from the start state, by the shared force law.
+        clock.time(Stage::Integration, || {
+            for (i, b) in sys.bodies.iter().enumerate() {
+                let f = self.integ.forces(scn, i, t, b);
+                self.forces[i] = f;
+                if let Some(rb) = self.bodies.get_mut(self.handles[i]) {
+                    convert::set_wrench(rb, &f.force(), f.torque());
+                }
+            }
+        });
+        self.counters
+            .add("force_evaluations", sys.bodies.len() as u64);
+
+        self.params.dt = h;
+        let cpu0 = thread_cpu_seconds();
+        self.pipeline.step(
+            rapier2d_f64::math::Vector::ZERO,
+            &self.params,
+            &mut self.islands,
+            &mut self.broad_phase,
+            &mut self.narrow_phase,
+            &mut self.bodies,
+            &mut self.colliders,
+            &mut self.impulse_joints,
+            &mut self.multibody_joints,
+            &mut self.soft_bodies,
+            &mut self.ccd,
+            &(),
+            &(),
+        );
+        self.charge_step(thread_cpu_seconds() - cpu0, clock);
+        self.counters.add("steps", 1);
+
+        // Read back; work of each force along the actual displacement.
+        let n = self.settings.iterations as f64;
+        for (i, b) in sys.bodies.iter_mut().enumerate() {
+            let Some(rb) = self.bodies.get(self.handles[i]) else {
+                continue;
+            };
+            let (g, a, v, w) = convert::read_body(rb);
+            let mut da = a - self.rapier_angle[i];
+            if da > std::f64::consts::PI {
+                da -= 2.0 * std::f64::consts::PI;
+            } else if da < -std::f64::consts::PI {
+                da += 2.0 * std::f64::consts::PI;
+            }
+            self.rapier_angle[i] = a;
+            let next = BodyState {
+                position: g,
+                angle: b.angle + da,
+                velocity: v,
+                angular_velocity: w,
+            };
+            if !next.is_finite() {
+                return Err(FormulationError::Other(format!(
+                    "rapier: floe {i}: non-finite state at t = {} s",
+                    t + h
+                )));
+            }
+            let dg = g - b.position;
+            let f = &self.forces[i];
+            let (wa, ww, wc) = (
+                f.air.dot(&dg),
+                f.water.dot(&dg) + f.water_torque * da,
+                f.coriolis.dot(&dg),
+            );
+            sys.ledger.work_air += wa;
+            sys.ledger.work_water += ww;
+            sys.ledger.work_coriolis += wc;
+            let floe = &scn.floes[i];
+            let kinetic = |b: &BodyState| {
+                0.5 * floe.mass * b.velocity.norm_squared()
+                    + 0.5 * floe.inertia * b.angular_velocity * b.angular_velocity
+            };
+            let defect =
+                h * h * (f.force().norm_squared() / floe.mass + f.torque().powi(2) / floe.inertia)
+                    / (2.0 * n);
+            self.balance[i] = (kinetic(b) + wa + ww + wc - kinetic(&next), defect);
+            *b = next;
+        }
+        sys.t = t + h;
+        self.synced.clone_from(&sys.bodies);
+
+        // Contacts of this step: which floes they touched, pairs, penetration.
+        self.scan_contacts();
+        let mut d = 0.0;
+        for (&(balance, defect), &touched) in self.balance.iter().zip(&self.touched) {
+            if touched {
+                d += balance;
+            } else {
+                self.integration_defect += defect;
+            }
+        }
+        sys.ledger.dissipated += d;
+        if d < 0.0 {
+            self.energy_gained -= d;
+        }
+        Ok(())
+    }
+
+    /// Splits the CPU time of one rapier step between the stages, in the
+    /// proportions of rapier's own (wall-clock) stage timers.
+    fn charge_step(&mut self, cpu: f64, clock: &mut StageClock) {
+        let c = &self.pipeline.counters;
+        let total = c.step_time.time().as_secs_f64();
+        let detection = c.stages.collision_detection_time.time().as_secs_f64();
+        let solve = c.stages.solver_time.time().as_secs_f64()
+            + c.stages.island_construction_time.time().as_secs_f64()
+            + c.stages
+                .island_constraints_collection_time
+                .time()
+                .as_secs_f64();
+        if total > 0.0 && detection + solve <= total {
+            clock.charge(Stage::Detection, cpu * detection / total);
+            clock.charge(Stage::Solve, cpu * solve / total);
+            clock.charge(
+                Stage::Integration,
+                cpu * (total - detection - solve) / total,
+            );
+        } else {
+            clock.charge(Stage::Solve, cpu);
+        }
+    }
+
+    /// After a step: the floes that received a contact impulse, the pairs
+    /// with contacts seen by the solver, and the deepest penetration (at the
+    /// start of the step, where rapier's narrow phase computed the manifolds).
+    fn scan_contacts(&mut self) {
+        self.touched.iter_mut().for_each(|t| *t = false);
+        let mut pairs = 0u64;
+        let mut deepest = 0.0f64;
+        for pair in self.narrow_phase.contact_pairs() {
+            for m in pair.manifolds() {
+                for p in &m.points {
+                    deepest = deepest.max(-p.dist);
+                }
+            }
+            if !pair.has_any_active_contact() {
+                continue;
+            }
+            pairs += 1;
+            for c in [pair.collider1, pair.collider2] {
+                let floe = self.colliders.get(c).map_or(OBSTACLE, |c| c.user_data);
+                if let Some(t) = usize::try_from(floe)
+                    .ok()
+                    .and_then(|i| self.touched.get_mut(i))
+                {
+                    *t = true;
+                }
+            }
+        }
+        self.counters.add("contact_pair_steps", pairs);
+        self.max_pairs = self.max_pairs.max(pairs);
+        self.max_penetration = self.max_penetration.max(deepest);
+    }
+}
+
+impl Formulation for RapierReference {
+    fn name(&self) -> &'static str {
+        "rapier"
+    }
+
+    fn advance(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        t_end: f64,
+        clock: &mut StageClock,
+    ) -> Result<(), FormulationError> {
+        let t0 = sys.t;
+        let span = t_end - t0;
+        if span <= 0.0 {
+            return Ok(());
+        }
+        self.sync_in(&sys.bodies);
+        let h = self.settings.step;
+        // Fixed steps of `h`; the last one lands on `t_end` and lies in
+        // (1e-6 h, (1 + 1e-6) h], so that rounding never makes a sliver step.
+        let n = ((span / h) - 1e-6).ceil().max(1.0) as u64;
+        for k in 0..n {
+            let hk = if k + 1 == n { t_end - sys.t } else { h };
+            self.step(scn, sys, hk, clock)?;
+        }
+        sys.t = t_end;
+        Ok(())
+    }
+
+    fn counters(&self) -> Counters {
+        let mut c = self.counters.clone();
+        c.set_value("max_penetration_m", self.max_penetration);
+        c.set_value("max_contact_pairs", self.max_pairs as f64);
+        c.set_value("contact_energy_gained_j", self.energy_gained);
+        c.set_value("integration_defect_j", self.integration_defect);
+        c
+    }
+}
