@@ -107,6 +107,9 @@ pub struct ContactLcp {
     minv: Vec<f64>,
     /// Floe indices of the group.
     pub floes: Vec<usize>,
+    /// Largest term of the free relative velocities `q` (a single body's
+    /// contribution or an offset), m/s: the scale of their rounding.
+    pub v_scale: f64,
 }
 
 /// One Jacobian column block: `(n, r × n)` for a direction `n` at lever arm `r`.
@@ -177,18 +180,22 @@ impl ContactLcp {
         let n = if friction { 4 * m } else { m };
         let mut a = vec![0.0; n * n];
         let mut q = vec![0.0; n];
+        let mut v_scale = 0.0f64;
         for r in 0..cols {
             for c in 0..cols {
                 a[r * n + c] = g[(r, c)];
             }
             let mut hw = 0.0;
             for k in 0..3 * ng {
-                hw += h[(k, r)] * wf[k];
+                let term = h[(k, r)] * wf[k];
+                hw += term;
+                v_scale = v_scale.max(term.abs());
             }
             q[r] = hw;
         }
         for (j, &k) in group.contacts.iter().enumerate() {
             q[j] += offset[k];
+            v_scale = v_scale.max(offset[k].abs());
         }
         if friction {
             for j in 0..m {
@@ -210,6 +217,7 @@ impl ContactLcp {
             h,
             minv,
             floes: group.floes.clone(),
+            v_scale,
         }
     }
 
@@ -286,6 +294,7 @@ impl ContactLcp {
             h,
             minv: self.minv.clone(),
             floes: self.floes.clone(),
+            v_scale: self.v_scale,
         }
     }
 }
@@ -308,6 +317,8 @@ pub struct NormalTangentProblem {
     pub g: Vec<f64>,
     /// Free relative velocities with the offset, `b`, m/s.
     pub b: Vec<f64>,
+    /// Scale of the rounding of `b` ([`ContactLcp::v_scale`]), m/s.
+    pub v_scale: f64,
 }
 
 impl NormalTangentProblem {
@@ -355,6 +366,7 @@ impl ContactLcp {
             mu: self.mu,
             g,
             b: idx.iter().map(|&i| self.lcp.q[i]).collect(),
+            v_scale: self.v_scale,
         }
     }
 

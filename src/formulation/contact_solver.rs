@@ -12,7 +12,9 @@
 //!
 //! Counters written into the formulation's [`Counters`]: `lcp_solves`,
 //! `lcp_unknowns_total`, `lcp_size_max`, `lcp_dump_failures`,
-//! `coulomb_violations` (an accepted impulse with `|β| > μ λ (1 + 1e-9)`),
+//! `coulomb_violations` (an accepted impulse with `|β| > μ λ (1 + 1e-9)`
+//! beyond the rounding allowance of the accepted residual, see
+//! [`ContactSolver::check_coulomb`]),
 //! and by [`ContactSolver::report`]: the Lemke pivots and fallbacks
 //! (`lemke_pivots`, `lemke_max_pivots`, `lcp_solved_first_attempt`,
 //! `lcp_solved_by_fallback`, `lcp_fallback_alternative_rule`,
@@ -103,31 +105,50 @@ impl ContactSolver {
             }
         }
         if sol.status.is_solved() && lcp.friction {
+            // Rounding allowance per contact: the impulse that the accepted
+            // residual (tolerance × ‖q‖, in velocity units) corresponds to.
+            let n = lcp.lcp.n;
+            let qn = lcp.lcp.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let slack: Vec<f64> = (0..lcp.m)
+                .map(|j| {
+                    let d = lcp.lcp.m[j * n + j];
+                    if d > 0.0 {
+                        self.opts.tolerance * qn / d
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
             let beta = lcp.tangential(&sol.z);
-            self.check_coulomb(lcp.normal(&sol.z), &beta, lcp.mu, counters);
+            self.check_coulomb(lcp.normal(&sol.z), &beta, lcp.mu, &slack, counters);
         }
     }
 
-    /// Coulomb on accepted impulses `λ`, `β` with friction coefficient `mu`:
-    /// keeps the largest `|β| / (μ λ)` and counts `coulomb_violations` beyond
-    /// [`COULOMB_SLACK`].
+    /// Coulomb on accepted impulses `λ`, `β` (N·s) with friction coefficient
+    /// `mu`: keeps the largest `|β| / (μ λ)` and counts `coulomb_violations`,
+    /// i.e. `|β| > μ λ (1 + COULOMB_SLACK) + slack`. `slack[j]` (N·s, 0 if
+    /// missing) is the rounding allowance of contact `j`: a tangential
+    /// impulse below it is rounding (e.g. 1e-21 N·s beside `λ = 0`) and is
+    /// left out of the ratio.
     pub fn check_coulomb(
         &mut self,
         lambda: &[f64],
         beta: &[f64],
         mu: f64,
+        slack: &[f64],
         counters: &mut Counters,
     ) {
-        for (l, b) in lambda.iter().zip(beta) {
+        for (j, (l, b)) in lambda.iter().zip(beta).enumerate() {
             let bound = mu * l;
-            if b.abs() > 0.0 {
+            let eps = slack.get(j).copied().unwrap_or(0.0);
+            if b.abs() > eps {
                 let ratio = if bound > 0.0 {
                     b.abs() / bound
                 } else {
                     f64::INFINITY
                 };
                 self.max_coulomb_ratio = self.max_coulomb_ratio.max(ratio);
-                if b.abs() > bound * (1.0 + COULOMB_SLACK) + 1e-300 {
+                if b.abs() > bound * (1.0 + COULOMB_SLACK) + eps {
                     counters.add("coulomb_violations", 1);
                 }
             }

@@ -116,7 +116,6 @@ use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{detect, BroadPhase, Contact};
 use crate::geometry::{perp, Vec2};
-use crate::lcp::residual;
 use crate::model::{MoreauSolver, Scenario};
 use crate::physics::SmoothIntegrator;
 use crate::run::{Counters, Stage, StageClock};
@@ -130,9 +129,11 @@ use crate::state::{BodyState, System};
 /// after 1000 steps with ε = 0.
 pub const ACTIVATION_TOLERANCE_FRACTION: f64 = 1e-9;
 
-/// A velocity change below this (m/s or rad/s) does not make a step a
-/// contact step in [`Moreau::contact_steps`] (it is still applied).
-const NEGLIGIBLE_VELOCITY: f64 = 1e-12;
+/// A velocity change below this fraction of the group's largest free
+/// velocity component does not make a step a contact step in
+/// [`Moreau::contact_steps`] (it is still applied): the cone's interior
+/// point is never exactly zero.
+const NEGLIGIBLE_VELOCITY_FRACTION: f64 = 1e-9;
 
 /// Keeps at most this many contact-step records.
 const MAX_RECORDS: usize = 100_000;
@@ -383,9 +384,13 @@ impl Moreau {
                 MoreauSolver::Cone => self.solve_cone(&lcp, sys.t),
             };
             let dv = lcp.velocity_changes(&z);
-            // A step has impulses when some velocity changes by more than
-            // rounding (the cone's interior point is never exactly zero).
-            if dv.iter().flatten().any(|d| d.abs() > NEGLIGIBLE_VELOCITY) {
+            let v_scale = g
+                .floes
+                .iter()
+                .flat_map(|&i| w_free[i])
+                .fold(0.0f64, |m, v| m.max(v.abs()));
+            let negligible = NEGLIGIBLE_VELOCITY_FRACTION * v_scale + 1e-300;
+            if dv.iter().flatten().any(|d| d.abs() > negligible) {
                 any = true;
             }
             let before = group_energy(scn, w_free, &g.floes);
@@ -437,11 +442,14 @@ impl Moreau {
             }
         }
         c.max_value("cone_max_projection_rel", sol.cone_excess);
+        if sol.polished {
+            c.add("cone_polished", 1);
+        }
         let mut flat = sol.lambda.clone();
         if p.friction {
             flat.extend_from_slice(&sol.beta);
             self.solver
-                .check_coulomb(&sol.lambda, &sol.beta, p.mu, &mut self.counters);
+                .check_coulomb(&sol.lambda, &sol.beta, p.mu, &[], &mut self.counters);
         }
         // The artefact: normal speed (with the Newton offset) of the
         // contacts that push, u_N⁺ + c = μ |u_T⁺| while sliding.
@@ -453,15 +461,7 @@ impl Moreau {
                     .max_value("cone_max_pushing_normal_speed_m_per_s", u[j]);
             }
         }
-        let z = lcp.z_from_impulses(&sol.lambda, &sol.beta);
-        if !lcp.friction {
-            // Without friction the cone program is the LCP: same residual.
-            self.counters.max_value(
-                "cone_max_lcp_residual_frictionless",
-                residual(&lcp.lcp.m, &lcp.lcp.q, &z),
-            );
-        }
-        z
+        lcp.z_from_impulses(&sol.lambda, &sol.beta)
     }
 }
 
