@@ -455,10 +455,10 @@ impl Moreau {
         // contacts that push, u_N⁺ + c = μ |u_T⁺| while sliding.
         let u = p.velocities(&flat);
         let lam_max = sol.lambda.iter().fold(0.0f64, |s, l| s.max(*l));
-        for j in 0..p.m {
-            if sol.lambda[j] > 1e-9 * lam_max {
+        for (l, uj) in sol.lambda.iter().zip(&u) {
+            if *l > 1e-9 * lam_max {
                 self.counters
-                    .max_value("cone_max_pushing_normal_speed_m_per_s", u[j]);
+                    .max_value("cone_max_pushing_normal_speed_m_per_s", *uj);
             }
         }
         lcp.z_from_impulses(&sol.lambda, &sol.beta)
