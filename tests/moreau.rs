@@ -112,6 +112,11 @@ fn head_on_impact_matches_the_closed_form_in_one_step_of_contact() {
                 "{solver:?} e = {e}: one step of contact"
             );
             let (a, b) = (final_velocity(&r, 0), final_velocity(&r, 1));
+            eprintln!(
+                "head-on {solver:?} e = {e}: v1' error {:.1e}, v2' error {:.1e} m/s",
+                a.x - v1p,
+                b.x - v2p
+            );
             assert!(
                 (a.x - v1p).abs() <= 1e-9 * v1p.abs().max(1e-3),
                 "{solver:?} e = {e}: v1' {} vs {v1p}",
