@@ -59,8 +59,9 @@
 //! The solution is projected back onto `K_μ` (`λ ← max(λ, 0)`, `|β| ≤ μλ`),
 //! a change within the solver tolerance whose size is reported
 //! ([`ConeSolution::cone_excess`]). A status other than `Solved` or
-//! `AlmostSolved`, or a non-finite solution, is a failure: the caller
-//! counts it and falls back (the Moreau–Jean formulation falls back to the
+//! `AlmostSolved` whose last iterate does not polish into a consistent
+//! point, or a non-finite solution, is a failure: the caller counts it and
+//! falls back (the Moreau–Jean formulation falls back to the
 //! Lemke LCP); this module never panics.
 //!
 //! # References
@@ -104,8 +105,13 @@ pub enum ConeStatus {
     Solved,
     /// Clarabel reports `AlmostSolved` (reduced accuracy); accepted, counted.
     AlmostSolved,
-    /// Anything else (infeasible, iteration cap, numerical error, setup
-    /// error, non-finite solution): the caller falls back.
+    /// Clarabel stopped without a solution (iteration cap, slow progress)
+    /// but its last iterate polished into a consistent KKT point; accepted,
+    /// counted.
+    RescuedByPolish,
+    /// Anything else (infeasible, iteration cap or numerical error without a
+    /// consistent polish, setup error, non-finite solution): the caller falls
+    /// back.
     Failed,
 }
 
@@ -250,13 +256,13 @@ pub fn solve_cone(p: &NormalTangentProblem, opts: &ConeOptions) -> ConeSolution 
     };
     solver.solve();
     let sol = &solver.solution;
-    let status = match sol.status {
+    let mut status = match sol.status {
         SolverStatus::Solved => ConeStatus::Solved,
         SolverStatus::AlmostSolved => ConeStatus::AlmostSolved,
         _ => ConeStatus::Failed,
     };
     let name = format!("{:?}", sol.status);
-    if status == ConeStatus::Failed || sol.x.iter().any(|v| !v.is_finite()) {
+    if sol.x.iter().any(|v| !v.is_finite()) {
         let mut f = ConeSolution::failed(m, name);
         f.iterations = sol.iterations;
         return f;
@@ -269,6 +275,16 @@ pub fn solve_cone(p: &NormalTangentProblem, opts: &ConeOptions) -> ConeSolution 
         }
     }
     let polished = polish(&gs, &q, &sol.x, m, p.mu, friction);
+    if status == ConeStatus::Failed {
+        // An interior point stopped early (iteration cap, slow progress) is
+        // kept only if it polishes into a consistent KKT point.
+        if polished.is_none() {
+            let mut f = ConeSolution::failed(m, name);
+            f.iterations = sol.iterations;
+            return f;
+        }
+        status = ConeStatus::RescuedByPolish;
+    }
     let x = polished.as_deref().unwrap_or(&sol.x);
     let mut lambda: Vec<f64> = (0..m).map(|j| d[j] * x[j]).collect();
     let mut beta: Vec<f64> = if friction {

@@ -82,8 +82,8 @@
 //! `contact_energy_increases`). The ledger residual
 //! `E(t) − E(0) − W_ext + D` therefore measures exactly the energy error of
 //! the smooth step against that quadrature of the power: zero for constant
-//! forces with θ = ½, `O(h²)` over a run with drag, and the spurious work
-//! of the discrete Coriolis force.
+//! forces with θ = ½, small with drag (measured third order on
+//! `free_drift`), and the spurious work of the discrete Coriolis force.
 //!
 //! # Parameters (`[formulation.moreau]`)
 //!
@@ -435,6 +435,7 @@ impl Moreau {
         match sol.status {
             ConeStatus::Solved => {}
             ConeStatus::AlmostSolved => c.add("cone_almost_solved", 1),
+            ConeStatus::RescuedByPolish => c.add("cone_rescued_by_polish", 1),
             ConeStatus::Failed => {
                 c.add("cone_failed", 1);
                 c.add("cone_fallback_lcp", 1);
