@@ -31,8 +31,8 @@
 //!    floes linked by active contacts ([`crate::contact::problem::groups`]),
 //!    with Newton's impact law at velocity level on every active contact,
 //!    `u_N⁺ + e u_N⁻ ≥ 0 ⟂ λ ≥ 0`, `u_N⁻ = u_N(W_k)` the normal relative
-//!    velocity at the start of the step (Acary & Brogliato 2008, 10.1;
-//!    Siconos' `MoreauJeanOSI`). The offset `c_j = e u_N⁻_j` enters the
+//!    velocity at the start of the step (as in Acary & Brogliato 2008,
+//!    ch. 10). The offset `c_j = e u_N⁻_j` enters the
 //!    shared LCP assembly ([`ContactLcp::assemble`], physics.md 3.1) with
 //!    `W_free`, so that `W_{k+1} = W_free + M⁻¹ (J λ + D β̃)`. The kinetic
 //!    energy change of the impulses is `½ Σ_j λ_j (u_N⁺ + u_N,free)_j`
@@ -56,9 +56,11 @@
 //!      normal speed `μ |u_T|`**, the known artefact of the convex
 //!      relaxation, documented and measured (the counters
 //!      `cone_max_pushing_normal_speed_m_per_s` and the tests), not
-//!      corrected. A cone solve that clarabel does not report `Solved` or
-//!      `AlmostSolved` is counted (`cone_failed`) and the group falls back
-//!      to the Lemke LCP.
+//!      corrected. The interior point is polished on its active set
+//!      (`cone_polished`); a solve that clarabel does not report `Solved` or
+//!      `AlmostSolved` and whose last iterate does not polish into a
+//!      consistent point is counted (`cone_failed`) and the group falls back
+//!      to the Lemke LCP (`cone_fallback_lcp`).
 //! 4. **Positions, θ-method.** `q_{k+1} = q_k + h ((1 − θ) W_k + θ W_{k+1})`.
 //!    For θ = ½ a free flight under constant forces is exact; at an impact
 //!    the position moves with the mean of the velocities before and after.
