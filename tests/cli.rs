@@ -88,3 +88,33 @@ fn a_bad_case_writes_nothing() {
     assert!(!st.success());
     assert!(!out.exists(), "no partial output for a bad case");
 }
+
+#[test]
+fn run_accepts_both_moreau_formulations() {
+    let list = floebench().arg("formulations").output().unwrap();
+    let text = String::from_utf8_lossy(&list.stdout);
+    assert!(
+        text.contains("moreau ") && text.contains("moreau-cone"),
+        "{text}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    for name in ["moreau", "moreau-cone"] {
+        let out = dir.path().join(name);
+        let run = floebench()
+            .args(["run", &case("head_on.toml"), "-f", name, "--quiet", "-o"])
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        assert!(
+            summary.contains(&format!("\"formulation\": \"{name}\"")),
+            "{summary}"
+        );
+        assert!(out.join("trajectory.csv").exists() && out.join("energy.csv").exists());
+    }
+}

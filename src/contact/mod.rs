@@ -26,9 +26,12 @@
 //!    polygons up to the contact distance). Each point lies midway between
 //!    the two surfaces, with the gap along the pair normal (from A to B).
 //!
-//! [`detect`] chains both for a set of bodies.
+//! [`detect`] chains both for a set of bodies. The contact problem of a
+//! group is assembled in [`problem`] (the LCP) and, for the convex cone
+//! relaxation, solved in [`cone`].
 
 mod broad;
+pub mod cone;
 mod narrow;
 pub mod problem;
 

@@ -42,9 +42,9 @@
 //! 5. **Penetration.** A penetration deeper than the tolerance at the end of
 //!    a step rejects it; it is retried with half the step (counted).
 //!
-//! Every LCP goes through [`crate::lcp::solve`] (lexicographic Lemke, another
-//! pivot rule, a perturbed matrix), whose residual is recomputed on the
-//! original data. When all fail, the documented last resort is the
+//! Every LCP goes through the shared [`ContactSolver`]: [`crate::lcp::solve`]
+//! (lexicographic Lemke, another pivot rule, a perturbed matrix), whose
+//! residual is recomputed on the original data. When all fail, the documented last resort is the
 //! frictionless LCP of the same contacts; if that fails too, no impulse is
 //! applied. Each outcome is counted.
 //!
@@ -60,16 +60,15 @@
 //! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
 //!   Contacts* (Poisson's impact law).
 
+use super::contact_solver::ContactSolver;
 use super::{Formulation, FormulationError, FormulationOptions};
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{detect, Aabb, BroadPhase, Contact};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, Vec2};
-use crate::lcp::{solve, LcpDump, SolveCounters, SolveOptions};
 use crate::model::Scenario;
 use crate::physics::{SmoothIntegrator, Wrench};
 use crate::run::{Counters, Stage, StageClock};
 use crate::state::{BodyState, Ledger, System};
-use std::path::PathBuf;
 
 /// Default contact distance as a fraction of the smallest floe radius, when
 /// the case leaves `[contact] distance = 0`.
@@ -106,15 +105,11 @@ pub struct EventDriven {
     /// Approach speed below which a closed contact is left to the sustained
     /// LCP rather than resolved as an impact, m/s (see [`EventDriven::new`]).
     impact_speed: f64,
-    opts: SolveOptions,
+    solver: ContactSolver,
     bp: BroadPhase,
     sweep_bp: BroadPhase,
-    dump: Option<PathBuf>,
-    dump_seq: u64,
     counters: Counters,
-    lcp_counters: SolveCounters,
     impacts: Vec<ImpactRecord>,
-    max_coulomb_ratio: f64,
     max_penetration: f64,
 }
 
@@ -156,15 +151,11 @@ impl EventDriven {
             pen_tol,
             max_step,
             impact_speed,
-            opts: SolveOptions::default(),
+            solver: ContactSolver::new(opts.dump_lcp.clone()),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
-            dump: opts.dump_lcp.clone(),
-            dump_seq: 0,
             counters,
-            lcp_counters: SolveCounters::default(),
             impacts: Vec::new(),
-            max_coulomb_ratio: 0.0,
             max_penetration: 0.0,
         }
     }
@@ -181,7 +172,7 @@ impl EventDriven {
 
     /// Largest `|β| / (μ λ)` over every contact impulse so far (0 without friction).
     pub fn max_coulomb_ratio(&self) -> f64 {
-        self.max_coulomb_ratio
+        self.solver.max_coulomb_ratio()
     }
 
     /// World polygons of all bodies: floes at `bodies`, then obstacles.
@@ -219,72 +210,10 @@ impl EventDriven {
         (vel(c.b) - vel(c.a)).dot(&c.geom.normal)
     }
 
-    /// Solves one contact LCP with the fallbacks and the last resort;
-    /// returns `z` (never NaN) and records counters and dumps.
+    /// Solves one contact LCP with the shared fallbacks and last resort
+    /// ([`ContactSolver::solve`]); returns `z` (never NaN).
     fn solve_contact(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
-        let sol = solve(&lcp.lcp, &self.opts);
-        self.record_solve(lcp, &sol, t);
-        if sol.status.is_solved() {
-            return sol.z;
-        }
-        if lcp.friction {
-            self.counters.add("lcp_last_resort_frictionless", 1);
-            let fl = lcp.frictionless();
-            let sol2 = solve(&fl.lcp, &self.opts);
-            self.record_solve(&fl, &sol2, t);
-            if sol2.status.is_solved() {
-                let mut z = vec![0.0; lcp.lcp.n];
-                z[..lcp.m].copy_from_slice(&sol2.z);
-                return z;
-            }
-        }
-        self.counters.add("lcp_unresolved", 1);
-        vec![0.0; lcp.lcp.n]
-    }
-
-    fn record_solve(&mut self, lcp: &ContactLcp, sol: &crate::lcp::LcpSolution, t: f64) {
-        self.lcp_counters.record(sol);
-        self.counters.add("lcp_solves", 1);
-        self.counters.add("lcp_unknowns_total", lcp.lcp.n as u64);
-        let e = self
-            .counters
-            .values
-            .entry("lcp_size_max".into())
-            .or_insert(0.0);
-        *e = e.max(lcp.lcp.n as f64);
-        if let Some(dir) = &self.dump {
-            let path = dir.join(format!("{:06}.json", self.dump_seq));
-            self.dump_seq += 1;
-            if LcpDump::from_solution(&lcp.lcp, sol, t, lcp.m)
-                .write(&path)
-                .is_err()
-            {
-                self.counters.add("lcp_dump_failures", 1);
-            }
-        }
-        // Coulomb on the accepted impulses: |β| ≤ μ λ within 1e-9 of the
-        // problem's impulse scale, the larger of the largest friction bound
-        // and ‖q‖∞ / g (the impulse that stops the fastest contact): the LCP
-        // itself is solved to a residual of 1e-10 relative to ‖q‖.
-        if sol.status.is_solved() && lcp.friction {
-            let lam = lcp.normal(&sol.z);
-            let beta = lcp.tangential(&sol.z);
-            let mu = lcp.mu;
-            let q_scale = lcp.lcp.q.iter().fold(0.0_f64, |m, v| m.max(v.abs())) / lcp.scale;
-            let bound_max = lam
-                .iter()
-                .fold(0.0_f64, |m, l| m.max(mu * l))
-                .max(mu * q_scale);
-            for (l, b) in lam.iter().zip(&beta) {
-                let bound = mu * l;
-                if bound > 1e-9 * bound_max {
-                    self.max_coulomb_ratio = self.max_coulomb_ratio.max(b.abs() / bound);
-                }
-                if b.abs() > bound + 1e-9 * bound_max {
-                    self.counters.add("coulomb_violations", 1);
-                }
-            }
-        }
+        self.solver.solve(lcp, t, &mut self.counters)
     }
 
     /// Resolves the impacts of every group with an approaching closed contact.
@@ -781,17 +710,8 @@ impl Formulation for EventDriven {
     fn counters(&self) -> Counters {
         let mut c = self.counters.clone();
         c.integrator(&self.integ.stats);
-        let l = &self.lcp_counters;
-        c.add("lemke_pivots", l.total_pivots);
-        c.add("lemke_max_pivots", l.max_pivots);
-        c.add("lcp_solved_first_attempt", l.solved);
-        c.add("lcp_solved_by_fallback", l.solved_by_fallback);
-        c.add("lcp_fallback_alternative_rule", l.by_alternative_rule);
-        c.add("lcp_fallback_perturbed", l.by_perturbed);
-        c.add("lcp_failed", l.failed);
-        c.set_value("lcp_max_accepted_residual", l.max_accepted_residual);
+        self.solver.report(&mut c);
         c.set_value("max_penetration_m", self.max_penetration);
-        c.set_value("max_coulomb_ratio", self.max_coulomb_ratio);
         c
     }
 }

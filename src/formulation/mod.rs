@@ -9,11 +9,13 @@
 //! To add a formulation: write a module here implementing [`Formulation`],
 //! and add its name to [`NAMES`] and [`build`].
 
+pub mod contact_solver;
 pub mod event_driven;
 pub mod free_drift;
+pub mod moreau;
 pub mod rapier_ref;
 
-use crate::model::{IntegratorKind, Scenario};
+use crate::model::{IntegratorKind, MoreauSolver, Scenario};
 use crate::run::{Counters, StageClock};
 use crate::state::System;
 
@@ -53,7 +55,8 @@ pub trait Formulation {
 pub struct FormulationOptions {
     /// Override of the case's smooth integrator.
     pub integrator: Option<IntegratorKind>,
-    /// Write every LCP solved into this folder as `<seq>.json` (event-driven).
+    /// Write every LCP solved into this folder as `<seq>.json` (event-driven,
+    /// Moreau–Jean with the LCP solver or a cone fallback).
     pub dump_lcp: Option<std::path::PathBuf>,
 }
 
@@ -71,6 +74,14 @@ pub const NAMES: &[(&str, &str)] = &[
         "rapier",
         "rapier2d-f64 0.36: soft contacts (TGS-soft, substeps), restitution on new contacts only; the regularised reference",
     ),
+    (
+        "moreau",
+        "Moreau-Jean time stepping: fixed step, theta-method, Newton impact law, one contact problem per step and group; solver from the case ([formulation.moreau] solver, default lcp: Lemke)",
+    ),
+    (
+        "moreau-cone",
+        "Moreau-Jean time stepping with the Anitescu-Tasora convex cone relaxation solved by clarabel (sliding contacts separate at mu |u_T|)",
+    ),
 ];
 
 /// The formulation called `name`, set up for `scn`.
@@ -83,6 +94,12 @@ pub fn build(
         "event-driven" => Ok(Box::new(event_driven::EventDriven::new(scn, opts))),
         "free-drift" => Ok(Box::new(free_drift::FreeDrift::new(scn, opts))),
         "rapier" => Ok(Box::new(rapier_ref::RapierReference::new(scn, opts)?)),
+        "moreau" => Ok(Box::new(moreau::Moreau::new(scn, opts, None))),
+        "moreau-cone" => Ok(Box::new(moreau::Moreau::new(
+            scn,
+            opts,
+            Some(MoreauSolver::Cone),
+        ))),
         other => Err(format!(
             "unknown formulation `{other}`; known: {}",
             NAMES.iter().map(|n| n.0).collect::<Vec<_>>().join(", ")

@@ -57,7 +57,7 @@
 pub mod dump;
 mod json_f64;
 pub mod lemke;
-mod polish;
+pub(crate) mod polish;
 pub mod solve;
 
 pub use dump::{DumpError, LcpDump};

@@ -53,15 +53,17 @@ pub(crate) fn polish(m: &[f64], q: &[f64], z: &[f64]) -> Option<Vec<f64>> {
     Some(out)
 }
 
-/// LU factorisation with partial pivoting of a k×k row-major matrix.
-struct Lu {
+/// LU factorisation with partial pivoting of a k×k row-major matrix (also
+/// used by the cone solver's active-set polish).
+pub(crate) struct Lu {
     k: usize,
     a: Vec<f64>,
     perm: Vec<usize>,
 }
 
 impl Lu {
-    fn factor(mut a: Vec<f64>, k: usize) -> Option<Self> {
+    /// Factors `a` (k×k, row-major); `None` if numerically singular or not finite.
+    pub(crate) fn factor(mut a: Vec<f64>, k: usize) -> Option<Self> {
         let amax = a.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
         if !(amax > 0.0 && amax.is_finite()) {
             return None;
@@ -99,7 +101,8 @@ impl Lu {
         Some(Self { k, a, perm })
     }
 
-    fn solve(&self, b: &[f64]) -> Vec<f64> {
+    /// Solves `A x = b`.
+    pub(crate) fn solve(&self, b: &[f64]) -> Vec<f64> {
         let k = self.k;
         let mut y: Vec<f64> = self.perm.iter().map(|&p| b[p]).collect();
         for r in 0..k {

@@ -8,8 +8,8 @@
 use super::field::generate_field;
 use super::{
     ContactLaw, Environment, EventDrivenSettings, Floe, FloeOrigin, Fluid, FormulationSettings,
-    IntegratorKind, IntegratorSettings, MoreauSettings, Obstacle, RapierSettings, Scenario,
-    VelocitySeries, DEFAULT_ICE_DENSITY,
+    IntegratorKind, IntegratorSettings, MoreauSettings, MoreauSolver, Obstacle, RapierSettings,
+    Scenario, VelocitySeries, DEFAULT_ICE_DENSITY,
 };
 use crate::contact::{Aabb, BroadPhase};
 use crate::geometry::{check_convex_ccw, sat_separation, Vec2};
@@ -157,6 +157,7 @@ struct MoreauSpec {
     step: Option<f64>,
     theta: Option<f64>,
     gamma: Option<f64>,
+    solver: Option<String>,
 }
 
 #[derive(Deserialize)]
@@ -515,6 +516,11 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
             if let Some(gamma) = m.gamma {
                 unit_interval(ctx, &span, "formulation.moreau", "gamma", gamma)?;
                 s.gamma = gamma;
+            }
+            if let Some(solver) = m.solver {
+                s.solver = solver.parse::<MoreauSolver>().map_err(|e| {
+                    ctx.key_err(&span, "solver", format!("[formulation.moreau] {e}"))
+                })?;
             }
             formulations.moreau = s;
         }

@@ -282,6 +282,34 @@ pub struct MoreauSettings {
     pub theta: f64,
     /// γ of the predicted gap `g + h γ u_N` activating a contact, in [0, 1] (default 0.5).
     pub gamma: f64,
+    /// The one-step contact solver (default [`MoreauSolver::Lcp`]); the
+    /// formulation names `moreau` and `moreau-cone` override it.
+    pub solver: MoreauSolver,
+}
+
+/// The one-step contact solver of the Moreau–Jean formulation
+/// (`[formulation.moreau] solver`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum MoreauSolver {
+    /// `"lcp"`: the Stewart–Trinkle LCP (physics.md 3.1) by our Lemke.
+    Lcp,
+    /// `"cone"`: the Anitescu–Tasora convex relaxation, a second-order-cone
+    /// program solved by clarabel.
+    Cone,
+}
+
+impl std::str::FromStr for MoreauSolver {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "lcp" => Ok(MoreauSolver::Lcp),
+            "cone" => Ok(MoreauSolver::Cone),
+            other => Err(format!(
+                "unknown solver `{other}`; expected `lcp` or `cone`"
+            )),
+        }
+    }
 }
 
 impl Default for MoreauSettings {
@@ -290,6 +318,7 @@ impl Default for MoreauSettings {
             step: 1.0,
             theta: 0.5,
             gamma: 0.5,
+            solver: MoreauSolver::Lcp,
         }
     }
 }

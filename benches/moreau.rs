@@ -1,0 +1,83 @@
+//! CPU time per Moreau–Jean step on the 200-floe field against the coast
+//! (`cases/field_200_coast.toml`, h = 1 s), for both one-step solvers: the
+//! Stewart–Trinkle LCP by Lemke (`moreau`) and the Anitescu–Tasora cone
+//! program by clarabel (`moreau-cone`).
+//!
+//! The field starts loose (no contact at t = 0), so it is first compacted by
+//! running `moreau` (Lemke) for `COMPACTION` = 2 h of simulated time (a few
+//! seconds of CPU): the floes reach the coast and pile up (70 active
+//! contacts in 12 groups in the timed step, printed by the bench). Each
+//! iteration then advances a copy of that state by one step of 1 s
+//! (detection, θ-method forces, contact problems, positions), with a
+//! formulation set up once per solver. A second group times the step of the
+//! loose field at t = 0 (no contact: detection and forces alone). Criterion
+//! measures wall time; a step is single-threaded, so it is the step's CPU
+//! time on an otherwise idle core.
+//!
+//! `cargo bench --bench moreau`
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use floebench::formulation::{build, FormulationOptions};
+use floebench::model::{load_case, Scenario};
+use floebench::run::StageClock;
+use floebench::state::System;
+use std::hint::black_box;
+use std::path::Path;
+
+/// Simulated time of the compaction run, s.
+const COMPACTION: f64 = 7200.0;
+
+fn field() -> Scenario {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/field_200_coast.toml");
+    load_case(&path).expect("bundled case")
+}
+
+fn bench_steps(c: &mut Criterion, group: &str, scn: &Scenario, state: &System) {
+    let mut g = c.benchmark_group(group);
+    g.sample_size(20);
+    for name in ["moreau", "moreau-cone"] {
+        let mut form = build(name, scn, &FormulationOptions::default()).expect("formulation");
+        let h = scn.formulations.moreau.step;
+        let mut clock = StageClock::new();
+        // One step first, to report the contact problem being timed.
+        let mut probe = state.clone();
+        form.advance(scn, &mut probe, state.t + h, &mut clock)
+            .expect("step");
+        let counts = form.counters().counts;
+        eprintln!(
+            "{group}/{name}: t = {} s, {} active contacts in {} groups",
+            state.t,
+            counts.get("active_contacts").copied().unwrap_or(0),
+            counts.get("contact_groups").copied().unwrap_or(0)
+        );
+        g.bench_function(name, |b| {
+            b.iter_batched(
+                || state.clone(),
+                |mut s| {
+                    let r = form.advance(scn, &mut s, state.t + h, &mut clock);
+                    black_box((r.is_ok(), s.t))
+                },
+                criterion::BatchSize::SmallInput,
+            )
+        });
+    }
+    g.finish();
+}
+
+fn moreau_step(c: &mut Criterion) {
+    let scn = field();
+    let start = System::initial(&scn);
+    bench_steps(c, "moreau_step_field_200_t0", &scn, &start);
+    let mut sys = start;
+    let mut form = build("moreau", &scn, &FormulationOptions::default()).expect("formulation");
+    form.advance(&scn, &mut sys, COMPACTION, &mut StageClock::new())
+        .expect("compaction run");
+    bench_steps(c, "moreau_step_field_200_compacted", &scn, &sys);
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = moreau_step
+}
+criterion_main!(benches);
