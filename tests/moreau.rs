@@ -520,24 +520,35 @@ fn names_and_the_case_solver_key_choose_the_solver() {
 
 #[test]
 fn field_against_the_coast_runs_with_both_solvers_and_balances_its_ledger() {
-    // An hour of the 200-floe field (h = 1 s): water drag and Coriolis make
-    // the ledger residual nonzero; it measures the θ-method's energy error
-    // against the trapezoidal power of each force.
+    // 75 minutes of the 200-floe field (h = 1 s): the floes reach the coast
+    // and pile up. Water drag and Coriolis make the ledger residual nonzero;
+    // it measures the θ-method's energy error against the trapezoidal power
+    // of each force.
     let scn =
-        scenario(&case_text("field_200_coast").replace("duration = 21600.0", "duration = 3600.0"));
+        scenario(&case_text("field_200_coast").replace("duration = 21600.0", "duration = 4500.0"));
     for solver in SOLVERS {
         // Drift below 0.5 m/s: approach speeds below 1 m/s.
         let (r, mj) = run_checked(&scn, solver, 1.0);
         let e = &r.summary.energy;
+        let counts = &r.summary.counters.counts;
+        let groups = counts["contact_groups"];
+        let failed = counts.get("lcp_failed").copied().unwrap_or(0);
         eprintln!(
-            "field 1 h {solver:?}: {} contact steps, residual {:.3e} J of {:.3e} J exchanged, penetration {:.3} m",
+            "field 75 min {solver:?}: {} contact steps, {groups} contact problems, {failed} Lemke failures (frictionless last resort), {} cone fallbacks, residual {:.3e} J of {:.3e} J exchanged, penetration {:.3} m",
             mj.contact_steps().len(),
+            counts.get("cone_fallback_lcp").copied().unwrap_or(0),
             e.max_abs_residual,
             e.exchanged,
             mj.max_penetration()
         );
-        assert!(!mj.contact_steps().is_empty());
+        assert!(groups > 1000);
         assert!(e.max_abs_residual <= 1e-6 * e.exchanged);
+        if solver == MoreauSolver::Lcp {
+            // With the Coulomb rows in velocity units, Lemke's solutions pass
+            // the residual check: measured 2 failures of 5,933 problems
+            // (1,623 before the scaling, all rejected on rounding).
+            assert!(failed * 1000 <= groups, "{failed} of {groups} failed");
+        }
     }
 }
 

@@ -47,7 +47,11 @@
 //!    - `lcp`: the Stewart–Trinkle LCP (exact Coulomb in 2D: two facets)
 //!      by the shared [`ContactSolver`]: Lemke with the residual check,
 //!      fallbacks, and the last resort (frictionless LCP, then no impulse),
-//!      each counted; or
+//!      each counted. Its Coulomb rows are scaled to velocities
+//!      ([`ContactLcp::with_velocity_coulomb_rows`]) so that the residual
+//!      check judges rounding consistently (unscaled, a third of the
+//!      frictional LCPs of `field_200_coast` were rejected after Lemke had
+//!      solved them); or
 //!    - `cone`: the Anitescu–Tasora relaxation ([`crate::contact::cone`]):
 //!      `min ½ pᵀ G p + pᵀ b` over `p_j = (λ_j, β_j) ∈ {|β_j| ≤ μ λ_j}`,
 //!      `G` the Delassus matrix and `b` the free relative velocities with
@@ -380,7 +384,8 @@ impl Moreau {
         let mut any = false;
         let (mut e_before, mut e_after) = (0.0, 0.0);
         for g in &gs {
-            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets);
+            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets)
+                .with_velocity_coulomb_rows();
             let z = match self.solver_kind {
                 MoreauSolver::Lcp => self.solver.solve(&lcp, sys.t, &mut self.counters),
                 MoreauSolver::Cone => self.solve_cone(&lcp, sys.t),
