@@ -545,9 +545,13 @@ fn field_against_the_coast_runs_with_both_solvers_and_balances_its_ledger() {
         assert!(e.max_abs_residual <= 1e-6 * e.exchanged);
         if solver == MoreauSolver::Lcp {
             // With the Coulomb rows in velocity units, Lemke's solutions pass
-            // the residual check: measured 2 failures of 5,933 problems
-            // (1,623 before the scaling, all rejected on rounding).
-            assert!(failed * 1000 <= groups, "{failed} of {groups} failed");
+            // the residual check: measured 2 failures of 5,933 problems with
+            // that row scaling alone (1,623 unscaled, all rejected on
+            // rounding), 7 of 5,933 once the whole LCP is also scaled by the
+            // mean Delassus diagonal (shared with the event-driven scheme,
+            // where it took failures from 26 % to 0.05 %). Pinned at 0.2 %;
+            // each failure goes to the counted frictionless last resort.
+            assert!(failed * 500 <= groups, "{failed} of {groups} failed");
         }
     }
 }
