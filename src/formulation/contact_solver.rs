@@ -170,3 +170,20 @@ impl ContactSolver {
         c.set_value("max_coulomb_ratio", self.max_coulomb_ratio);
     }
 }
+
+/// Normal relative velocity of a contact (positive: separating), m/s.
+pub fn normal_velocity(
+    scn: &crate::model::Scenario,
+    bodies: &[crate::state::BodyState],
+    c: &crate::contact::Contact,
+) -> f64 {
+    let n = scn.floes.len();
+    let vel = |i: usize| -> crate::geometry::Vec2 {
+        if i >= n {
+            return crate::geometry::Vec2::zeros();
+        }
+        let b = &bodies[i];
+        b.velocity + crate::geometry::perp(&(c.geom.point - b.position)) * b.angular_velocity
+    };
+    (vel(c.b) - vel(c.a)).dot(&c.geom.normal)
+}

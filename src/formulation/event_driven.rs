@@ -60,6 +60,7 @@
 //! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
 //!   Contacts* (Poisson's impact law).
 
+use super::contact_solver::normal_velocity;
 use super::contact_solver::ContactSolver;
 use super::{Formulation, FormulationError, FormulationOptions};
 use crate::contact::problem::{groups, ContactLcp, Gen};
@@ -197,19 +198,6 @@ impl EventDriven {
         out
     }
 
-    /// Normal relative velocity of a contact (positive: separating), m/s.
-    fn normal_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64 {
-        let n = scn.floes.len();
-        let vel = |i: usize| -> Vec2 {
-            if i >= n {
-                return Vec2::zeros();
-            }
-            let b = &bodies[i];
-            b.velocity + perp(&(c.geom.point - b.position)) * b.angular_velocity
-        };
-        (vel(c.b) - vel(c.a)).dot(&c.geom.normal)
-    }
-
     /// Solves one contact LCP with the shared fallbacks and last resort
     /// ([`ContactSolver::solve`]); returns `z` (never NaN).
     fn solve_contact(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
@@ -222,7 +210,7 @@ impl EventDriven {
         let n = scn.floes.len();
         let approaching: Vec<bool> = contacts
             .iter()
-            .map(|c| Self::normal_velocity(scn, &sys.bodies, c) < -self.impact_speed)
+            .map(|c| normal_velocity(scn, &sys.bodies, c) < -self.impact_speed)
             .collect();
         if !approaching.iter().any(|&a| a) {
             return false;
@@ -293,7 +281,7 @@ impl EventDriven {
         let n = scn.floes.len();
         for &k in which {
             let c = &contacts[k];
-            let u = Self::normal_velocity(scn, &sys.bodies, c);
+            let u = normal_velocity(scn, &sys.bodies, c);
             if u <= APPROACH_TOLERANCE {
                 continue;
             }
@@ -363,9 +351,9 @@ impl EventDriven {
             .collect();
         let mut cut = f64::INFINITY;
         for c in contacts {
-            let u0 = Self::normal_velocity(scn, &sys.bodies, c);
+            let u0 = normal_velocity(scn, &sys.bodies, c);
             if u0 > APPROACH_TOLERANCE {
-                let u1 = Self::normal_velocity(scn, &free_bodies, c);
+                let u1 = normal_velocity(scn, &free_bodies, c);
                 if u1 < 0.0 {
                     let apex = h * u0 / (u0 - u1);
                     if c.geom.gap + 0.5 * u0 * apex > self.distance {

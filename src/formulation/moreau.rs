@@ -116,12 +116,13 @@
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
+use super::contact_solver::normal_velocity;
 use super::contact_solver::ContactSolver;
 use super::{Formulation, FormulationError, FormulationOptions};
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{detect, BroadPhase, Contact};
-use crate::geometry::{perp, Vec2};
+use crate::geometry::Vec2;
 use crate::model::{MoreauSolver, Scenario};
 use crate::physics::SmoothIntegrator;
 use crate::run::{Counters, Stage, StageClock};
@@ -471,19 +472,6 @@ impl Moreau {
         }
         lcp.z_from_impulses(&sol.lambda, &sol.beta)
     }
-}
-
-/// Normal relative velocity of a contact (positive: separating), m/s.
-pub fn normal_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64 {
-    let n = scn.floes.len();
-    let vel = |i: usize| -> Vec2 {
-        if i >= n {
-            return Vec2::zeros();
-        }
-        let b = &bodies[i];
-        b.velocity + perp(&(c.geom.point - b.position)) * b.angular_velocity
-    };
-    (vel(c.b) - vel(c.a)).dot(&c.geom.normal)
 }
 
 fn group_energy(scn: &Scenario, w: &[Gen], floes: &[usize]) -> f64 {
