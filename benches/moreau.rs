@@ -5,8 +5,8 @@
 //!
 //! The field starts loose (no contact at t = 0), so it is first compacted by
 //! running `moreau` (Lemke) for `COMPACTION` = 2 h of simulated time (a few
-//! seconds of CPU): the floes reach the coast and pile up (70 active
-//! contacts in 12 groups in the timed step, printed by the bench). Each
+//! seconds of CPU): the floes reach the coast and pile up (72 active
+//! contacts in 11 groups in the timed step, printed by the bench). Each
 //! iteration then advances a copy of that state by one step of 1 s
 //! (detection, θ-method forces, contact problems, positions), with a
 //! formulation set up once per solver. A second group times the step of the

@@ -430,7 +430,7 @@ impl ContactLcp {
     ///
     /// A positive row scaling keeps the solutions (`z` unchanged, `w ≥ 0 ⟂
     /// z ≥ 0` row by row) but makes the residual `‖min(z, w)‖ / ‖q‖` of
-    /// [`crate::lcp::solve`] consistent in units: unscaled, `σ` is in N·s
+    /// [`crate::lcp::solve()`] consistent in units: unscaled, `σ` is in N·s
     /// while `q` is in m/s, and the rounding of impulses of 1e6 N·s
     /// (`σ` ≈ −2e-11 N·s) alone exceeds the acceptance threshold 1e-10 ‖q‖
     /// — measured: a third of the frictional LCPs of `field_200_coast`

@@ -3,7 +3,7 @@
 //! place for the solve with fallbacks, the last resort, the counters, the
 //! LCP dumps and the Coulomb check.
 //!
-//! Every LCP goes through [`crate::lcp::solve`] (lexicographic Lemke, another
+//! Every LCP goes through [`crate::lcp::solve()`] (lexicographic Lemke, another
 //! pivot rule with another covering vector, a perturbed matrix), whose
 //! residual is recomputed on the original data. When all attempts fail, the
 //! documented last resort is the frictionless LCP of the same contacts

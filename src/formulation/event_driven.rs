@@ -42,7 +42,7 @@
 //! 5. **Penetration.** A penetration deeper than the tolerance at the end of
 //!    a step rejects it; it is retried with half the step (counted).
 //!
-//! Every LCP goes through the shared [`ContactSolver`]: [`crate::lcp::solve`]
+//! Every LCP goes through the shared [`ContactSolver`]: [`crate::lcp::solve()`]
 //! (lexicographic Lemke, another pivot rule, a perturbed matrix), whose
 //! residual is recomputed on the original data. When all fail, the documented last resort is the
 //! frictionless LCP of the same contacts; if that fails too, no impulse is
