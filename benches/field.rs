@@ -13,7 +13,7 @@ fn field_generation(c: &mut Criterion) {
     g.sample_size(10);
     for case in ["field_200_coast", "field_10000"] {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
+            .join("cases/fields")
             .join(format!("{case}.toml"));
         g.bench_function(case, |b| {
             b.iter(|| black_box(load_case(&path).map(|s| s.floes.len())))

@@ -1,5 +1,5 @@
 //! CPU time per Moreau–Jean step on the 200-floe field against the coast
-//! (`cases/field_200_coast.toml`, h = 1 s), for both one-step solvers: the
+//! (`cases/fields/field_200_coast.toml`, h = 1 s), for both one-step solvers: the
 //! Stewart–Trinkle LCP by Lemke (`moreau`) and the Anitescu–Tasora cone
 //! program by clarabel (`moreau-cone`).
 //!
@@ -28,7 +28,7 @@ use std::path::Path;
 const COMPACTION: f64 = 7200.0;
 
 fn field() -> Scenario {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/field_200_coast.toml");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/fields/field_200_coast.toml");
     load_case(&path).expect("bundled case")
 }
 

@@ -1,5 +1,5 @@
 //! CPU time per step of the rapier reference formulation on the 200-floe
-//! field against a coast (`cases/field_200_coast.toml`, the Moreau bench's
+//! field against a coast (`cases/fields/field_200_coast.toml`, the Moreau bench's
 //! field), at the default settings (`h` = 0.1 s, 4 substeps).
 //!
 //! Two starting states: the field as generated (t = 0: drift, at most a
@@ -90,7 +90,7 @@ impl ValueFormatter for CpuFormatter {
 fn rapier_step(c: &mut Criterion<ThreadCpu>) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("cases")
-        .join("field_200_coast.toml");
+        .join("fields/field_200_coast.toml");
     let scn = match load_case(&path) {
         Ok(s) => s,
         Err(e) => panic!("{e}"),

@@ -62,9 +62,12 @@ fn every_bad_case_is_rejected_with_a_message_naming_the_fault() {
 
 #[test]
 fn every_bundled_case_loads() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
     let mut n = 0;
-    for entry in std::fs::read_dir(&dir).unwrap() {
+    let paths = std::fs::read_dir(&root)
+        .unwrap()
+        .chain(std::fs::read_dir(root.join("fields")).unwrap());
+    for entry in paths {
         let path = entry.unwrap().path();
         if path.extension().is_some_and(|e| e == "toml") {
             let scn = load_case(&path).unwrap_or_else(|e| panic!("{e}"));

@@ -69,7 +69,7 @@ fn wind_acceleration(scn: &Scenario) -> f64 {
 #[test]
 fn rapier_is_registered_and_holds_the_floe_model_mass_properties() {
     assert!(NAMES.iter().any(|n| n.0 == "rapier"));
-    for case in ["head_on", "free_drift", "field_200_coast"] {
+    for case in ["head_on", "free_drift", "fields/field_200_coast"] {
         let scn = scenario(&case_text(case));
         assert!(build("rapier", &scn, &FormulationOptions::default()).is_ok());
         let f = RapierReference::new(&scn, &FormulationOptions::default()).unwrap();
