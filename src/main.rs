@@ -1,6 +1,7 @@
 //! The `floebench` command line: parse arguments, call the library.
 
 use clap::{Parser, Subcommand};
+use floebench::compare::CompareOptions;
 use floebench::formulation::{self, FormulationOptions};
 use floebench::model::{load_case, IntegratorKind, Scenario};
 use floebench::run::{output, EndReason, RunOptions, Runner};
@@ -51,6 +52,34 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
+    /// Run several formulations on the same cases and write a comparison report:
+    /// per case metrics.csv, divergence.csv, summary.json, each run's data and the
+    /// plots; then index.md and index.html.
+    Compare {
+        /// Case files, or folders of case files (their *.toml, not recursive).
+        #[arg(required = true)]
+        cases: Vec<PathBuf>,
+        /// Formulations, comma separated, the first being the reference of the
+        /// verdicts [default: every formulation except free-drift].
+        #[arg(short, long, value_delimiter = ',')]
+        formulations: Option<Vec<String>>,
+        /// Report folder.
+        #[arg(short, long, default_value = "reports")]
+        out: PathBuf,
+        /// Runs at a time [default: the number of cores].
+        #[arg(short, long)]
+        jobs: Option<usize>,
+        /// Divergence threshold: RMS position difference between two runs, as a
+        /// fraction of the mean floe diameter (-).
+        #[arg(long, default_value_t = 0.1)]
+        threshold: f64,
+        /// Smooth integrator, overriding the cases.
+        #[arg(long)]
+        integrator: Option<IntegratorKind>,
+        /// No progress bars.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual.
     Lcp {
         /// A dump file `<seq>.json`.
@@ -74,6 +103,29 @@ fn main() -> ExitCode {
             dump_lcp,
             quiet,
         } => run(&case, &formulation, out, integrator, dump_lcp, quiet),
+        Command::Compare {
+            cases,
+            formulations,
+            out,
+            jobs,
+            threshold,
+            integrator,
+            quiet,
+        } => {
+            let mut opts = CompareOptions {
+                progress: !quiet,
+                divergence_threshold: threshold,
+                integrator,
+                ..CompareOptions::default()
+            };
+            if let Some(f) = formulations {
+                opts.formulations = f;
+            }
+            if let Some(j) = jobs {
+                opts.jobs = j;
+            }
+            compare(&cases, &opts, &out)
+        }
         Command::Lcp { file } => resolve_lcp(&file),
         Command::Formulations => {
             for (name, what) in formulation::NAMES {
@@ -152,7 +204,10 @@ fn run(
     };
     let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scn.name).join(name));
     eprintln!("{}", describe(&scn));
-    let runner = Runner::new(RunOptions { progress: !quiet });
+    let runner = Runner::new(RunOptions {
+        progress: !quiet,
+        multi: None,
+    });
     let result = runner.run(&scn, form.as_mut());
     match output::write_run(&out, &result) {
         Ok(paths) => {
@@ -183,6 +238,57 @@ fn run(
         EndReason::Completed => ExitCode::SUCCESS,
         other => {
             eprintln!("run did not complete: {other:?}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
+    use floebench::compare;
+    if !(opts.divergence_threshold > 0.0 && opts.divergence_threshold.is_finite()) {
+        eprintln!("error: --threshold must be a positive number");
+        return ExitCode::FAILURE;
+    }
+    let result = compare::load_cases(cases).and_then(|loaded| {
+        for (_, scn) in &loaded {
+            eprintln!("{}", describe(scn));
+        }
+        eprintln!(
+            "running {} × {} runs ({}), {} at a time",
+            loaded.len(),
+            opts.formulations.len(),
+            opts.formulations.join(", "),
+            opts.jobs
+        );
+        compare::compare(loaded, opts)
+    });
+    let comps = match result {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let command: Vec<String> = std::env::args()
+        .skip(1)
+        .map(|a| a.replace(['\n', '`'], " "))
+        .collect();
+    let command = format!("floebench {}", command.join(" "));
+    match compare::report::write_report(&comps, out, &command) {
+        Ok(paths) => {
+            for c in &comps {
+                println!("{}", c.scenario.name);
+                for v in compare::report::verdict(c) {
+                    println!("  {v}");
+                }
+            }
+            for p in paths {
+                println!("wrote {}", p.display());
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
             ExitCode::FAILURE
         }
     }

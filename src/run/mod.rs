@@ -192,6 +192,8 @@ pub struct RunResult {
 pub struct RunOptions {
     /// Show a progress bar on stderr when the run lasts more than a second.
     pub progress: bool,
+    /// Draw the bar in this group of bars (runs in parallel), shown at once.
+    pub multi: Option<indicatif::MultiProgress>,
 }
 
 /// Runs formulations on scenarios: owns timing, stopping and recording.
@@ -234,7 +236,7 @@ impl Runner {
         record(scn, &sys, e0, &mut trajectory, &mut energy);
 
         let times = output_times(scn.duration, scn.output_interval);
-        let bar = Progress::new(self.options.progress, times.len() as u64, scn, form.name());
+        let bar = Progress::new(&self.options, times.len() as u64, scn, form.name());
         let mut end = EndReason::Completed;
         for (k, &t) in times.iter().enumerate() {
             let mut next = sys.clone();
@@ -347,8 +349,8 @@ struct Progress {
 }
 
 impl Progress {
-    fn new(enabled: bool, len: u64, scn: &Scenario, name: &str) -> Progress {
-        let bar = enabled.then(|| {
+    fn new(options: &RunOptions, len: u64, scn: &Scenario, name: &str) -> Progress {
+        let bar = options.progress.then(|| {
             let bar = indicatif::ProgressBar::with_draw_target(
                 Some(len),
                 indicatif::ProgressDrawTarget::hidden(),
@@ -359,7 +361,10 @@ impl Progress {
                 bar.set_style(style);
             }
             bar.set_prefix(format!("{} / {}", scn.name, name));
-            bar
+            match &options.multi {
+                Some(multi) => multi.add(bar),
+                None => bar,
+            }
         });
         Progress {
             bar,
