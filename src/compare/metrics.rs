@@ -87,7 +87,9 @@ pub fn mean_diameter(scn: &Scenario) -> f64 {
 
 /// The trajectory cut into frames: one slice of `n` rows per output time.
 pub fn frames(run: &RunResult, n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
-    run.trajectory.chunks(n.max(1)).filter(move |c| c.len() == n)
+    run.trajectory
+        .chunks(n.max(1))
+        .filter(move |c| c.len() == n)
 }
 
 /// The divergence between runs `a` and `b` of `scn`, over the output times

@@ -178,8 +178,7 @@ pub fn compare(
     let jobs: Vec<(usize, usize)> = (0..cases.len())
         .flat_map(|c| (0..opts.formulations.len()).map(move |f| (c, f)))
         .collect();
-    let results: Mutex<Vec<Option<Result<RunResult, String>>>> =
-        Mutex::new(vec![None; jobs.len()]);
+    let results: Mutex<Vec<Option<Result<RunResult, String>>>> = Mutex::new(vec![None; jobs.len()]);
     let next = AtomicUsize::new(0);
     let multi = opts.progress.then(indicatif::MultiProgress::new);
     let workers = opts.jobs.clamp(1, jobs.len().max(1));
@@ -240,7 +239,9 @@ pub fn assess(
     let mut pairs = Vec::new();
     for i in 0..runs.len() {
         for j in i + 1..runs.len() {
-            pairs.push(metrics::divergence(&scenario, &runs[i], &runs[j], threshold)?);
+            pairs.push(metrics::divergence(
+                &scenario, &runs[i], &runs[j], threshold,
+            )?);
         }
     }
     let mut rows: Vec<MetricRow> = runs.iter().flat_map(metrics::run_metrics).collect();

@@ -37,7 +37,11 @@ pub fn markdown(blocks: &[Block]) -> String {
     for b in blocks {
         match b {
             Block::Heading(level, text) => {
-                let _ = writeln!(s, "{} {text}\n", "#".repeat(usize::from(*level).clamp(1, 6)));
+                let _ = writeln!(
+                    s,
+                    "{} {text}\n",
+                    "#".repeat(usize::from(*level).clamp(1, 6))
+                );
             }
             Block::Para(text) => {
                 let _ = writeln!(s, "{text}\n");
@@ -94,7 +98,8 @@ fn inline(s: &str) -> String {
     out
 }
 
-const STYLE: &str = "body{font-family:sans-serif;max-width:1200px;margin:1em auto;padding:0 1em;color:#222}\
+const STYLE: &str =
+    "body{font-family:sans-serif;max-width:1200px;margin:1em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:.5em 0 1.2em;font-size:.9em}\
 th,td{border:1px solid #bbb;padding:.2em .5em;text-align:right}\
 th{background:#eee}td:first-child,th:first-child{text-align:left}\

@@ -61,14 +61,19 @@ pub fn metrics_csv(rows: &[MetricRow]) -> String {
 
 /// `divergence.csv`: one row per pair and output time.
 pub fn divergence_csv(pairs: &[PairDivergence]) -> String {
-    let mut s =
-        String::from("t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad\n");
+    let mut s = String::from("t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad\n");
     for p in pairs {
         for d in &p.samples {
             let _ = writeln!(
                 s,
                 "{},{},{},{},{},{},{}",
-                d.t, p.a, p.b, d.rms_position_rel, d.max_position_m, d.rms_angle_rad, d.max_angle_rad
+                d.t,
+                p.a,
+                p.b,
+                d.rms_position_rel,
+                d.max_position_m,
+                d.rms_angle_rad,
+                d.max_angle_rad
             );
         }
     }
@@ -106,19 +111,26 @@ struct CaseSummary<'a> {
     pairs: Vec<PairSummary<'a>>,
 }
 
-fn count(s: &RunSummary, keys: &[&str]) -> u64 {
-    keys.iter()
-        .filter_map(|k| s.counters.counts.get(*k))
-        .sum()
+/// The sum of the counts `keys`, or `-` if the formulation keeps none of them.
+fn count(s: &RunSummary, keys: &[&str]) -> String {
+    let found: Vec<u64> = keys
+        .iter()
+        .filter_map(|k| s.counters.counts.get(*k).copied())
+        .collect();
+    if found.is_empty() {
+        "-".into()
+    } else {
+        found.iter().sum::<u64>().to_string()
+    }
 }
 
 /// Contact problems solved (LCPs and cone programs).
-fn solves(s: &RunSummary) -> u64 {
+fn solves(s: &RunSummary) -> String {
     count(s, &["lcp_solves", "cone_solves"])
 }
 
 /// Contact problems that needed a fallback or were not solved.
-fn fallbacks(s: &RunSummary) -> u64 {
+fn fallbacks(s: &RunSummary) -> String {
     count(
         s,
         &[
@@ -230,7 +242,11 @@ pub fn verdict(comp: &CaseComparison) -> Vec<String> {
             ));
         }
     }
-    for r in comp.runs.iter().filter(|r| r.summary.end != EndReason::Completed) {
+    for r in comp
+        .runs
+        .iter()
+        .filter(|r| r.summary.end != EndReason::Completed)
+    {
         lines.push(format!(
             "{} stopped at t = {} s: {}.",
             r.summary.formulation,
@@ -278,10 +294,10 @@ fn runs_table(comp: &CaseComparison) -> Block {
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 fmt_num(s.energy.max_abs_residual / s.energy.exchanged.max(1e-300)),
-                count(s, &["steps"]).to_string(),
-                count(s, &["impacts"]).to_string(),
-                solves(s).to_string(),
-                fallbacks(s).to_string(),
+                count(s, &["steps"]),
+                count(s, &["impacts"]),
+                solves(s),
+                fallbacks(s),
                 s.counters
                     .values
                     .get("max_penetration_m")
@@ -431,7 +447,9 @@ fn write_case(comp: &CaseComparison, dir: &Path) -> Result<Vec<String>, CompareE
 fn swap_into_place(staged: &Path, target: &Path) -> Result<(), CompareError> {
     let old = target.with_file_name(format!(
         ".{}.old{}",
-        target.file_name().map_or("case".into(), |n| n.to_string_lossy()),
+        target
+            .file_name()
+            .map_or("case".into(), |n| n.to_string_lossy()),
         std::process::id()
     ));
     if target.exists() {
