@@ -18,7 +18,8 @@
 //! - [`physics`]: environment forces and the smooth integrator;
 //! - [`state`]: the dynamic state and the energy ledger;
 //! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
-//! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files.
+//! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files;
+//! - [`report`]: plots (line charts, stacked bars, plan views, snapshot grids) for the reports.
 //!
 //! All quantities are SI and `f64`.
 
@@ -30,6 +31,7 @@ pub mod geometry;
 pub mod lcp;
 pub mod model;
 pub mod physics;
+pub mod report;
 pub mod rng;
 pub mod run;
 pub mod state;
