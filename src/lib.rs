@@ -19,7 +19,8 @@
 //! - [`state`]: the dynamic state and the energy ledger;
 //! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
 //! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files;
-//! - [`compare`]: the comparison harness (parallel runs, metrics, report page).
+//! - [`compare`]: the comparison harness (parallel runs, metrics, report page);
+//! - [`report`]: plots (line charts, stacked bars, plan views, snapshot grids) for the reports.
 //!
 //! All quantities are SI and `f64`.
 
@@ -32,6 +33,7 @@ pub mod geometry;
 pub mod lcp;
 pub mod model;
 pub mod physics;
+pub mod report;
 pub mod rng;
 pub mod run;
 pub mod state;

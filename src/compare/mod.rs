@@ -11,6 +11,7 @@
 //! divergences ([`metrics::divergence`]) and every figure in long format
 //! ([`metrics::MetricRow`]); [`report`] writes it as data, plots and a page.
 
+pub mod figures;
 pub mod metrics;
 pub mod page;
 pub mod report;

@@ -7,13 +7,14 @@
 //! <out>/<case>/divergence.csv         t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad
 //! <out>/<case>/summary.json           the case, each run's summary, the pairs, the verdict
 //! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json (as `floebench run`)
-//! <out>/<case>/*.png, *.svg           the plots
+//! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu
 //! ```
 //!
 //! A case's folder is written under a temporary name and swapped into place
 //! when complete, so a reader never sees a half-written case; the page is
 //! written last.
 
+use super::figures::{self, Figure};
 use super::metrics::{self, MetricRow, PairDivergence};
 use super::page::{self, Block};
 use super::{CaseComparison, CompareError};
@@ -391,8 +392,12 @@ fn headline(comps: &[CaseComparison]) -> Block {
     }
 }
 
-/// Writes one case's folder at `dir` (which must not exist yet).
-fn write_case(comp: &CaseComparison, dir: &Path) -> Result<Vec<String>, CompareError> {
+/// Writes one case's folder at `dir` (which must not exist yet): data, then
+/// the plots; returns the verdict and the figures.
+fn write_case(
+    comp: &CaseComparison,
+    dir: &Path,
+) -> Result<(Vec<String>, Vec<Figure>), CompareError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     for r in &comp.runs {
         let d = dir.join(&r.summary.formulation);
@@ -440,7 +445,8 @@ fn write_case(comp: &CaseComparison, dir: &Path) -> Result<Vec<String>, CompareE
         let p = dir.join(name);
         write_atomic(&p, &bytes).map_err(io_err(&p))?;
     }
-    Ok(verdict)
+    let figs = figures::draw(comp, dir)?;
+    Ok((verdict, figs))
 }
 
 /// Replaces `target` by the complete folder `staged`.
@@ -497,7 +503,7 @@ pub fn write_report(
         if staged.exists() {
             std::fs::remove_dir_all(&staged).map_err(io_err(&staged))?;
         }
-        let verdict = write_case(comp, &staged)?;
+        let (verdict, figs) = write_case(comp, &staged)?;
         swap_into_place(&staged, &out.join(name))?;
         blocks.push(Block::Heading(2, name.clone()));
         blocks.push(Block::Para(format!(
@@ -515,6 +521,17 @@ pub fn write_report(
         if !comp.pairs.is_empty() {
             blocks.push(pairs_table(comp));
         }
+        blocks.push(Block::Figures(
+            figs.iter()
+                .map(|f| {
+                    (
+                        format!("{name}: {}", f.alt),
+                        format!("{name}/{}.png", f.stem),
+                        format!("{name}/{}.svg", f.stem),
+                    )
+                })
+                .collect(),
+        ));
     }
     let md = out.join("index.md");
     let html = out.join("index.html");

@@ -1,0 +1,3 @@
+//! Reports: plots, tables and the report page.
+
+pub mod plot;
