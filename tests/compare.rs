@@ -63,6 +63,7 @@ fn compare_writes_every_promised_file_and_each_parses() {
         "{}",
         String::from_utf8_lossy(&status.stderr)
     );
+    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
     for name in ["head_on", "cradle_touching"] {
         let c = out.join(name);
         let (h, rows) = read_csv(&c.join("metrics.csv"));
@@ -125,6 +126,27 @@ fn compare_writes_every_promised_file_and_each_parses() {
             assert!(s.get(key).is_some(), "{name}/summary.json lacks {key}");
         }
         assert_eq!(s["runs"].as_array().unwrap().len(), forms.len());
+        for plot in [
+            "kinetic",
+            "dissipated",
+            "divergence",
+            "paths",
+            "snapshots",
+            "cpu",
+        ] {
+            let png = std::fs::read(c.join(format!("{plot}.png"))).unwrap();
+            assert!(png.starts_with(b"\x89PNG\r\n\x1a\n"), "{name}/{plot}.png");
+            assert!(png.len() > 5000, "{name}/{plot}.png is nearly empty");
+            let svg = std::fs::read_to_string(c.join(format!("{plot}.svg"))).unwrap();
+            assert!(
+                svg.contains("<svg") && svg.trim_end().ends_with("</svg>"),
+                "{name}/{plot}.svg"
+            );
+            assert!(
+                md.contains(&format!("{name}/{plot}.png")),
+                "index.md does not show {plot}"
+            );
+        }
         for f in forms {
             let (h, _) = read_csv(&c.join(f).join("trajectory.csv"));
             assert_eq!(h, ["t", "floe", "x", "y", "theta", "vx", "vy", "omega"]);
@@ -135,7 +157,6 @@ fn compare_writes_every_promised_file_and_each_parses() {
             assert!(s["timing"]["cpu_total"].as_f64().unwrap() > 0.0);
         }
     }
-    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(md.contains("## head_on") && md.contains("**Verdict.**"));
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
