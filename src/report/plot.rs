@@ -20,9 +20,7 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
-use plotters::coord::ranged1d::{
-    AsRangedCoord, DefaultFormatting, KeyPointHint, Ranged, ValueFormatter,
-};
+use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
@@ -441,7 +439,7 @@ impl Fmt {
             return v.to_string();
         }
         let e = v.abs().log10().floor() as i32;
-        let sci = self.sci.unwrap_or(!(-2..5).contains(&e));
+        let sci = self.sci.unwrap_or(!(-3..5).contains(&e));
         // Decimals the step needs in fixed notation.
         let decimals = self.step.map(|s| 1 - s.log10().floor() as i32);
         let trim = |s: &str| {
@@ -483,10 +481,93 @@ fn y_area<DB: DrawingBackend>(
     Ok(w + 44)
 }
 
-/// Tick labels of a linear axis over `r`.
-fn linear_ticks(r: &Range<f64>, f: Fmt) -> impl Iterator<Item = String> {
-    let coord: RangedCoordf64 = r.clone().into();
-    coord.key_points(TICKS).into_iter().map(move |v| f.fmt(v))
+/// A value axis over `range`, linear or logarithmic (then `range` is positive).
+#[derive(Debug, Clone)]
+struct Axis {
+    range: Range<f64>,
+    log: bool,
+}
+
+impl Axis {
+    /// A linear axis.
+    fn linear(range: Range<f64>) -> Self {
+        Axis { range, log: false }
+    }
+
+    /// The value on the axis' linear scale.
+    fn t(&self, v: f64) -> f64 {
+        if self.log {
+            v.log10()
+        } else {
+            v
+        }
+    }
+
+    /// The tick label format.
+    fn fmt(&self) -> Fmt {
+        if self.log {
+            Fmt::log()
+        } else {
+            Fmt::linear(&self.range)
+        }
+    }
+
+    /// The tick labels.
+    fn labels(&self) -> impl Iterator<Item = String> {
+        let f = self.fmt();
+        self.key_points(TICKS).into_iter().map(move |v| f.fmt(v))
+    }
+}
+
+impl Ranged for Axis {
+    type FormatOption = DefaultFormatting;
+    type ValueType = f64;
+
+    fn map(&self, v: &f64, limit: (i32, i32)) -> i32 {
+        let (a, b) = (self.t(self.range.start), self.t(self.range.end));
+        let f = (self.t(*v) - a) / (b - a);
+        limit.0 + (f * (limit.1 - limit.0) as f64 + 1e-3).floor() as i32
+    }
+
+    /// Linear: plotters' round steps. Log: decades, or 1-2-5 or 1..9 times
+    /// the decades when there are too few decades in the range.
+    fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
+        let linear = || RangedCoordf64::from(self.range.clone()).key_points(hint.max_num_points());
+        if !self.log {
+            return linear();
+        }
+        let (a, b) = (
+            self.range.start.log10().floor() as i32,
+            self.range.end.log10().ceil() as i32,
+        );
+        let sets: [&[f64]; 3] = [
+            &[1.0],
+            &[1.0, 2.0, 5.0],
+            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0],
+        ];
+        let max = hint.max_num_points();
+        let light = hint.weight().allow_light_points();
+        let mut best: Vec<f64> = Vec::new();
+        for m in sets {
+            let pts: Vec<f64> = (a..=b)
+                .flat_map(|e| m.iter().map(move |k| k * 10f64.powi(e)))
+                .filter(|v| (self.range.start..=self.range.end).contains(v))
+                .collect();
+            if pts.len() > max || (!light && best.len() >= 4) {
+                break;
+            }
+            best = pts;
+        }
+        if best.len() < 2 {
+            linear()
+        } else {
+            best
+        }
+    }
+
+    fn range(&self) -> Range<f64> {
+        self.range.clone()
+    }
 }
 
 /// Draws the mesh (grid, axes, tick labels and axis descriptions).
@@ -645,21 +726,16 @@ impl Xy<'_> {
         self.series.iter().flat_map(|s| &s.points)
     }
 
-    /// Draws the chart once the y coordinate is chosen.
-    fn body<DB, Y>(
+    /// Draws the chart on the axes `x` and `y`, with a y label area `y_area` pixels wide.
+    fn body<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
-        x: Range<f64>,
-        y: Y,
+        x: Axis,
+        y: Axis,
         y_area: u32,
-        (xf, yf): (Fmt, Fmt),
-        log: bool,
-    ) -> Result<(), PlotError>
-    where
-        DB: DrawingBackend,
-        Y: AsRangedCoord<Value = f64>,
-        Y::CoordDescType: ValueFormatter<f64>,
-    {
+    ) -> Result<(), PlotError> {
+        let (xf, yf) = (x.fmt(), y.fmt());
+        let log = y.log;
         let mut chart = ChartBuilder::on(area)
             .margin(MARGIN)
             .margin_right(2 * MARGIN)
@@ -693,10 +769,13 @@ impl Xy<'_> {
                 occupied.push((x0, y0, x1, y1));
             }
         }
+        let plot = chart.plotting_area().strip_coord_spec();
+        let (xr, yr) = plot.get_pixel_range();
         let mut entries = Vec::new();
         for (k, s) in self.series.iter().enumerate() {
             let style = color(s.color).stroke_width(2);
-            let dash = DASHES[k % DASHES.len()];
+            // Vary the dash also when the palette wraps around.
+            let dash = DASHES[(k + s.color / PALETTE.len()) % DASHES.len()];
             if !s.label.is_empty() {
                 entries.push(s.label.as_str());
                 chart
@@ -708,24 +787,21 @@ impl Xy<'_> {
                     });
             }
             for run in s.points.split(|p| !ok(p)).filter(|r| !r.is_empty()) {
-                // Keep one point per pixel step: the picture is unchanged,
-                // the SVG stays small for long series.
-                let mut kept: Vec<(f64, f64)> = Vec::new();
-                let mut last = None;
-                for (i, p) in run.iter().enumerate() {
+                // Pixels relative to the plotting area, one point per pixel step:
+                // the picture is unchanged, the SVG stays small for long series.
+                let mut px: Vec<(i32, i32)> = Vec::new();
+                for p in run {
                     let q = chart.backend_coord(p);
-                    if last != Some(q) || i + 1 == run.len() {
-                        kept.push(*p);
+                    if px.last() != Some(&(q.0 - xr.start, q.1 - yr.start)) {
+                        px.push((q.0 - xr.start, q.1 - yr.start));
                         occupied.push((q.0, q.1, q.0, q.1));
-                        last = Some(q);
                     }
                 }
-                if kept.len() == 1 {
-                    chart.draw_series(std::iter::once(Circle::new(kept[0], 4, style.filled())))?;
-                } else if let Some((d, g)) = dash {
-                    chart.draw_series(DashedLineSeries::new(kept, d, g, style))?;
-                } else {
-                    chart.draw_series(LineSeries::new(kept, style))?;
+                if let [one] = px[..] {
+                    plot.draw(&Circle::new(one, 4, style.filled()))?;
+                }
+                for piece in strokes(&px, dash) {
+                    plot.draw(&PathElement::new(piece, style))?;
                 }
             }
             if self.plan {
@@ -752,40 +828,112 @@ impl Figure for Xy<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         let area = titled(root, self.title)?;
         let log = !self.plan && is_log(self.y_scale, self.points().map(|p| p.1));
-        let obstacle_points = || self.obstacles.iter().flatten();
+        let all = || self.points().chain(self.obstacles.iter().flatten());
         let pad = if self.plan { 0.05 } else { 0.0 };
-        let mut x = bounds(self.points().chain(obstacle_points()).map(|p| p.0), pad);
-        if log {
-            let y = log_bounds(self.points().filter(|p| p.0.is_finite()).map(|p| p.1), 0.05);
-            let w = y_area(&area, [y.start, y.end].iter().map(|v| Fmt::log().fmt(*v)))?;
-            let (xf, yf) = (Fmt::linear(&x), Fmt::log());
-            return self.body(&area, x, y.log_scale(), w, (xf, yf), true);
-        }
-        let mut y = bounds(self.points().chain(obstacle_points()).map(|p| p.1), 0.05);
-        let mut w = y_area(&area, linear_ticks(&y, Fmt::linear(&y)))?;
+        let x0 = bounds(all().map(|p| p.0), pad);
+        let y0 = if log {
+            log_bounds(self.points().filter(|p| p.0.is_finite()).map(|p| p.1), 0.05)
+        } else {
+            bounds(all().map(|p| p.1), 0.05)
+        };
+        let (mut x, mut y) = (
+            Axis::linear(x0.clone()),
+            Axis {
+                range: y0.clone(),
+                log,
+            },
+        );
+        let mut w = y_area(&area, y.labels())?;
         if self.plan {
-            // Widen one range so that 1 m in x and in y take the same pixels.
+            // The y labels depend on the widened range and the plotting width on
+            // the y labels: two rounds settle it.
             let (aw, ah) = area.dim_in_pixel();
-            let pw = aw as f64 - (3 * MARGIN + w) as f64;
             let ph = ah as f64 - (2 * MARGIN + X_AREA) as f64;
-            let (sx, sy) = (x.end - x.start, y.end - y.start);
-            if sx / pw > sy / ph {
-                let c = 0.5 * (y.start + y.end);
-                let half = 0.5 * sx * ph / pw;
-                y = c - half..c + half;
-                w = y_area(&area, linear_ticks(&y, Fmt::linear(&y)))?;
-                let pw2 = aw as f64 - (3 * MARGIN + w) as f64;
-                let half = 0.5 * sx * ph / pw2;
-                y = c - half..c + half;
-            } else {
-                let c = 0.5 * (x.start + x.end);
-                let half = 0.5 * sy * pw / ph;
-                x = c - half..c + half;
+            for _ in 0..2 {
+                let pw = aw as f64 - (3 * MARGIN + w) as f64;
+                let (xr, yr) = equal_aspect(&x0, &y0, (pw, ph));
+                (x, y) = (Axis::linear(xr), Axis::linear(yr));
+                w = y_area(&area, y.labels())?;
             }
         }
-        let (xf, yf) = (Fmt::linear(&x), Fmt::linear(&y));
-        self.body(&area, x, y, w, (xf, yf), false)
+        self.body(&area, x, y, w)
     }
+}
+
+/// Widens `x` or `y` (about its centre) so that one unit takes the same
+/// pixels along both in a plotting area of `(pw, ph)` pixels.
+fn equal_aspect(x: &Range<f64>, y: &Range<f64>, (pw, ph): (f64, f64)) -> (Range<f64>, Range<f64>) {
+    let widen = |r: &Range<f64>, span: f64| {
+        let c = 0.5 * (r.start + r.end);
+        c - 0.5 * span..c + 0.5 * span
+    };
+    let (sx, sy) = (x.end - x.start, y.end - y.start);
+    if sx / pw > sy / ph {
+        (x.clone(), widen(y, sx * ph / pw))
+    } else {
+        (widen(x, sy * pw / ph), y.clone())
+    }
+}
+
+/// The pieces of the pixel polyline `px` to stroke: its dashes (`dash` is
+/// dash and gap length, `None` solid), each also cut where the line turns
+/// back by more than about 100°, where the joins of thick bitmap lines spike.
+fn strokes(px: &[(i32, i32)], dash: Option<(f32, f32)>) -> Vec<Vec<(i32, i32)>> {
+    let (on, off) = dash.map_or((f64::INFINITY, 0.0), |(d, g)| (d as f64, g as f64));
+    let mut out: Vec<Vec<(i32, i32)>> = Vec::new();
+    let mut piece: Vec<(f64, f64)> = Vec::new();
+    let mut flush = |piece: &mut Vec<(f64, f64)>| {
+        if piece.len() > 1 {
+            out.push(
+                piece
+                    .iter()
+                    .map(|p| (p.0.round() as i32, p.1.round() as i32))
+                    .collect(),
+            );
+        }
+        piece.clear();
+    };
+    let (mut solid, mut left) = (true, on);
+    let mut dir: Option<(f64, f64)> = None;
+    for w in px.windows(2) {
+        let (a, b) = (
+            (w[0].0 as f64, w[0].1 as f64),
+            (w[1].0 as f64, w[1].1 as f64),
+        );
+        let len = (b.0 - a.0).hypot(b.1 - a.1);
+        if len == 0.0 {
+            continue;
+        }
+        let d = ((b.0 - a.0) / len, (b.1 - a.1) / len);
+        if solid && dir.is_some_and(|o| o.0 * d.0 + o.1 * d.1 < -0.17) {
+            let last = piece.last().copied();
+            flush(&mut piece);
+            piece.extend(last);
+        }
+        dir = Some(d);
+        let mut done = 0.0;
+        while done < len {
+            let step = left.min(len - done);
+            let at = |t: f64| (a.0 + d.0 * t, a.1 + d.1 * t);
+            if solid {
+                if piece.is_empty() {
+                    piece.push(at(done));
+                }
+                piece.push(at(done + step));
+            }
+            done += step;
+            left -= step;
+            if left <= 0.0 {
+                if solid {
+                    flush(&mut piece);
+                }
+                solid = !solid;
+                left = if solid { on } else { off };
+            }
+        }
+    }
+    flush(&mut piece);
+    out
 }
 
 // ---------------------------------------------------------------------------
@@ -832,29 +980,32 @@ impl Bars<'_> {
             .collect()
     }
 
-    /// Draws the chart once the y coordinate is chosen; `base` is the bottom of the bars.
-    fn body<DB, Y>(
+    /// Draws the chart on the value axis `y` with a y label area `y_area`
+    /// pixels wide; `base` is the bottom of the bars.
+    fn body<DB: DrawingBackend>(
         &self,
         area: &DrawingArea<DB, Shift>,
-        y: Y,
+        y: Axis,
         y_area: u32,
-        yf: Fmt,
         base: f64,
-    ) -> Result<(), PlotError>
-    where
-        DB: DrawingBackend,
-        Y: AsRangedCoord<Value = f64>,
-        Y::CoordDescType: ValueFormatter<f64>,
-    {
+    ) -> Result<(), PlotError> {
         let c = self.0;
+        let yf = y.fmt();
+        let area = legend_row(
+            area,
+            &c.segments
+                .iter()
+                .enumerate()
+                .map(|(j, (label, _))| (label.as_str(), color(j)))
+                .collect::<Vec<_>>(),
+        )?;
         let n = c.categories.len();
-        let x = Categories(n);
-        let mut chart = ChartBuilder::on(area)
+        let mut chart = ChartBuilder::on(&area)
             .margin(MARGIN)
             .margin_right(2 * MARGIN)
             .x_label_area_size(X_AREA - 20)
             .y_label_area_size(y_area)
-            .build_cartesian_2d(x, y)?;
+            .build_cartesian_2d(Categories(n), y)?;
         let name = |v: &f64| {
             let i = v.round();
             (i >= 0.0 && (i - v).abs() < 1e-6)
@@ -866,18 +1017,6 @@ impl Bars<'_> {
         mesh(&mut chart, ("", &name), (c.y_label, &yfmt), false)?;
 
         let value_font = font(13);
-        let mut occupied = Vec::new();
-        let mut entries = Vec::new();
-        for (j, (label, _)) in c.segments.iter().enumerate() {
-            let fill = color(j);
-            entries.push(label.as_str());
-            chart
-                .draw_series(std::iter::empty::<Rectangle<(f64, f64)>>())?
-                .label(label.as_str())
-                .legend(move |(x, y)| {
-                    Rectangle::new([(x + 4, y - 7), (x + 30, y + 7)], fill.filled())
-                });
-        }
         for (i, total) in self.totals().into_iter().enumerate() {
             let xi = i as f64;
             let mut low = base;
@@ -897,7 +1036,6 @@ impl Bars<'_> {
                     Rectangle::new([p0, p1], WHITE.stroke_width(1)),
                 ])?;
                 let (b0, b1) = (chart.backend_coord(&p0), chart.backend_coord(&p1));
-                occupied.push((b0.0, b1.1, b1.0, b0.1));
                 if drawn > 1 && b0.1 - b1.1 >= 20 {
                     let mid = if base > 0.0 {
                         (low * cum.max(low)).sqrt()
@@ -919,15 +1057,40 @@ impl Bars<'_> {
                     .style(FontStyle::Bold)
                     .color(&BLACK)
                     .pos(Pos::new(HPos::Center, VPos::Bottom));
-                let at = chart.backend_coord(&(xi, total));
-                occupied.push((at.0 - 30, at.1 - 22, at.0 + 30, at.1));
                 chart.draw_series(std::iter::once(
                     EmptyElement::at((xi, total)) + Text::new(yf_value(total), (0, -4), style),
                 ))?;
             }
         }
-        legend(&mut chart, &entries, &occupied)
+        Ok(())
     }
+}
+
+/// Draws a one-line legend (colour swatch and label per entry) centred at
+/// the top of `area` and returns the area below it.
+fn legend_row<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    entries: &[(&str, RGBColor)],
+) -> Result<DrawingArea<DB, Shift>, PlotError> {
+    if entries.is_empty() {
+        return Ok(area.clone());
+    }
+    let (row, rest) = area.split_vertically(30);
+    let style = font(15)
+        .into_text_style(&row)
+        .pos(Pos::new(HPos::Left, VPos::Center));
+    let mut widths = Vec::new();
+    for (label, _) in entries {
+        widths.push(row.estimate_text_size(label, &style)?.0 as i32);
+    }
+    let total: i32 = widths.iter().map(|w| w + 56).sum::<i32>() - 24;
+    let mut x = (row.dim_in_pixel().0 as i32 - total) / 2;
+    for ((label, fill), w) in entries.iter().zip(widths) {
+        row.draw(&Rectangle::new([(x, 8), (x + 24, 22)], fill.filled()))?;
+        row.draw_text(label, &style, (x + 32, 15))?;
+        x += w + 56;
+    }
+    Ok(rest)
 }
 
 /// A printed bar value: three significant digits, compact.
@@ -944,19 +1107,23 @@ impl Figure for Bars<'_> {
                 .flat_map(move |j| (0..self.0.categories.len()).map(move |i| self.value(j, i)))
                 .chain(totals.iter().copied())
         };
-        if is_log(self.0.y_scale, values()) {
+        let y = if is_log(self.0.y_scale, values()) {
             let r = log_bounds(values(), 0.0);
-            // Whole decades, with room above the tallest bar for its total.
+            // From a whole decade (slightly below, so that it is labelled),
+            // with room above the tallest bar for its total.
             let (lo, hi) = (r.start.log10().floor(), r.end.log10());
             let hi = (hi + 0.12 * (hi - lo).max(1.0)).max(lo + 1.0);
-            let y = 10f64.powf(lo)..10f64.powf(hi);
-            let w = y_area(&area, [y.start, y.end].iter().map(|v| Fmt::log().fmt(*v)))?;
-            return self.body(&area, y.log_scale(), w, Fmt::log(), 10f64.powf(lo));
-        }
-        let top = totals.iter().copied().fold(0.0, f64::max);
-        let y = 0.0..if top > 0.0 { 1.12 * top } else { 1.0 };
-        let w = y_area(&area, linear_ticks(&y, Fmt::linear(&y)))?;
-        self.body(&area, y.clone(), w, Fmt::linear(&y), 0.0)
+            Axis {
+                range: 0.999 * 10f64.powf(lo)..10f64.powf(hi),
+                log: true,
+            }
+        } else {
+            let top = totals.iter().copied().fold(0.0, f64::max);
+            Axis::linear(0.0..if top > 0.0 { 1.12 * top } else { 1.0 })
+        };
+        let w = y_area(&area, y.labels())?;
+        let base = if y.log { y.range.start } else { 0.0 };
+        self.body(&area, y, w, base)
     }
 }
 
@@ -1026,26 +1193,37 @@ impl Figure for Grid<'_> {
         }
         let (w, _) = area.dim_in_pixel();
         let area = area.margin(0, 0, (w - self.cols as u32 * PANEL_W.min(w)) / 2, 0);
-        let (mut x, mut y) = self.bounds();
-        // Equal aspect: widen one range to the plotting area's proportions.
-        let (pw, ph) = self.plot_size();
-        let (sx, sy) = (x.end - x.start, y.end - y.start);
-        if sx / pw > sy / ph {
-            let (c, half) = (0.5 * (y.start + y.end), 0.5 * sx * ph / pw);
-            y = c - half..c + half;
-        } else {
-            let (c, half) = (0.5 * (x.start + x.end), 0.5 * sy * pw / ph);
-            x = c - half..c + half;
-        }
+        let cells: Vec<_> = area
+            .split_evenly((self.rows, self.cols))
+            .iter()
+            .map(|c| c.split_vertically(PANEL_TITLE))
+            .collect();
+        // Every panel gets the plotting area of the first (they differ by a
+        // pixel at most), so equal aspect holds for all of them.
+        let (cw, ch) = cells[0].1.dim_in_pixel();
+        let plot = (
+            cw as f64 - (2 * PANEL_MARGIN + PANEL_Y_AREA) as f64,
+            ch as f64 - (2 * PANEL_MARGIN + PANEL_X_AREA) as f64,
+        );
+        let (x, y) = self.bounds();
+        let (x, y) = equal_aspect(&x, &y, plot);
         let (xf, yf) = (Fmt::linear(&x), Fmt::linear(&y));
         let (xfmt, yfmt) = (|v: &f64| xf.fmt(*v), |v: &f64| yf.fmt(*v));
-        let cells = area.split_evenly((self.rows, self.cols));
         let (fill, edge) = (color(5).mix(0.55), color(0));
-        for (k, (cell, panel)) in cells.iter().zip(self.panels).enumerate() {
+        let title_style = font(15)
+            .into_text_style(root)
+            .pos(Pos::new(HPos::Center, VPos::Center));
+        for (k, ((top, cell), panel)) in cells.iter().zip(self.panels).enumerate() {
             let (row, col) = (k / self.cols, k % self.cols);
+            // Centred over the plotting area.
+            let centre = (PANEL_MARGIN + PANEL_Y_AREA) as i32 + (plot.0 / 2.0) as i32;
+            top.draw_text(
+                &panel.title,
+                &title_style,
+                (centre, PANEL_TITLE as i32 / 2 + 2),
+            )?;
             let mut chart = ChartBuilder::on(cell)
                 .margin(PANEL_MARGIN)
-                .caption(&panel.title, font(15))
                 .x_label_area_size(PANEL_X_AREA)
                 .y_label_area_size(PANEL_Y_AREA)
                 .build_cartesian_2d(x.clone(), y.clone())?;
