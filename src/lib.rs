@@ -18,12 +18,14 @@
 //! - [`physics`]: environment forces and the smooth integrator;
 //! - [`state`]: the dynamic state and the energy ledger;
 //! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
-//! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files.
+//! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files;
+//! - [`analysis`]: the physical checks of a run ([`analysis::check`]).
 //!
 //! All quantities are SI and `f64`.
 
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod contact;
 pub mod formulation;
 pub mod geometry;
