@@ -524,8 +524,9 @@ fn field_against_the_coast_runs_with_both_solvers_and_balances_its_ledger() {
     // and pile up. Water drag and Coriolis make the ledger residual nonzero;
     // it measures the θ-method's energy error against the trapezoidal power
     // of each force.
-    let scn =
-        scenario(&case_text("fields/field_200_coast").replace("duration = 21600.0", "duration = 4500.0"));
+    let scn = scenario(
+        &case_text("fields/field_200_coast").replace("duration = 21600.0", "duration = 4500.0"),
+    );
     for solver in SOLVERS {
         // Drift below 0.5 m/s: approach speeds below 1 m/s.
         let (r, mj) = run_checked(&scn, solver, 1.0);
