@@ -20,12 +20,14 @@
 //! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
 //! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files;
 //! - [`compare`]: the comparison harness (parallel runs, metrics, report page);
-//! - [`report`]: plots (line charts, stacked bars, plan views, snapshot grids) for the reports.
+//! - [`report`]: plots (line charts, stacked bars, plan views, snapshot grids) for the reports;
+//! - [`analysis`]: the physical checks of a run ([`analysis::check`]).
 //!
 //! All quantities are SI and `f64`.
 
 #![warn(missing_docs)]
 
+pub mod analysis;
 pub mod compare;
 pub mod contact;
 pub mod formulation;

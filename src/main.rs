@@ -80,6 +80,20 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
+    /// Run the physical checks (physics.md section 6) on cases and print a table;
+    /// exits non-zero when a formulation fails a check it claims to pass.
+    Check {
+        /// Case files (.toml) or folders (their *.toml files, not subfolders).
+        #[arg(required = true)]
+        cases: Vec<PathBuf>,
+        /// Comma-separated formulations [default: every formulation that applies;
+        /// free-drift only on contact-free cases].
+        #[arg(long, value_delimiter = ',')]
+        formulations: Option<Vec<String>>,
+        /// Also write the table as Markdown to this file.
+        #[arg(long, value_name = "FILE")]
+        markdown: Option<PathBuf>,
+    },
     /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual.
     Lcp {
         /// A dump file `<seq>.json`.
@@ -127,6 +141,12 @@ fn main() -> ExitCode {
             compare(&cases, &opts, &out)
         }
         Command::Lcp { file } => resolve_lcp(&file),
+        Command::Check {
+            cases,
+            formulations,
+            markdown,
+        } => check(&cases, formulations.as_deref(), markdown.as_deref()),
+
         Command::Formulations => {
             for (name, what) in formulation::NAMES {
                 println!("{name:<14} {what}");
@@ -291,6 +311,50 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+fn check(cases: &[PathBuf], formulations: Option<&[String]>, markdown: Option<&Path>) -> ExitCode {
+    use floebench::analysis::check;
+    if let Some(names) = formulations {
+        let known: Vec<&str> = formulation::NAMES.iter().map(|n| n.0).collect();
+        if let Some(bad) = names.iter().find(|n| !known.contains(&n.as_str())) {
+            eprintln!(
+                "error: unknown formulation `{bad}`; known: {}",
+                known.join(", ")
+            );
+            return ExitCode::FAILURE;
+        }
+    }
+    let paths = match check::case_paths(cases) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut rows = Vec::new();
+    for path in &paths {
+        eprintln!("checking {}", path.display());
+        match check::check_case(path, formulations) {
+            Ok(r) => rows.extend(r),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    print!("{}", check::format_table(&rows));
+    if let Some(file) = markdown {
+        if let Err(e) = std::fs::write(file, check::markdown_table(&rows)) {
+            eprintln!("error: cannot write {}: {e}", file.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    if check::claimed_failures(&rows) > 0 {
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
     }
 }
 

@@ -118,3 +118,39 @@ fn run_accepts_both_moreau_formulations() {
         assert!(out.join("trajectory.csv").exists() && out.join("energy.csv").exists());
     }
 }
+
+#[test]
+fn check_prints_the_table_and_exits_non_zero_only_on_claimed_failures() {
+    // rapier fails head-on only as known findings: exit 0, `fail (known)` shown.
+    let out = floebench()
+        .args([
+            "check",
+            &case("head_on.toml"),
+            "--formulations",
+            "event-driven,rapier",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        table.contains("head_on_v1") && table.contains("fail (known)"),
+        "{table}"
+    );
+    assert!(table.contains("0 FAIL (claimed)"), "{table}");
+    // An unknown formulation or a bad case file is an error naming it.
+    let out = floebench()
+        .args(["check", &case("head_on.toml"), "--formulations", "nope"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("nope"));
+    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/clockwise.toml");
+    let out = floebench().arg("check").arg(&bad).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("clockwise.toml:14"));
+}

@@ -202,30 +202,6 @@ fn a_spinning_floe_in_still_water_loses_angular_momentum() {
 // ---------------------------------------------------------------------------
 // Free drift.
 
-/// Solves `τ_a + k_w |U_w − u|(U_w − u) − ρ h f k ∧ u = 0` by Newton's method.
-fn steady_drift(ka: f64, ua: Vec2, kw: f64, uw: Vec2, rho_h: f64, f: f64) -> Vec2 {
-    let tau_a = ua * (ka * ua.norm());
-    let g = |u: Vec2| -> Vec2 {
-        let r = uw - u;
-        tau_a + r * (kw * r.norm()) - Vec2::new(-u.y, u.x) * (rho_h * f)
-    };
-    let mut u = uw + ua * (ka / kw).sqrt();
-    for _ in 0..100 {
-        let h = 1e-7;
-        let g0 = g(u);
-        let jx = (g(u + Vec2::new(h, 0.0)) - g0) / h;
-        let jy = (g(u + Vec2::new(0.0, h)) - g0) / h;
-        let det = jx.x * jy.y - jy.x * jx.y;
-        let du = Vec2::new(jy.y * g0.x - jy.x * g0.y, -jx.y * g0.x + jx.x * g0.y) / det;
-        u -= du;
-        if du.norm() < 1e-15 {
-            break;
-        }
-    }
-    assert!(g(u).norm() < 1e-12 * tau_a.norm());
-    u
-}
-
 #[test]
 fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
     let scn = bundled("free_drift");
@@ -246,17 +222,11 @@ fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
 fn free_drift_reaches_the_analytic_velocity_with_coriolis() {
     let scn = bundled("free_drift_coriolis");
     let r = run(&scn, "free-drift", None);
-    let env = &scn.environment;
     let mut angles = Vec::new();
-    for (i, f) in scn.floes.iter().enumerate() {
-        let expected = steady_drift(
-            env.air.drag_factor(),
-            Vec2::new(10.0, 0.0),
-            env.water.drag_factor(),
-            Vec2::zeros(),
-            f.surface_density(),
-            env.coriolis,
-        );
+    for i in 0..scn.floes.len() {
+        // The one steady-drift solver, the one `floebench check` uses.
+        let expected = floebench::analysis::check::steady_drift_velocity(&scn, i)
+            .expect("steady drift converges");
         let v = r.final_state.bodies[i].velocity;
         assert!(
             (v - expected).norm() < 1e-6 * expected.norm(),

@@ -23,7 +23,7 @@
 
 use crate::contact::problem::ContactLcp;
 use crate::lcp::{solve, LcpDump, LcpSolution, SolveCounters, SolveOptions};
-use crate::run::Counters;
+use crate::run::{ContactLog, Counters, ImpulseRecord};
 use std::path::PathBuf;
 
 /// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
@@ -38,6 +38,7 @@ pub struct ContactSolver {
     dump_seq: u64,
     lcp_counters: SolveCounters,
     max_coulomb_ratio: f64,
+    log: ContactLog,
 }
 
 impl ContactSolver {
@@ -50,6 +51,7 @@ impl ContactSolver {
             dump_seq: 0,
             lcp_counters: SolveCounters::default(),
             max_coulomb_ratio: 0.0,
+            log: ContactLog::recording(),
         }
     }
 
@@ -57,6 +59,17 @@ impl ContactSolver {
     /// without friction).
     pub fn max_coulomb_ratio(&self) -> f64 {
         self.max_coulomb_ratio
+    }
+
+    /// The log of accepted frictional impulses (with the contact events the
+    /// formulation adds to it).
+    pub fn log_mut(&mut self) -> &mut ContactLog {
+        &mut self.log
+    }
+
+    /// Hands over the log and starts a new one.
+    pub fn take_log(&mut self) -> ContactLog {
+        std::mem::replace(&mut self.log, ContactLog::recording())
     }
 
     /// Solves one contact LCP with the fallbacks and the last resort; returns
@@ -121,7 +134,7 @@ impl ContactSolver {
                 })
                 .collect();
             let beta = lcp.tangential(&sol.z);
-            self.check_coulomb(&lcp.normal(&sol.z), &beta, lcp.mu, &slack, counters);
+            self.check_coulomb(t, &lcp.normal(&sol.z), &beta, lcp.mu, &slack, counters);
         }
     }
 
@@ -130,9 +143,11 @@ impl ContactSolver {
     /// i.e. `|β| > μ λ (1 + COULOMB_SLACK) + slack`. `slack[j]` (N·s, 0 if
     /// missing) is the rounding allowance of contact `j`: a tangential
     /// impulse below it is rounding (e.g. 1e-21 N·s beside `λ = 0`) and is
-    /// left out of the ratio.
+    /// left out of the ratio. Every impulse goes into the log
+    /// ([`ImpulseRecord`], at time `t`, s), whose ratio is the one used here.
     pub fn check_coulomb(
         &mut self,
+        t: f64,
         lambda: &[f64],
         beta: &[f64],
         mu: f64,
@@ -142,13 +157,16 @@ impl ContactSolver {
         for (j, (l, b)) in lambda.iter().zip(beta).enumerate() {
             let bound = mu * l;
             let eps = slack.get(j).copied().unwrap_or(0.0);
+            let rec = ImpulseRecord {
+                t,
+                normal: *l,
+                tangent: *b,
+                mu,
+                slack: eps,
+            };
+            self.log.push_impulse(rec);
             if b.abs() > eps {
-                let ratio = if bound > 0.0 {
-                    b.abs() / bound
-                } else {
-                    f64::INFINITY
-                };
-                self.max_coulomb_ratio = self.max_coulomb_ratio.max(ratio);
+                self.max_coulomb_ratio = self.max_coulomb_ratio.max(rec.coulomb_ratio());
                 if b.abs() > bound * (1.0 + COULOMB_SLACK) + eps {
                     counters.add("coulomb_violations", 1);
                 }

@@ -68,7 +68,7 @@ use crate::contact::{detect, Aabb, BroadPhase, Contact};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, Vec2};
 use crate::model::Scenario;
 use crate::physics::{SmoothIntegrator, Wrench};
-use crate::run::{Counters, Stage, StageClock};
+use crate::run::{ContactEvent, ContactLog, Counters, Stage, StageClock};
 use crate::state::{BodyState, Ledger, System};
 
 /// Default contact distance as a fraction of the smallest floe radius, when
@@ -252,6 +252,12 @@ impl EventDriven {
             }
             sys.ledger.dissipated += before - after;
             self.counters.add("impacts", 1);
+            self.solver.log_mut().push_event(ContactEvent {
+                t: sys.t,
+                contacts: g.contacts.len(),
+                energy_before: before,
+                energy_after: after,
+            });
             if self.impacts.len() < MAX_IMPACT_RECORDS {
                 self.impacts.push(ImpactRecord {
                     t: sys.t,
@@ -701,5 +707,9 @@ impl Formulation for EventDriven {
         self.solver.report(&mut c);
         c.set_value("max_penetration_m", self.max_penetration);
         c
+    }
+
+    fn take_contact_log(&mut self) -> ContactLog {
+        self.solver.take_log()
     }
 }

@@ -16,7 +16,7 @@ pub mod moreau;
 pub mod rapier_ref;
 
 use crate::model::{IntegratorKind, MoreauSolver, Scenario};
-use crate::run::{Counters, StageClock};
+use crate::run::{ContactLog, Counters, StageClock};
 use crate::state::System;
 
 /// A failure that stops a run (a failed LCP is not one: it is counted and
@@ -48,6 +48,13 @@ pub trait Formulation {
 
     /// The formulation's counters (steps, events, solves, …) so far.
     fn counters(&self) -> Counters;
+
+    /// Hands over (and clears) the bounded log of contact impulses and
+    /// contact events recorded so far; the [`crate::run::Runner`] calls it
+    /// at the end of a run. The default records nothing.
+    fn take_contact_log(&mut self) -> ContactLog {
+        ContactLog::default()
+    }
 }
 
 /// Options shared by every formulation, from the command line.

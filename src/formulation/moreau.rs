@@ -125,7 +125,7 @@ use crate::contact::{detect, BroadPhase, Contact};
 use crate::geometry::Vec2;
 use crate::model::{MoreauSolver, Scenario};
 use crate::physics::SmoothIntegrator;
-use crate::run::{Counters, Stage, StageClock};
+use crate::run::{ContactEvent, ContactLog, Counters, Stage, StageClock};
 use crate::state::{BodyState, System};
 
 /// Rounding allowance of the activation test `g + h γ u_N ≤ ε`, as a
@@ -414,6 +414,14 @@ impl Moreau {
                     .max_value("contact_energy_increase_max_j", after - before);
             }
             sys.ledger.dissipated += before - after;
+            if dv.iter().flatten().any(|d| d.abs() > negligible) {
+                self.solver.log_mut().push_event(ContactEvent {
+                    t: sys.t,
+                    contacts: g.contacts.len(),
+                    energy_before: before,
+                    energy_after: after,
+                });
+            }
             e_before += before;
             e_after += after;
         }
@@ -458,7 +466,7 @@ impl Moreau {
         if p.friction {
             flat.extend_from_slice(&sol.beta);
             self.solver
-                .check_coulomb(&sol.lambda, &sol.beta, p.mu, &[], &mut self.counters);
+                .check_coulomb(t, &sol.lambda, &sol.beta, p.mu, &[], &mut self.counters);
         }
         // The artefact: normal speed (with the Newton offset) of the
         // contacts that push, u_N⁺ + c = μ |u_T⁺| while sliding.
@@ -521,5 +529,9 @@ impl Formulation for Moreau {
         self.solver.report(&mut c);
         c.set_value("max_penetration_m", self.max_penetration);
         c
+    }
+
+    fn take_contact_log(&mut self) -> ContactLog {
+        self.solver.take_log()
     }
 }

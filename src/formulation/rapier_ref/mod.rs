@@ -136,7 +136,9 @@ mod convert;
 use super::{Formulation, FormulationError, FormulationOptions};
 use crate::model::{RapierSettings, Scenario};
 use crate::physics::{Forces, SmoothIntegrator};
-use crate::run::{thread_cpu_seconds, Counters, Stage, StageClock};
+use crate::run::{
+    thread_cpu_seconds, ContactEvent, ContactLog, Counters, ImpulseRecord, Stage, StageClock,
+};
 use crate::state::{BodyState, System};
 use rapier2d_f64::prelude::{
     BroadPhaseBvh, CCDSolver, CoefficientCombineRule, ColliderSet, ImpulseJointSet,
@@ -234,10 +236,13 @@ pub struct RapierReference {
     rapier_angle: Vec<f64>,
     forces: Vec<Forces>,
     /// Per floe, over the current step: `E₀ + W − E₁` (J) and the free-flight defect `δ` (J).
-    balance: Vec<(f64, f64)>,
+    balance: Vec<(f64, f64, f64)>,
+    log: ContactLog,
     /// Per floe: whether it belonged to a pair with contacts seen by the
     /// solver (speculative ones included) during the current step.
     touched: Vec<bool>,
+    /// Contact points with an impulse in the last step.
+    step_points: usize,
     counters: Counters,
     max_penetration: f64,
     max_pairs: u64,
@@ -322,8 +327,10 @@ impl RapierReference {
             rapier_angle: vec![0.0; synced.len()],
             synced,
             forces: vec![Forces::default(); scn.floes.len()],
-            balance: vec![(0.0, 0.0); scn.floes.len()],
+            balance: vec![(0.0, 0.0, 0.0); scn.floes.len()],
+            log: ContactLog::recording(),
             touched: vec![false; scn.floes.len()],
+            step_points: 0,
             counters,
             max_penetration: 0.0,
             max_pairs: 0,
@@ -448,23 +455,35 @@ impl RapierReference {
             let defect =
                 h * h * (f.force().norm_squared() / floe.mass + f.torque().powi(2) / floe.inertia)
                     / (2.0 * n);
-            self.balance[i] = (kinetic(b) + wa + ww + wc - kinetic(&next), defect);
+            self.balance[i] = (kinetic(b) + wa + ww + wc, kinetic(&next), defect);
             *b = next;
         }
         sys.t = t + h;
         self.synced.clone_from(&sys.bodies);
 
         // Contacts of this step: which floes they touched, pairs, penetration.
-        self.scan_contacts();
+        self.scan_contacts(t);
         let mut d = 0.0;
-        for (&(balance, defect), &touched) in self.balance.iter().zip(&self.touched) {
+        let (mut before, mut after, mut floes) = (0.0, 0.0, 0usize);
+        for (&(e0w, e1, defect), &touched) in self.balance.iter().zip(&self.touched) {
             if touched {
-                d += balance;
+                d += e0w - e1;
+                before += e0w;
+                after += e1;
+                floes += 1;
             } else {
                 self.integration_defect += defect;
             }
         }
         sys.ledger.dissipated += d;
+        if floes > 0 && self.step_points > 0 {
+            self.log.push_event(ContactEvent {
+                t,
+                contacts: self.step_points,
+                energy_before: before,
+                energy_after: after,
+            });
+        }
         if d < 0.0 {
             self.energy_gained -= d;
         }
@@ -498,14 +517,26 @@ impl RapierReference {
     /// After a step: the floes that received a contact impulse, the pairs
     /// with contacts seen by the solver, and the deepest penetration (at the
     /// start of the step, where rapier's narrow phase computed the manifolds).
-    fn scan_contacts(&mut self) {
+    fn scan_contacts(&mut self, t: f64) {
         self.touched.iter_mut().for_each(|t| *t = false);
         let mut pairs = 0u64;
         let mut deepest = 0.0f64;
+        self.step_points = 0;
         for pair in self.narrow_phase.contact_pairs() {
             for m in pair.manifolds() {
                 for p in &m.points {
                     deepest = deepest.max(-p.dist);
+                    // Impulses of the step (summed over its substeps).
+                    if p.data.impulse != 0.0 || p.data.tangent_impulse[0] != 0.0 {
+                        self.step_points += 1;
+                        self.log.push_impulse(ImpulseRecord {
+                            t,
+                            normal: p.data.impulse,
+                            tangent: p.data.tangent_impulse[0],
+                            mu: m.data.friction,
+                            slack: 0.0,
+                        });
+                    }
                 }
             }
             if !pair.has_any_active_contact() {
@@ -565,5 +596,9 @@ impl Formulation for RapierReference {
         c.set_value("contact_energy_gained_j", self.energy_gained);
         c.set_value("integration_defect_j", self.integration_defect);
         c
+    }
+
+    fn take_contact_log(&mut self) -> ContactLog {
+        std::mem::replace(&mut self.log, ContactLog::recording())
     }
 }

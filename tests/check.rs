@@ -1,0 +1,289 @@
+//! `floebench check`: the check over `cases/` with every formulation has no
+//! claimed failure, and every check fails on a deliberately wrong input and
+//! passes on the unmodified one.
+
+use floebench::analysis::check::{self, check_run, claimed_failures, CheckOutcome};
+use floebench::formulation::{self, FormulationOptions};
+use floebench::model::{load_case, Scenario};
+use floebench::run::{ContactEvent, EndReason, ImpulseRecord, RunOptions, RunResult, Runner};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+fn cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("cases")
+}
+
+fn case(name: &str) -> Scenario {
+    load_case(&cases_dir().join(format!("{name}.toml"))).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(scn: &Scenario, name: &str) -> RunResult {
+    let mut f = formulation::build(name, scn, &FormulationOptions::default()).unwrap();
+    Runner::new(RunOptions::default()).run(scn, f.as_mut())
+}
+
+fn find<'a>(rows: &'a [CheckOutcome], id: &str) -> &'a CheckOutcome {
+    rows.iter()
+        .find(|o| o.check == id)
+        .unwrap_or_else(|| panic!("no check `{id}` in {rows:#?}"))
+}
+
+/// Asserts that `id` passes on `run` and fails once `spoil` has changed it.
+fn fails_when_spoiled(
+    scn: &Scenario,
+    run: &RunResult,
+    id: &str,
+    spoil: impl FnOnce(&mut RunResult),
+) {
+    let good = check_run(scn, run);
+    let o = find(&good, id);
+    assert!(o.pass, "{}: unmodified `{id}` must pass: {o:#?}", scn.name);
+    let mut bad = run.clone();
+    spoil(&mut bad);
+    let rows = check_run(scn, &bad);
+    let o = find(&rows, id);
+    assert!(!o.pass, "{}: spoiled `{id}` must fail: {o:#?}", scn.name);
+    if o.claimed {
+        assert!(claimed_failures(&rows) >= 1);
+    }
+}
+
+/// Row index of floe `floe` at output `k` (rows are written time by time).
+fn row(scn: &Scenario, k: usize, floe: usize) -> usize {
+    k * scn.floes.len() + floe
+}
+
+#[test]
+fn every_small_case_passes_every_check_its_formulations_claim() {
+    let start = Instant::now();
+    let paths = check::case_paths(&[cases_dir()]).unwrap();
+    assert!(paths.len() >= 12, "{} cases", paths.len());
+    let mut rows = Vec::new();
+    for p in &paths {
+        let text = std::fs::read_to_string(p).unwrap();
+        assert!(
+            text.starts_with('#'),
+            "{}: a case opens with a comment",
+            p.display()
+        );
+        rows.extend(check::check_case(p, None).unwrap_or_else(|e| panic!("{e}")));
+    }
+    println!("{}", check::format_table(&rows));
+    println!("check over cases/: {:.1} s", start.elapsed().as_secs_f64());
+    assert_eq!(claimed_failures(&rows), 0, "claimed checks failed");
+    // Every kind of check applied somewhere, and every formulation ran.
+    for id in [
+        "run_completed",
+        "momentum",
+        "impact_energy",
+        "energy_conserved",
+        "coulomb",
+        "penetration",
+        "symmetry",
+        "head_on_v1",
+        "head_on_v2",
+        "bouncing_first_impact",
+        "bouncing_rest",
+        "sliding_distance",
+        "sliding_stop",
+        "cradle_outcome",
+        "cradle_physical",
+        "cannon_velocities",
+        "free_drift_velocity",
+        "energy_ledger",
+    ] {
+        assert!(
+            rows.iter().any(|o| o.check == id),
+            "check `{id}` never applied"
+        );
+    }
+    for (name, _) in formulation::NAMES {
+        assert!(
+            rows.iter().any(|o| o.formulation == *name),
+            "{name} never ran"
+        );
+    }
+    // free-drift only on contact-free cases; the mirror case is symmetric.
+    assert!(!rows
+        .iter()
+        .any(|o| o.formulation == "free-drift" && o.case == "head_on"));
+    assert!(rows
+        .iter()
+        .any(|o| o.case == "mirror_collision" && o.check == "symmetry"));
+    // The Markdown table has a row per outcome.
+    assert_eq!(check::markdown_table(&rows).lines().count(), rows.len() + 2);
+}
+
+#[test]
+fn structure_decides_applicability() {
+    // Symmetry: found on the mirror case (pairing 1 <-> 2), not on the pool.
+    let (axis, pairing) = check::find_symmetry(&case("mirror_collision")).unwrap();
+    assert_eq!(pairing, vec![0, 2, 1]);
+    assert!(axis.d.y.abs() < 1e-12 && axis.c.y.abs() < 1e-12);
+    assert!(check::find_symmetry(&case("elastic_pool")).is_none());
+    // A Coriolis force breaks the mirror symmetry.
+    let mut scn = case("mirror_collision");
+    scn.environment.coriolis = 1e-4;
+    assert!(check::find_symmetry(&scn).is_none());
+    // Contact-free cases only for free-drift.
+    assert!(check::contact_free(&case("free_drift_coriolis")));
+    assert!(!check::contact_free(&case("head_on")));
+    assert!(!check::default_formulations(&case("head_on")).contains(&"free-drift"));
+    // The bouncing floe's gap along the wind is 1 m, face on.
+    let scn = case("bouncing_floe");
+    let (gap, rays) =
+        check::translation_gap(&scn, 0, &floebench::geometry::Vec2::new(1.0, 0.0)).unwrap();
+    assert!((gap - 1.0).abs() < 1e-12 && rays >= 2);
+}
+
+#[test]
+fn momentum_head_on_and_penetration_fail_on_wrong_input() {
+    let scn = case("head_on");
+    let r = run(&scn, "event-driven");
+    // A momentum change: floe 0 a little faster at one output.
+    fails_when_spoiled(&scn, &r, "momentum", |b| {
+        let i = row(&scn, 30, 0);
+        b.trajectory[i].vx += 1e-6;
+    });
+    // Wrong head-on velocities.
+    fails_when_spoiled(&scn, &r, "head_on_v1", |b| {
+        b.final_state.bodies[0].velocity.x += 1e-6;
+    });
+    fails_when_spoiled(&scn, &r, "head_on_v2", |b| {
+        b.final_state.bodies[1].velocity.x -= 1e-6;
+    });
+    // A penetration: floe 1 moved 1 cm into floe 0 at the last output.
+    fails_when_spoiled(&scn, &r, "penetration", |b| {
+        let k = b.trajectory.len() / scn.floes.len() - 1;
+        let (a, c) = (row(&scn, k, 0), row(&scn, k, 1));
+        let gap = (b.trajectory[c].x - 10.0) - (b.trajectory[a].x + 5.0);
+        b.trajectory[c].x -= gap + 0.01;
+    });
+    // A broken symmetry: floe 0 off the axis by 1 mm.
+    fails_when_spoiled(&scn, &r, "symmetry", |b| {
+        let i = row(&scn, 10, 0);
+        b.trajectory[i].y += 1e-3;
+    });
+    // A run that did not complete.
+    fails_when_spoiled(&scn, &r, "run_completed", |b| {
+        b.summary.end = EndReason::Failed {
+            message: "test".into(),
+        };
+    });
+}
+
+#[test]
+fn energy_checks_fail_on_an_energy_gain() {
+    let scn = case("elastic_pool");
+    let r = run(&scn, "event-driven");
+    fails_when_spoiled(&scn, &r, "energy_conserved", |b| {
+        let k = b.energy.len() / 2;
+        b.energy[k].kinetic *= 1.0 + 1e-6;
+    });
+    fails_when_spoiled(&scn, &r, "impact_energy", |b| {
+        let e = b.contacts.events[3];
+        b.contacts.push_event(ContactEvent {
+            energy_after: e.energy_before * (1.0 + 1e-3),
+            ..e
+        });
+    });
+    fails_when_spoiled(&scn, &r, "energy_ledger", |b| {
+        let k = b.energy.len() / 2;
+        b.energy[k].residual = 1e-5 * b.summary.energy.exchanged;
+        b.summary.energy.max_abs_residual = b.energy[k].residual;
+    });
+}
+
+#[test]
+fn coulomb_and_sliding_fail_on_wrong_input() {
+    let scn = case("sliding_floe");
+    let r = run(&scn, "event-driven");
+    // A friction impulse just outside the cone.
+    fails_when_spoiled(&scn, &r, "coulomb", |b| {
+        b.contacts.push_impulse(ImpulseRecord {
+            t: 1.0,
+            normal: 100.0,
+            tangent: 0.3 * 100.0 * (1.0 + 1e-6),
+            mu: 0.3,
+            slack: 0.0,
+        });
+    });
+    fails_when_spoiled(&scn, &r, "sliding_distance", |b| {
+        b.final_state.bodies[0].position.y += 0.01;
+    });
+    fails_when_spoiled(&scn, &r, "sliding_stop", |b| {
+        // Still moving 10 s after the exact stop.
+        for row in b
+            .trajectory
+            .iter_mut()
+            .filter(|r| r.t > 690.0 && r.t < 702.0)
+        {
+            row.vy = 1e-3;
+        }
+    });
+}
+
+#[test]
+fn bouncing_cradle_cannon_and_drift_fail_on_wrong_input() {
+    let scn = case("bouncing_floe");
+    let r = run(&scn, "event-driven");
+    fails_when_spoiled(&scn, &r, "bouncing_first_impact", |b| {
+        b.contacts.events[0].t += 2.0;
+    });
+    // bouncing_rest is not claimed by event-driven (default contact
+    // distance); moreau-cone is checked on first impact too.
+    let scn = case("cradle_gaps");
+    let r = run(&scn, "event-driven");
+    fails_when_spoiled(&scn, &r, "cradle_outcome", |b| {
+        b.final_state.bodies[4].velocity.x *= 1.0 - 1e-6;
+    });
+    let scn = case("cradle_touching");
+    let r = run(&scn, "moreau");
+    fails_when_spoiled(&scn, &r, "cradle_outcome", |b| {
+        b.final_state.bodies[0].velocity.x += 1e-6;
+    });
+    let scn = case("newtons_cannon");
+    let r = run(&scn, "event-driven");
+    fails_when_spoiled(&scn, &r, "cannon_velocities", |b| {
+        b.final_state.bodies[1].velocity.x += 1e-6;
+    });
+    let scn = case("free_drift");
+    let r = run(&scn, "free-drift");
+    fails_when_spoiled(&scn, &r, "free_drift_velocity", |b| {
+        b.final_state.bodies[0].velocity *= 1.0 + 1e-5;
+    });
+}
+
+#[test]
+fn bouncing_rest_passes_at_the_accumulation_time_and_fails_when_late() {
+    // The rest check on a trajectory that reaches t_inf exactly: the
+    // event-driven run with a tiny contact distance (impacts located at the
+    // root of the gap), then spoiled by a late motion.
+    let path = cases_dir().join("bouncing_floe.toml");
+    let text = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9");
+    let scn = floebench::model::parse_case(&text, &path).unwrap();
+    let r = run(&scn, "event-driven");
+    fails_when_spoiled(&scn, &r, "bouncing_rest", |b| {
+        for row in b
+            .trajectory
+            .iter_mut()
+            .filter(|r| r.t > 280.0 && r.t < 290.0)
+        {
+            row.vx = 1e-3;
+        }
+    });
+}
+
+#[test]
+fn mirror_symmetry_fails_when_one_image_moves() {
+    let scn = case("mirror_collision");
+    let r = run(&scn, "event-driven");
+    let good = check_run(&scn, &r);
+    assert!(find(&good, "symmetry").pass);
+    fails_when_spoiled(&scn, &r, "symmetry", |b| {
+        let i = row(&scn, 150, 2);
+        b.trajectory[i].theta += 1e-5;
+    });
+}
