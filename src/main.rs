@@ -60,7 +60,8 @@ enum Command {
         #[arg(required = true)]
         cases: Vec<PathBuf>,
         /// Formulations, comma separated, the first being the reference of the
-        /// verdicts [default: every formulation except free-drift].
+        /// verdicts [default: every formulation that applies; free-drift only on
+        /// contact-free cases].
         #[arg(short, long, value_delimiter = ',')]
         formulations: Option<Vec<String>>,
         /// Report folder.
@@ -93,6 +94,9 @@ enum Command {
         /// Also write the table as Markdown to this file.
         #[arg(long, value_name = "FILE")]
         markdown: Option<PathBuf>,
+        /// No progress bars.
+        #[arg(short, long)]
+        quiet: bool,
     },
     /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual.
     Lcp {
@@ -145,7 +149,8 @@ fn main() -> ExitCode {
             cases,
             formulations,
             markdown,
-        } => check(&cases, formulations.as_deref(), markdown.as_deref()),
+            quiet,
+        } => check(&cases, formulations, markdown.as_deref(), quiet),
 
         Command::Formulations => {
             for (name, what) in formulation::NAMES {
@@ -273,13 +278,7 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         for (_, scn) in &loaded {
             eprintln!("{}", describe(scn));
         }
-        eprintln!(
-            "running {} × {} runs ({}), {} at a time",
-            loaded.len(),
-            opts.formulations.len(),
-            opts.formulations.join(", "),
-            opts.jobs
-        );
+        eprintln!("{} cases, {} runs at a time", loaded.len(), opts.jobs);
         compare::compare(loaded, opts)
     });
     let comps = match result {
@@ -314,39 +313,35 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
     }
 }
 
-fn check(cases: &[PathBuf], formulations: Option<&[String]>, markdown: Option<&Path>) -> ExitCode {
+fn check(
+    cases: &[PathBuf],
+    formulations: Option<Vec<String>>,
+    markdown: Option<&Path>,
+    quiet: bool,
+) -> ExitCode {
     use floebench::analysis::check;
-    if let Some(names) = formulations {
-        let known: Vec<&str> = formulation::NAMES.iter().map(|n| n.0).collect();
-        if let Some(bad) = names.iter().find(|n| !known.contains(&n.as_str())) {
-            eprintln!(
-                "error: unknown formulation `{bad}`; known: {}",
-                known.join(", ")
-            );
-            return ExitCode::FAILURE;
-        }
+    use floebench::compare;
+    let mut opts = CompareOptions {
+        progress: !quiet,
+        ..CompareOptions::default()
+    };
+    if let Some(f) = formulations {
+        opts.formulations = f;
     }
-    let paths = match check::case_paths(cases) {
-        Ok(p) => p,
+    let comps = match compare::load_cases(cases).and_then(|loaded| compare::compare(loaded, &opts))
+    {
+        Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
-    let mut rows = Vec::new();
-    for path in &paths {
-        eprintln!("checking {}", path.display());
-        match check::check_case(path, formulations) {
-            Ok(r) => rows.extend(r),
-            Err(e) => {
-                eprintln!("error: {e}");
-                return ExitCode::FAILURE;
-            }
-        }
-    }
+    let rows: Vec<check::CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
     print!("{}", check::format_table(&rows));
     if let Some(file) = markdown {
-        if let Err(e) = std::fs::write(file, check::markdown_table(&rows)) {
+        if let Err(e) =
+            floebench::run::output::write_atomic(file, check::markdown_table(&rows).as_bytes())
+        {
             eprintln!("error: cannot write {}: {e}", file.display());
             return ExitCode::FAILURE;
         }

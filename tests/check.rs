@@ -3,6 +3,7 @@
 //! passes on the unmodified one.
 
 use floebench::analysis::check::{self, check_run, claimed_failures, CheckOutcome};
+use floebench::compare::{self, CompareOptions};
 use floebench::formulation::{self, FormulationOptions};
 use floebench::model::{load_case, Scenario};
 use floebench::run::{ContactEvent, EndReason, ImpulseRecord, RunOptions, RunResult, Runner};
@@ -56,9 +57,8 @@ fn row(scn: &Scenario, k: usize, floe: usize) -> usize {
 #[test]
 fn every_small_case_passes_every_check_its_formulations_claim() {
     let start = Instant::now();
-    let paths = check::case_paths(&[cases_dir()]).unwrap();
+    let paths = compare::case_files(&[cases_dir()]).unwrap();
     assert!(paths.len() >= 12, "{} cases", paths.len());
-    let mut rows = Vec::new();
     for p in &paths {
         let text = std::fs::read_to_string(p).unwrap();
         assert!(
@@ -66,8 +66,11 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
             "{}: a case opens with a comment",
             p.display()
         );
-        rows.extend(check::check_case(p, None).unwrap_or_else(|e| panic!("{e}")));
     }
+    let cases = compare::load_cases(&[cases_dir()]).unwrap_or_else(|e| panic!("{e}"));
+    let comps =
+        compare::compare(cases, &CompareOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let rows: Vec<CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
     println!("{}", check::format_table(&rows));
     println!("check over cases/: {:.1} s", start.elapsed().as_secs_f64());
     assert_eq!(claimed_failures(&rows), 0, "claimed checks failed");

@@ -112,6 +112,11 @@ fn compare_writes_every_promised_file_and_each_parses() {
             ]
         );
         assert!(rows.iter().all(|r| r[3].parse::<f64>().is_ok()));
+        let checks = std::fs::read_to_string(c.join("checks.csv")).unwrap();
+        assert!(checks.starts_with(
+            "case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note\n"
+        ));
+        assert!(checks.lines().count() > forms.len(), "{name}: no check row");
         let s = json(&c.join("summary.json"));
         for key in [
             "case",

@@ -35,14 +35,13 @@
 //! their floes apart, which the `penetration` check verifies).
 
 use crate::contact::{signed_distance, Aabb, BroadPhase};
+use crate::formulation;
 use crate::formulation::contact_solver::COULOMB_SLACK;
 use crate::formulation::event_driven::DEFAULT_PENETRATION_FRACTION;
-use crate::formulation::{self, FormulationOptions};
 use crate::geometry::{cross, Vec2};
 use crate::model::{Scenario, VelocitySeries};
-use crate::run::{EndReason, RunOptions, RunResult, Runner, TrajectoryRow};
+use crate::run::{EndReason, RunResult, TrajectoryRow};
 use serde::Serialize;
-use std::path::{Path, PathBuf};
 
 /// The result of one check on one run.
 #[derive(Debug, Clone, Serialize)]
@@ -1314,52 +1313,6 @@ fn ledger(r: &mut Rows) {
 // ---------------------------------------------------------------------------
 // Running and printing.
 
-/// The case files named by `paths`: a file as it is, a folder's `*.toml`
-/// files (not its subfolders), sorted.
-pub fn case_paths(paths: &[PathBuf]) -> Result<Vec<PathBuf>, String> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let entries =
-                std::fs::read_dir(p).map_err(|e| format!("{}: cannot read: {e}", p.display()))?;
-            let mut files: Vec<PathBuf> = entries
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| f.is_file() && f.extension().is_some_and(|x| x == "toml"))
-                .collect();
-            files.sort();
-            out.extend(files);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
-/// Runs each of `formulations` on `scn` and checks the runs.
-pub fn run_checks(scn: &Scenario, formulations: &[&str]) -> Result<Vec<CheckOutcome>, String> {
-    let mut out = Vec::new();
-    for name in formulations {
-        let mut form = formulation::build(name, scn, &FormulationOptions::default())?;
-        let run = Runner::new(RunOptions::default()).run(scn, form.as_mut());
-        out.extend(check_run(scn, &run));
-    }
-    Ok(out)
-}
-
-/// Loads a case and runs the checks with `formulations` (default: those of
-/// [`default_formulations`]); errors name the file.
-pub fn check_case(
-    path: &Path,
-    formulations: Option<&[String]>,
-) -> Result<Vec<CheckOutcome>, String> {
-    let scn = crate::model::load_case(path).map_err(|e| e.to_string())?;
-    let names: Vec<&str> = match formulations {
-        Some(list) => list.iter().map(String::as_str).collect(),
-        None => default_formulations(&scn),
-    };
-    run_checks(&scn, &names).map_err(|e| format!("{}: {e}", path.display()))
-}
-
 /// Number of checks that fail although the formulation claims them.
 pub fn claimed_failures(rows: &[CheckOutcome]) -> usize {
     rows.iter().filter(|o| o.claimed && !o.pass).count()
@@ -1388,7 +1341,8 @@ fn num(x: f64) -> String {
     }
 }
 
-fn cells(o: &CheckOutcome) -> [String; 9] {
+/// The cells of one outcome, in the order of [`TABLE_HEADER`].
+pub fn table_cells(o: &CheckOutcome) -> [String; 9] {
     [
         o.case.clone(),
         o.check.clone(),
@@ -1402,7 +1356,8 @@ fn cells(o: &CheckOutcome) -> [String; 9] {
     ]
 }
 
-const HEADER: [&str; 9] = [
+/// The columns of the check tables.
+pub const TABLE_HEADER: [&str; 9] = [
     "case",
     "check",
     "formulation",
@@ -1417,8 +1372,8 @@ const HEADER: [&str; 9] = [
 /// The outcomes as an aligned plain-text table, one line each, then a count
 /// of passes, known failures and claimed failures.
 pub fn format_table(rows: &[CheckOutcome]) -> String {
-    let body: Vec<[String; 9]> = rows.iter().map(cells).collect();
-    let mut width = HEADER.map(str::len);
+    let body: Vec<[String; 9]> = rows.iter().map(table_cells).collect();
+    let mut width = TABLE_HEADER.map(str::len);
     for row in &body {
         for (w, c) in width.iter_mut().zip(row) {
             *w = (*w).max(c.chars().count());
@@ -1435,7 +1390,7 @@ pub fn format_table(rows: &[CheckOutcome]) -> String {
         }
         s.trim_end().to_string() + "\n"
     };
-    let mut out = line(&HEADER.map(String::from));
+    let mut out = line(&TABLE_HEADER.map(String::from));
     for row in &body {
         out.push_str(&line(row));
     }
@@ -1453,9 +1408,13 @@ pub fn format_table(rows: &[CheckOutcome]) -> String {
 /// The outcomes as a Markdown table, for the report page.
 pub fn markdown_table(rows: &[CheckOutcome]) -> String {
     let esc = |s: &str| s.replace('|', "\\|");
-    let mut out = format!("| {} |\n|{}\n", HEADER.join(" | "), " --- |".repeat(9));
+    let mut out = format!(
+        "| {} |\n|{}\n",
+        TABLE_HEADER.join(" | "),
+        " --- |".repeat(9)
+    );
     for o in rows {
-        let c = cells(o);
+        let c = table_cells(o);
         let c: Vec<String> = c.iter().map(|s| esc(s)).collect();
         out.push_str(&format!("| {} |\n", c.join(" | ")));
     }

@@ -9,13 +9,16 @@
 //!
 //! The result, one [`CaseComparison`] per case, holds the runs, the pair
 //! divergences ([`metrics::divergence`]) and every figure in long format
-//! ([`metrics::MetricRow`]); [`report`] writes it as data, plots and a page.
+//! ([`metrics::MetricRow`]) and the physical checks of every run
+//! ([`check::check_run`]); [`report`] writes it as data, plots and a page.
+//! `floebench check` is the same runs without the report.
 
 pub mod figures;
 pub mod metrics;
 pub mod page;
 pub mod report;
 
+use crate::analysis::check::{self, CheckOutcome};
 use crate::formulation::{self, FormulationOptions};
 use crate::model::{load_case, IntegratorKind, Scenario};
 use crate::run::{RunOptions, RunResult, Runner};
@@ -54,8 +57,8 @@ pub enum CompareError {
     },
 }
 
-/// The formulations `compare` runs by default: every one that handles
-/// contacts (`free-drift`, which ignores them, on request only).
+/// Every formulation that handles contacts (all but `free-drift`): the
+/// benches' list.
 pub fn default_formulations() -> Vec<String> {
     formulation::NAMES
         .iter()
@@ -67,7 +70,10 @@ pub fn default_formulations() -> Vec<String> {
 /// Options of a comparison.
 #[derive(Debug, Clone)]
 pub struct CompareOptions {
-    /// Formulations, in report order; the first is the reference of the verdicts.
+    /// Formulations, in report order; the first is the reference of the
+    /// verdicts. Empty (the default): on each case, the formulations that
+    /// apply to it ([`check::default_formulations`]: all, `free-drift` only
+    /// on contact-free cases).
     pub formulations: Vec<String>,
     /// Runs at a time (worker threads); default: the available cores.
     pub jobs: usize,
@@ -83,7 +89,7 @@ pub struct CompareOptions {
 impl Default for CompareOptions {
     fn default() -> Self {
         CompareOptions {
-            formulations: default_formulations(),
+            formulations: Vec::new(),
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             progress: false,
             divergence_threshold: 0.1,
@@ -103,6 +109,8 @@ pub struct CaseComparison {
     pub runs: Vec<RunResult>,
     /// Every pair of runs (i < j), in order.
     pub pairs: Vec<PairDivergence>,
+    /// The physical checks of every run ([`check::check_run`]).
+    pub checks: Vec<CheckOutcome>,
     /// Every figure of the runs and of the pairs.
     pub metrics: Vec<MetricRow>,
 }
@@ -154,9 +162,6 @@ pub fn compare(
     cases: Vec<(PathBuf, Scenario)>,
     opts: &CompareOptions,
 ) -> Result<Vec<CaseComparison>, CompareError> {
-    if opts.formulations.is_empty() {
-        return Err(CompareError::Formulation("no formulation to run".into()));
-    }
     for (i, name) in opts.formulations.iter().enumerate() {
         if opts.formulations[..i].contains(name) {
             return Err(CompareError::Formulation(format!(
@@ -164,20 +169,35 @@ pub fn compare(
             )));
         }
     }
+    let lists: Vec<Vec<String>> = cases
+        .iter()
+        .map(|(_, scn)| {
+            if opts.formulations.is_empty() {
+                check::default_formulations(scn)
+                    .into_iter()
+                    .map(str::to_string)
+                    .collect()
+            } else {
+                opts.formulations.clone()
+            }
+        })
+        .collect();
     let fopts = FormulationOptions {
         integrator: opts.integrator,
         dump_lcp: None,
     };
     // Every formulation must accept every case before anything runs.
-    for (path, scn) in &cases {
-        for name in &opts.formulations {
+    for ((path, scn), list) in cases.iter().zip(&lists) {
+        for name in list {
             formulation::build(name, scn, &fopts).map_err(|e| {
                 CompareError::Formulation(format!("{}: {name}: {e}", path.display()))
             })?;
         }
     }
-    let jobs: Vec<(usize, usize)> = (0..cases.len())
-        .flat_map(|c| (0..opts.formulations.len()).map(move |f| (c, f)))
+    let jobs: Vec<(usize, usize)> = lists
+        .iter()
+        .enumerate()
+        .flat_map(|(c, l)| (0..l.len()).map(move |f| (c, f)))
         .collect();
     let results: Mutex<Vec<Option<Result<RunResult, String>>>> = Mutex::new(vec![None; jobs.len()]);
     let next = AtomicUsize::new(0);
@@ -193,7 +213,7 @@ pub fn compare(
                     progress: opts.progress,
                     multi: multi.clone(),
                 });
-                let out = formulation::build(&opts.formulations[f], scn, &fopts)
+                let out = formulation::build(&lists[c][f], scn, &fopts)
                     .map(|mut form| runner.run(scn, form.as_mut()));
                 if let Ok(mut r) = results.lock() {
                     r[k] = Some(out);
@@ -206,9 +226,9 @@ pub fn compare(
         .map_err(|_| CompareError::Mismatch("a run panicked".into()))?
         .into_iter();
     let mut out = Vec::with_capacity(cases.len());
-    for (path, scenario) in cases {
-        let mut runs = Vec::with_capacity(opts.formulations.len());
-        for name in &opts.formulations {
+    for ((path, scenario), list) in cases.into_iter().zip(&lists) {
+        let mut runs = Vec::with_capacity(list.len());
+        for name in list {
             match results.next().flatten() {
                 Some(Ok(r)) => runs.push(r),
                 Some(Err(e)) => {
@@ -249,11 +269,16 @@ pub fn assess(
     for p in &pairs {
         rows.extend(metrics::pair_metrics(&scenario.name, p));
     }
+    let checks = runs
+        .iter()
+        .flat_map(|r| check::check_run(&scenario, r))
+        .collect();
     Ok(CaseComparison {
         path,
         scenario,
         runs,
         pairs,
+        checks,
         metrics: rows,
     })
 }

@@ -5,6 +5,7 @@
 //! <out>/index.md, index.html          the page: headline table, per case verdict, tables, plots
 //! <out>/<case>/metrics.csv            case,formulation,other,metric,value,unit (long format)
 //! <out>/<case>/divergence.csv         t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad
+//! <out>/<case>/checks.csv             case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note
 //! <out>/<case>/summary.json           the case, each run's summary, the pairs, the verdict
 //! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json (as `floebench run`)
 //! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu
@@ -18,6 +19,7 @@ use super::figures::{self, Figure};
 use super::metrics::{self, MetricRow, PairDivergence};
 use super::page::{self, Block};
 use super::{CaseComparison, CompareError};
+use crate::analysis::check::{self, CheckOutcome};
 use crate::run::output::{self, write_atomic};
 use crate::run::{EndReason, RunResult, RunSummary};
 use serde::Serialize;
@@ -110,6 +112,7 @@ struct CaseSummary<'a> {
     verdict: Vec<String>,
     runs: Vec<&'a RunSummary>,
     pairs: Vec<PairSummary<'a>>,
+    checks: &'a [CheckOutcome],
 }
 
 /// The sum of the counts `keys`, or `-` if the formulation keeps none of them.
@@ -344,6 +347,64 @@ fn pairs_table(comp: &CaseComparison) -> Block {
     }
 }
 
+/// The check table of a case (as `floebench check` prints it).
+fn checks_table(comp: &CaseComparison) -> Block {
+    Block::Table {
+        header: check::TABLE_HEADER[1..]
+            .iter()
+            .map(|h| h.to_string())
+            .collect(),
+        rows: comp
+            .checks
+            .iter()
+            .map(|o| check::table_cells(o)[1..].to_vec())
+            .collect(),
+    }
+}
+
+/// `pass/known/FAIL` counts of a run's checks.
+fn check_counts(comp: &CaseComparison, formulation: &str) -> String {
+    let mine: Vec<&CheckOutcome> = comp
+        .checks
+        .iter()
+        .filter(|o| o.formulation == formulation)
+        .collect();
+    let pass = mine.iter().filter(|o| o.pass).count();
+    let known = mine.iter().filter(|o| !o.pass && !o.claimed).count();
+    let fail = mine.iter().filter(|o| !o.pass && o.claimed).count();
+    let mut s = format!("{pass}/{}", mine.len());
+    if known > 0 {
+        let _ = write!(s, ", {known} known");
+    }
+    if fail > 0 {
+        let _ = write!(s, ", **{fail} FAIL**");
+    }
+    s
+}
+
+/// `checks.csv`: one row per check outcome.
+pub fn checks_csv(rows: &[CheckOutcome]) -> String {
+    let mut s =
+        String::from("case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note\n");
+    for o in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},\"{}\"",
+            o.case,
+            o.formulation,
+            o.check,
+            o.measured,
+            o.expected.map_or(String::new(), |e| e.to_string()),
+            o.tolerance,
+            o.unit,
+            o.pass,
+            o.claimed,
+            o.note.replace('"', "'")
+        );
+    }
+    s
+}
+
 /// The headline table: one row per (case, formulation).
 fn headline(comps: &[CaseComparison]) -> Block {
     let header = [
@@ -355,6 +416,7 @@ fn headline(comps: &[CaseComparison]) -> Block {
         "E_k final (J)",
         "dissipated (J)",
         "max RMS Δx / d̄ vs first",
+        "checks passed",
     ];
     let mut rows = Vec::new();
     for c in comps {
@@ -383,6 +445,7 @@ fn headline(comps: &[CaseComparison]) -> Block {
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 div,
+                check_counts(c, &s.formulation),
             ]);
         }
     }
@@ -431,6 +494,7 @@ fn write_case(
                 diverged_at_s: p.diverged_at,
             })
             .collect(),
+        checks: &comp.checks,
     };
     let json = serde_json::to_vec_pretty(&summary).map_err(|e| CompareError::Io {
         path: dir.join("summary.json"),
@@ -439,6 +503,7 @@ fn write_case(
     let files = [
         ("metrics.csv", metrics_csv(&comp.metrics).into_bytes()),
         ("divergence.csv", divergence_csv(&comp.pairs).into_bytes()),
+        ("checks.csv", checks_csv(&comp.checks).into_bytes()),
         ("summary.json", json),
     ];
     for (name, bytes) in files {
@@ -520,6 +585,13 @@ pub fn write_report(
         blocks.push(runs_table(comp));
         if !comp.pairs.is_empty() {
             blocks.push(pairs_table(comp));
+        }
+        if !comp.checks.is_empty() {
+            blocks.push(Block::Para(format!(
+                "Physical checks (`floebench check {}`): \"fail (known)\" is a failure the formulation does not claim to pass (a finding, with its reason); FAIL is a claimed check that failed.",
+                comp.path.display()
+            )));
+            blocks.push(checks_table(comp));
         }
         blocks.push(Block::Figures(
             figs.iter()
