@@ -82,36 +82,33 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, CompareErr
         })
     };
 
-    let stem = dir.join("kinetic");
-    plot::line_chart(
-        &LineChart {
-            title: &format!("{name}: kinetic energy"),
-            x_label: "t (s)",
-            y_label: "kinetic energy (J)",
-            series: &energy_series(comp, |e| e.kinetic),
-            y_scale: Scale::Linear,
-        },
-        &stem,
-    )
-    .map_err(plot_err(&stem))?;
-    add("kinetic", "kinetic energy against time".into());
-
-    let stem = dir.join("dissipated");
-    plot::line_chart(
-        &LineChart {
-            title: &format!("{name}: energy dissipated by contacts"),
-            x_label: "t (s)",
-            y_label: "dissipated energy (J)",
-            series: &energy_series(comp, |e| e.dissipated),
-            y_scale: Scale::Linear,
-        },
-        &stem,
-    )
-    .map_err(plot_err(&stem))?;
-    add(
-        "dissipated",
-        "energy dissipated by contacts against time".into(),
-    );
+    type EnergyOf = fn(&crate::run::EnergySample) -> f64;
+    let energies: [(&str, &str, &str, EnergyOf); 2] = [
+        ("kinetic", "kinetic energy", "kinetic energy (J)", |e| {
+            e.kinetic
+        }),
+        (
+            "dissipated",
+            "energy dissipated by contacts",
+            "dissipated energy (J)",
+            |e| e.dissipated,
+        ),
+    ];
+    for (file, what, y_label, f) in energies {
+        let stem = dir.join(file);
+        plot::line_chart(
+            &LineChart {
+                title: &format!("{name}: {what}"),
+                x_label: "t (s)",
+                y_label,
+                series: &energy_series(comp, f),
+                y_scale: Scale::Linear,
+            },
+            &stem,
+        )
+        .map_err(plot_err(&stem))?;
+        add(file, format!("{what} against time"));
+    }
 
     if let Some(reference) = comp.runs.first() {
         let rname = &reference.summary.formulation;

@@ -34,6 +34,27 @@ pub struct MetricRow {
     pub unit: String,
 }
 
+impl MetricRow {
+    /// A row (`other` empty for a single run's figure).
+    pub fn new(
+        case: &str,
+        formulation: &str,
+        other: &str,
+        metric: &str,
+        value: f64,
+        unit: &str,
+    ) -> MetricRow {
+        MetricRow {
+            case: case.into(),
+            formulation: formulation.into(),
+            other: other.into(),
+            metric: metric.into(),
+            value,
+            unit: unit.into(),
+        }
+    }
+}
+
 /// The difference of two runs at one output time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct DivergenceSample {
@@ -171,14 +192,14 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     let t = &s.timing;
     let mut rows = Vec::new();
     let mut push = |metric: &str, value: f64, unit: &str| {
-        rows.push(MetricRow {
-            case: s.case.clone(),
-            formulation: s.formulation.clone(),
-            other: String::new(),
-            metric: metric.to_string(),
+        rows.push(MetricRow::new(
+            &s.case,
+            &s.formulation,
+            "",
+            metric,
             value,
-            unit: unit.to_string(),
-        })
+            unit,
+        ))
     };
     push("t_reached", s.t_reached, "s");
     push(
@@ -231,14 +252,7 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
 pub fn pair_metrics(case: &str, p: &PairDivergence) -> Vec<MetricRow> {
     let mut rows = Vec::new();
     let mut push = |metric: &str, value: f64, unit: &str| {
-        rows.push(MetricRow {
-            case: case.to_string(),
-            formulation: p.a.clone(),
-            other: p.b.clone(),
-            metric: metric.to_string(),
-            value,
-            unit: unit.to_string(),
-        })
+        rows.push(MetricRow::new(case, &p.a, &p.b, metric, value, unit))
     };
     push("max_rms_position_rel", p.max_rms_position_rel, "-");
     push("final_rms_position_rel", p.final_rms_position_rel, "-");
