@@ -2,26 +2,15 @@
 //! section 6. Every test also checks Coulomb on every contact impulse, the
 //! penetration tolerance, and that no impact gained energy.
 
+mod common;
+
+use common::{assert_head_on, case_text, final_velocity, head_on, rest_time, scenario};
+use floebench::analysis::check;
 use floebench::formulation::event_driven::EventDriven;
 use floebench::formulation::FormulationOptions;
-use floebench::geometry::Vec2;
 use floebench::lcp::{residual, LcpDump};
-use floebench::model::{parse_case, Scenario};
+use floebench::model::Scenario;
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
-use std::path::Path;
-
-fn case_text(name: &str) -> String {
-    std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
-            .join(format!("{name}.toml")),
-    )
-    .unwrap()
-}
-
-fn scenario(text: &str) -> Scenario {
-    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
-}
 
 fn run_with(scn: &Scenario, opts: FormulationOptions) -> (RunResult, EventDriven) {
     let mut ed = EventDriven::new(scn, &opts);
@@ -69,41 +58,13 @@ fn physical_checks(r: &RunResult) {
     );
 }
 
-fn final_velocity(r: &RunResult, floe: usize) -> Vec2 {
-    r.final_state.bodies[floe].velocity
-}
-
 #[test]
 fn head_on_impact_matches_the_closed_form_for_three_restitutions() {
     for e in [0.0, 0.4, 1.0] {
-        let scn = scenario(
-            &case_text("head_on").replace("restitution = 0.4", &format!("restitution = {e:?}")),
-        );
-        let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
-        let (v1, v2) = (0.5, -0.1);
-        let v1p = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
-        let v2p = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
+        let scn = head_on(e);
         let (r, ed) = run(&scn);
         assert_eq!(ed.impacts().len(), 1, "e = {e}: one impact");
-        let (a, b) = (final_velocity(&r, 0), final_velocity(&r, 1));
-        assert!(
-            (a.x - v1p).abs() <= 1e-9 * v1p.abs().max(1e-3),
-            "e = {e}: v1' {} vs {v1p}",
-            a.x
-        );
-        assert!(
-            (b.x - v2p).abs() <= 1e-9 * v2p.abs().max(1e-3),
-            "e = {e}: v2' {} vs {v2p}",
-            b.x
-        );
-        assert!(a.y.abs() < 1e-12 && b.y.abs() < 1e-12);
-        let p0 = m1 * v1 + m2 * v2;
-        let p1 = r.final_state.momentum(&scn);
-        assert!(
-            (p1.x - p0).abs() <= 1e-12 * p0.abs(),
-            "e = {e}: momentum {} vs {p0}",
-            p1.x
-        );
+        assert_head_on(&r, &scn, e, &format!("e = {e}"));
         // The impact instant: located where the 5 m gap has closed to 3δ/4
         // (± δ/4) at 0.6 m/s.
         let (t, d) = (ed.impacts()[0].t, ed.distance());
@@ -138,12 +99,6 @@ fn elastic_frictionless_pool_conserves_kinetic_energy_over_a_hundred_impacts() {
     }
 }
 
-/// Wind acceleration `a = ρ_a C_a |U_a|² / (ρ_i h)` of the bouncing and sliding cases.
-fn wind_acceleration(scn: &Scenario) -> f64 {
-    let u = scn.environment.air.velocity.at(0.0).norm();
-    scn.environment.air.drag_factor() * u * u / scn.floes[0].surface_density()
-}
-
 #[test]
 fn bouncing_floe_impact_times_match_t_k() {
     // e = 0.8 keeps ten impacts well before the accumulation point; a tiny
@@ -154,7 +109,7 @@ fn bouncing_floe_impact_times_match_t_k() {
         .replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9")
         .replace("duration = 400.0", "duration = 1000.0");
     let scn = scenario(&text);
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let d = 1.0;
     let t1 = (2.0 * d / a).sqrt();
     let v1 = a * t1;
@@ -175,21 +130,6 @@ fn e_pow(e: f64, k: usize) -> f64 {
     e.powi(k as i32)
 }
 
-/// The first sample time after which floe 0 no longer moves.
-fn rest_time(r: &RunResult) -> f64 {
-    let last_move = r
-        .trajectory
-        .iter()
-        .filter(|row| row.vx.abs() > 1e-12)
-        .map(|row| row.t)
-        .fold(0.0, f64::max);
-    r.trajectory
-        .iter()
-        .map(|row| row.t)
-        .find(|&t| t > last_move)
-        .unwrap()
-}
-
 #[test]
 fn bouncing_floe_comes_to_rest_at_the_accumulation_time_without_stalling() {
     // Root finding on the gap (tiny contact distance).
@@ -197,7 +137,7 @@ fn bouncing_floe_comes_to_rest_at_the_accumulation_time_without_stalling() {
         &case_text("bouncing_floe").replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9"),
     );
     let e = scn.contact.restitution;
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let t1 = (2.0 / a).sqrt();
     let t_inf = t1 * (1.0 + e) / (1.0 - e);
     let (r, ed) = run(&scn);
@@ -228,7 +168,7 @@ fn with_the_default_contact_distance_the_floe_rests_slightly_before_t_inf() {
     // 267 s against t∞ = 273.3 s (2.3 % early). Pinned to [0.95, 1.0] t∞.
     let scn = scenario(&case_text("bouncing_floe"));
     let e = scn.contact.restitution;
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let t_inf = (2.0 / a).sqrt() * (1.0 + e) / (1.0 - e);
     let (r, ed) = run(&scn);
     let rest = rest_time(&r);
@@ -242,7 +182,7 @@ fn with_the_default_contact_distance_the_floe_rests_slightly_before_t_inf() {
 #[test]
 fn sliding_floe_stops_at_the_exact_time_and_distance() {
     let scn = scenario(&case_text("sliding_floe"));
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let (mu, v0) = (scn.contact.friction, 0.05);
     let t_stop = v0 / (mu * a);
     let dist = v0 * v0 / (2.0 * mu * a);

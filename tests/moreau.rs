@@ -7,6 +7,10 @@
 //! Measured figures are printed (`cargo test --release --test moreau --
 //! --nocapture`) and pinned where they are findings rather than tolerances.
 
+mod common;
+
+use common::{assert_head_on, case_text, final_velocity, head_on, head_on_expected, scenario};
+use floebench::analysis::check;
 use floebench::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
 use floebench::contact::{detect, BroadPhase};
@@ -14,24 +18,10 @@ use floebench::formulation::moreau::Moreau;
 use floebench::formulation::{build, Formulation, FormulationOptions};
 use floebench::geometry::Vec2;
 use floebench::lcp::{residual, solve, LcpDump, SolveOptions};
-use floebench::model::{parse_case, MoreauSolver, Scenario};
+use floebench::model::{MoreauSolver, Scenario};
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
-use std::path::Path;
 
 const SOLVERS: [MoreauSolver; 2] = [MoreauSolver::Lcp, MoreauSolver::Cone];
-
-fn case_text(name: &str) -> String {
-    std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
-            .join(format!("{name}.toml")),
-    )
-    .unwrap()
-}
-
-fn scenario(text: &str) -> Scenario {
-    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// The case text with a `[formulation.moreau]` table (step `h`, s).
 fn with_step(text: &str, h: f64) -> String {
@@ -84,27 +74,12 @@ fn physical_checks(r: &RunResult, solver: MoreauSolver, v_approach: f64) {
     );
 }
 
-fn final_velocity(r: &RunResult, floe: usize) -> Vec2 {
-    r.final_state.bodies[floe].velocity
-}
-
-/// Wind acceleration `a = ρ_a C_a |U_a|² / (ρ_i h)` of the bouncing and sliding cases.
-fn wind_acceleration(scn: &Scenario) -> f64 {
-    let u = scn.environment.air.velocity.at(0.0).norm();
-    scn.environment.air.drag_factor() * u * u / scn.floes[0].surface_density()
-}
-
 #[test]
 fn head_on_impact_matches_the_closed_form_in_one_step_of_contact() {
     for solver in SOLVERS {
         for e in [0.0, 0.4, 1.0] {
-            let scn = scenario(
-                &case_text("head_on").replace("restitution = 0.4", &format!("restitution = {e:?}")),
-            );
-            let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
-            let (v1, v2) = (0.5, -0.1);
-            let v1p = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
-            let v2p = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
+            let scn = head_on(e);
+            let (v1p, v2p) = head_on_expected(&scn, e);
             let (r, mj) = run_checked(&scn, solver, 0.6);
             assert_eq!(
                 mj.contact_steps().len(),
@@ -117,24 +92,7 @@ fn head_on_impact_matches_the_closed_form_in_one_step_of_contact() {
                 a.x - v1p,
                 b.x - v2p
             );
-            assert!(
-                (a.x - v1p).abs() <= 1e-9 * v1p.abs().max(1e-3),
-                "{solver:?} e = {e}: v1' {} vs {v1p}",
-                a.x
-            );
-            assert!(
-                (b.x - v2p).abs() <= 1e-9 * v2p.abs().max(1e-3),
-                "{solver:?} e = {e}: v2' {} vs {v2p}",
-                b.x
-            );
-            assert!(a.y.abs() < 1e-12 && b.y.abs() < 1e-12);
-            let p0 = m1 * v1 + m2 * v2;
-            let p1 = r.final_state.momentum(&scn);
-            assert!(
-                (p1.x - p0).abs() <= 1e-12 * p0.abs(),
-                "{solver:?} e = {e}: momentum {} vs {p0}",
-                p1.x
-            );
+            assert_head_on(&r, &scn, e, &format!("{solver:?} e = {e}"));
             // The contact step: the output interval 0.5 s cuts h = 1 s into
             // steps of 0.5 s; the gap 5 − 0.3k is first closed (predicted
             // gap ≤ 0) at the step from t = 8.5 s.
@@ -163,7 +121,7 @@ fn rest_time(r: &RunResult, v: f64) -> f64 {
 fn bouncing_floe_passes_the_accumulation_point_and_rests_at_the_wall() {
     let scn = scenario(&case_text("bouncing_floe"));
     let e = scn.contact.restitution;
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let t1 = (2.0 / a).sqrt();
     let v1 = a * t1;
     let t_inf = t1 * (1.0 + e) / (1.0 - e);
@@ -225,7 +183,7 @@ fn sliding(h: f64, solver: MoreauSolver) -> (f64, f64, RunResult) {
 #[test]
 fn sliding_floe_stops_within_o_h_and_converges_at_second_order() {
     let scn = scenario(&case_text("sliding_floe"));
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let (mu, v0) = (scn.contact.friction, 0.05);
     let t_stop = v0 / (mu * a);
     let dist = v0 * v0 / (2.0 * mu * a);
@@ -449,7 +407,7 @@ fn sliding_floe_with_the_cone_flies_off_the_wall_and_still_stops() {
     // leaves again; it stops at the same step as the LCP (692 s) within
     // 1.1e-5 m of the exact distance.
     let scn = scenario(&case_text("sliding_floe"));
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let (mu, v0) = (scn.contact.friction, 0.05);
     let dist = v0 * v0 / (2.0 * mu * a);
     let (r, mj) = run_checked(&scn, MoreauSolver::Cone, 0.05);

@@ -7,25 +7,15 @@
 //! loose tolerance. The README ("The rapier reference") reports the same
 //! figures.
 
+mod common;
+
+use common::{case_text, head_on_expected, rest_time, scenario};
+use floebench::analysis::check;
 use floebench::formulation::free_drift::FreeDrift;
 use floebench::formulation::rapier_ref::RapierReference;
 use floebench::formulation::{build, FormulationOptions, NAMES};
-use floebench::model::{parse_case, Scenario};
+use floebench::model::Scenario;
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
-use std::path::Path;
-
-fn case_text(name: &str) -> String {
-    std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
-            .join(format!("{name}.toml")),
-    )
-    .unwrap()
-}
-
-fn scenario(text: &str) -> Scenario {
-    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// Appends a `[formulation.rapier]` table with `settings` (TOML lines).
 fn with_rapier(text: &str, settings: &str) -> String {
@@ -58,12 +48,6 @@ fn ledger_checks(r: &RunResult) {
 
 fn rel(a: f64, b: f64) -> f64 {
     (a - b) / b.abs()
-}
-
-/// Wind acceleration `a = ρ_a C_a |U_a|² / (ρ_i h)` of the bouncing and sliding cases.
-fn wind_acceleration(scn: &Scenario) -> f64 {
-    let u = scn.environment.air.velocity.at(0.0).norm();
-    scn.environment.air.drag_factor() * u * u / scn.floes[0].surface_density()
 }
 
 #[test]
@@ -198,14 +182,11 @@ fn free_drift_reaches_the_analytic_drift_velocity() {
 
 /// The head-on case with restitution `e`: final velocities of both floes,
 /// the closed form, the run.
-fn head_on(e: f64) -> (f64, f64, f64, f64, RunResult, Scenario) {
-    let scn = scenario(
-        &case_text("head_on").replace("restitution = 0.4", &format!("restitution = {e:?}")),
-    );
+fn rapier_head_on(e: f64) -> (f64, f64, f64, f64, RunResult, Scenario) {
+    let scn = common::head_on(e);
     let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
     let (v1, v2) = (0.5, -0.1);
-    let v1p = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
-    let v2p = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
+    let (v1p, v2p) = head_on_expected(&scn, e);
     let r = run_rapier(&scn);
     let (a, b) = (
         r.final_state.bodies[0].velocity,
@@ -227,7 +208,7 @@ fn head_on(e: f64) -> (f64, f64, f64, f64, RunResult, Scenario) {
 
 #[test]
 fn head_on_plastic_impact_is_exact() {
-    let (a, b, v1p, v2p, r, _) = head_on(0.0);
+    let (a, b, v1p, v2p, r, _) = rapier_head_on(0.0);
     assert!((a - v1p).abs() <= 1e-9 * v1p.abs(), "{a} vs {v1p}");
     assert!((b - v2p).abs() <= 1e-9 * v2p.abs(), "{b} vs {v2p}");
     assert!(r.final_state.bodies[0].angular_velocity.abs() <= 1e-12);
@@ -249,7 +230,7 @@ fn head_on_with_restitution_misses_the_closed_form_by_a_pinned_error() {
         // 12.64 % of the kinetic energy lost in an elastic impact
         (1.0, 0.07069, -0.05807, 7.651e-3, Some(0.1264)),
     ] {
-        let (a, b, v1p, v2p, r, _) = head_on(e);
+        let (a, b, v1p, v2p, r, _) = rapier_head_on(e);
         let (e1, e2) = (rel(a, v1p), rel(b, v2p));
         let w = r.final_state.bodies[0].angular_velocity;
         eprintln!("e = {e}: v1' error {e1:.5}, v2' error {e2:.5}, spin {w:.4e}");
@@ -271,7 +252,7 @@ fn sliding_floe_stop_time_and_distance_errors_are_pinned() {
     let scn = scenario(
         &case_text("sliding_floe").replace("output_interval = 1.0", "output_interval = 0.1"),
     );
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let (mu, v0) = (scn.contact.friction, 0.05);
     let t_stop = v0 / (mu * a);
     let dist = v0 * v0 / (2.0 * mu * a);
@@ -330,21 +311,6 @@ fn bounces(r: &RunResult) -> Vec<(f64, f64, f64, f64)> {
         .collect()
 }
 
-/// The first sample after which floe 0 no longer moves (|vx| ≤ 1e-12 m/s).
-fn rest_time(r: &RunResult) -> f64 {
-    let last_move = r
-        .trajectory
-        .iter()
-        .filter(|row| row.vx.abs() > 1e-12)
-        .map(|row| row.t)
-        .fold(0.0, f64::max);
-    r.trajectory
-        .iter()
-        .map(|row| row.t)
-        .find(|&t| t > last_move)
-        .unwrap()
-}
-
 /// The bouncing case (output every step), optionally with another outline:
 /// the run, `t1`, `t∞`.
 fn bouncing(polygon: Option<&str>) -> (RunResult, f64, f64) {
@@ -358,7 +324,7 @@ fn bouncing(polygon: Option<&str>) -> (RunResult, f64, f64) {
     }
     let scn = scenario(&text);
     let e = scn.contact.restitution;
-    let a = wind_acceleration(&scn);
+    let a = check::wind_acceleration(&scn, 0);
     let t1 = (2.0 / a).sqrt();
     let t_inf = t1 * (1.0 + e) / (1.0 - e);
     let r = run_rapier(&scn);
