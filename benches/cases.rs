@@ -23,8 +23,9 @@ mod thread_cpu;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use floebench::compare::{case_files, default_formulations};
+use floebench::formulation::load_case;
 use floebench::formulation::{build, FormulationOptions};
-use floebench::model::{load_case, Scenario};
+use floebench::model::Scenario;
 use floebench::run::{RunOptions, Runner};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -47,7 +48,7 @@ fn heavy() -> bool {
 fn run_once(scn: &Scenario, name: &str) -> f64 {
     match build(name, scn, &FormulationOptions::default()) {
         Ok(mut f) => {
-            let r = Runner::new(RunOptions::default()).run(scn, f.as_mut());
+            let r = Runner::new(RunOptions::default()).run(scn, f.name(), f.formulation.as_mut());
             r.summary.t_reached
         }
         Err(e) => {

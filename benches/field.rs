@@ -4,7 +4,7 @@
 //! `cargo bench --bench field`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use floebench::model::load_case;
+use floebench::formulation::load_case;
 use std::hint::black_box;
 use std::path::Path;
 

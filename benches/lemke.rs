@@ -12,9 +12,10 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
 use floebench::contact::{detect, BroadPhase};
+use floebench::formulation::parse_case;
 use floebench::geometry::Vec2;
 use floebench::lcp::{solve, Lcp, SolveOptions};
-use floebench::model::{parse_case, Scenario};
+use floebench::model::Scenario;
 use std::hint::black_box;
 use std::path::Path;
 

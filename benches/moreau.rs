@@ -17,9 +17,11 @@
 //! `cargo bench --bench moreau`
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use floebench::formulation::load_case;
+use floebench::formulation::moreau::{MoreauSettings, ACTIVE_CONTACTS, CONTACT_GROUPS};
 use floebench::formulation::{build, FormulationOptions};
-use floebench::model::{load_case, Scenario};
-use floebench::run::StageClock;
+use floebench::model::Scenario;
+use floebench::record::StageClock;
 use floebench::state::System;
 use std::hint::black_box;
 use std::path::Path;
@@ -37,24 +39,27 @@ fn bench_steps(c: &mut Criterion, group: &str, scn: &Scenario, state: &System) {
     g.sample_size(20);
     for name in ["moreau", "moreau-cone"] {
         let mut form = build(name, scn, &FormulationOptions::default()).expect("formulation");
-        let h = scn.formulations.moreau.step;
+        let h = MoreauSettings::of(scn).expect("settings").step;
         let mut clock = StageClock::new();
         // One step first, to report the contact problem being timed.
         let mut probe = state.clone();
-        form.advance(scn, &mut probe, state.t + h, &mut clock)
+        form.formulation
+            .advance(scn, &mut probe, state.t + h, &mut clock)
             .expect("step");
-        let counts = form.counters().counts;
+        let counts = form.formulation.counters();
         eprintln!(
             "{group}/{name}: t = {} s, {} active contacts in {} groups",
             state.t,
-            counts.get("active_contacts").copied().unwrap_or(0),
-            counts.get("contact_groups").copied().unwrap_or(0)
+            counts.count(&ACTIVE_CONTACTS).expect("kept"),
+            counts.count(&CONTACT_GROUPS).expect("kept")
         );
         g.bench_function(name, |b| {
             b.iter_batched(
                 || state.clone(),
                 |mut s| {
-                    let r = form.advance(scn, &mut s, state.t + h, &mut clock);
+                    let r = form
+                        .formulation
+                        .advance(scn, &mut s, state.t + h, &mut clock);
                     black_box((r.is_ok(), s.t))
                 },
                 criterion::BatchSize::SmallInput,
@@ -70,7 +75,8 @@ fn moreau_step(c: &mut Criterion) {
     bench_steps(c, "moreau_step_field_200_t0", &scn, &start);
     let mut sys = start;
     let mut form = build("moreau", &scn, &FormulationOptions::default()).expect("formulation");
-    form.advance(&scn, &mut sys, COMPACTION, &mut StageClock::new())
+    form.formulation
+        .advance(&scn, &mut sys, COMPACTION, &mut StageClock::new())
         .expect("compaction run");
     bench_steps(c, "moreau_step_field_200_compacted", &scn, &sys);
 }

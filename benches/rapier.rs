@@ -13,10 +13,10 @@
 //! `cargo bench --bench rapier`
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use floebench::formulation::rapier_ref::RapierReference;
+use floebench::formulation::load_case;
+use floebench::formulation::rapier_ref::{RapierReference, MAX_CONTACT_PAIRS};
 use floebench::formulation::{Formulation, FormulationOptions};
-use floebench::model::load_case;
-use floebench::run::StageClock;
+use floebench::record::StageClock;
 use floebench::state::System;
 use std::hint::black_box;
 use std::path::Path;
@@ -40,7 +40,7 @@ fn rapier_step(c: &mut Criterion<ThreadCpu>) {
             Ok(f) => f,
             Err(e) => panic!("{e}"),
         };
-        let h = form.settings().step;
+        let h = form.resolved().step;
         let mut sys = System::initial(&scn);
         let mut clock = StageClock::new();
         if warm_up > 0.0 {
@@ -57,7 +57,12 @@ fn rapier_step(c: &mut Criterion<ThreadCpu>) {
                 }
             })
         });
-        let pairs = form.counters().values["max_contact_pairs"];
+        let pairs = form
+            .counters()
+            .value(&MAX_CONTACT_PAIRS)
+            .ok()
+            .flatten()
+            .unwrap_or(0.0);
         eprintln!("  (t = {:.0} s, up to {pairs} contact pairs)", sys.t);
     }
     g.finish();

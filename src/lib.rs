@@ -17,7 +17,8 @@
 //! - [`lcp`]: linear complementarity problems, our Lemke solver with fallbacks, dumps;
 //! - [`physics`]: environment forces and the smooth integrator;
 //! - [`state`]: the dynamic state and the energy ledger;
-//! - [`formulation`]: the [`formulation::Formulation`] trait and the formulations;
+//! - [`record`]: what formulations report with: typed counters and settings, the contact log, the stage clock;
+//! - [`formulation`]: the [`formulation::Formulation`] trait, the registry ([`formulation::REGISTRY`]) and the formulations;
 //! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files;
 //! - [`compare`]: the comparison harness (parallel runs, metrics, report page);
 //! - [`report`]: plots (line charts, stacked bars, plan views, snapshot grids) for the reports;
@@ -35,6 +36,7 @@ pub mod geometry;
 pub mod lcp;
 pub mod model;
 pub mod physics;
+pub mod record;
 pub mod report;
 pub mod rng;
 pub mod run;

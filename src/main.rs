@@ -2,8 +2,8 @@
 
 use clap::{Parser, Subcommand};
 use floebench::compare::CompareOptions;
-use floebench::formulation::{self, FormulationOptions};
-use floebench::model::{load_case, IntegratorKind, Scenario};
+use floebench::formulation::{self, load_case, FormulationOptions};
+use floebench::model::{IntegratorKind, Scenario};
 use floebench::run::{output, EndReason, RunOptions, Runner};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -153,7 +153,12 @@ fn main() -> ExitCode {
         } => check(&cases, formulations, markdown.as_deref(), quiet),
 
         Command::Formulations => {
-            for (name, what) in formulation::NAMES {
+            for formulation::Entry {
+                name,
+                description: what,
+                ..
+            } in formulation::REGISTRY
+            {
                 println!("{name:<14} {what}");
             }
             ExitCode::SUCCESS
@@ -233,7 +238,7 @@ fn run(
         progress: !quiet,
         multi: None,
     });
-    let result = runner.run(&scn, form.as_mut());
+    let result = runner.run(&scn, form.name(), form.formulation.as_mut());
     match output::write_run(&out, &result) {
         Ok(paths) => {
             for p in paths {

@@ -1,8 +1,12 @@
 //! The dynamic state every formulation advances: per-floe positions and
-//! velocities, the clock, and the energy ledger.
+//! velocities, the clock, and the energy ledger; and the scenario-level
+//! helpers every caller shares: world polygons, contact detection of the
+//! bodies, point and normal velocities, kinetic energy, largest point speed.
 
+use crate::contact::{detect, BroadPhase, Contact};
 use crate::geometry::Vec2;
-use crate::model::Scenario;
+use crate::model::{Body, Scenario};
+use crate::physics::forces::point_velocity;
 use serde::Serialize;
 
 /// Position and velocity of one floe (3 degrees of freedom).
@@ -85,11 +89,36 @@ impl System {
         self.bodies
             .iter()
             .zip(&scn.floes)
-            .map(|(b, f)| {
-                0.5 * f.mass * b.velocity.norm_squared()
-                    + 0.5 * f.inertia * b.angular_velocity * b.angular_velocity
+            .map(|(b, f)| f.kinetic_energy(&b.velocity, b.angular_velocity))
+            .sum()
+    }
+
+    /// Kinetic energy of the floes `floes` (indices), J.
+    pub fn group_kinetic_energy(&self, scn: &Scenario, floes: &[usize]) -> f64 {
+        floes
+            .iter()
+            .map(|&i| {
+                let b = &self.bodies[i];
+                scn.floes[i].kinetic_energy(&b.velocity, b.angular_velocity)
             })
             .sum()
+    }
+
+    /// The largest point speed of a floe, `max_i |Ġ_i| + |θ̇_i| r_i` (m/s,
+    /// `r_i` the floe's radius about its centre of mass): no material point
+    /// moves faster.
+    pub fn max_point_speed(&self, scn: &Scenario) -> f64 {
+        self.bodies
+            .iter()
+            .zip(&scn.floes)
+            .map(|(b, f)| b.velocity.norm() + b.angular_velocity.abs() * f.radius)
+            .fold(0.0, f64::max)
+    }
+
+    /// The world polygons of every body: the floes at their states, then the
+    /// obstacles (body ids as in [`Scenario::body`]).
+    pub fn world_polygons(&self, scn: &Scenario) -> Vec<Vec<Vec2>> {
+        world_polygons(scn, &self.bodies)
     }
 
     /// Total linear momentum `Σ M Ġ`, kg·m/s.
@@ -100,4 +129,52 @@ impl System {
             .map(|(b, f)| b.velocity * f.mass)
             .fold(Vec2::zeros(), |s, p| s + p)
     }
+}
+
+/// The world polygons of every body: floes at `bodies`, then the obstacles
+/// (body ids as in [`Scenario::body`]).
+pub fn world_polygons(scn: &Scenario, bodies: &[BodyState]) -> Vec<Vec<Vec2>> {
+    let mut out = Vec::with_capacity(bodies.len() + scn.obstacles.len());
+    for (f, b) in scn.floes.iter().zip(bodies) {
+        let mut p = Vec::with_capacity(f.shape.len());
+        f.world_polygon(&b.position, b.angle, &mut p);
+        out.push(p);
+    }
+    out.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
+    out
+}
+
+/// The contacts between the bodies at `bodies` (floes, then obstacles) closer
+/// than `distance` (m), by the shared detection ([`crate::contact::detect`]),
+/// into `out`; `bp` keeps the broad phase's buffers between calls.
+pub fn detect_contacts(
+    scn: &Scenario,
+    bodies: &[BodyState],
+    distance: f64,
+    bp: &mut BroadPhase,
+    out: &mut Vec<Contact>,
+) {
+    let polys = world_polygons(scn, bodies);
+    let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
+    let fixed: Vec<bool> = (0..refs.len())
+        .map(|i| matches!(scn.body(i), Body::Obstacle(_)))
+        .collect();
+    detect(&refs, &fixed, distance, bp, out);
+}
+
+/// The velocity of the material point of body `i` at world point `p` (m/s):
+/// `Ġ + θ̇ k ∧ GP` for a floe, zero for an obstacle.
+pub fn body_point_velocity(scn: &Scenario, bodies: &[BodyState], i: usize, p: &Vec2) -> Vec2 {
+    match scn.body(i) {
+        Body::Floe(k) => point_velocity(&bodies[k], &(p - bodies[k].position)),
+        Body::Obstacle(_) => Vec2::zeros(),
+    }
+}
+
+/// Normal relative velocity of a contact, `(v_b − v_a) · N` at the contact
+/// point (m/s; positive: separating).
+pub fn normal_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64 {
+    (body_point_velocity(scn, bodies, c.b, &c.geom.point)
+        - body_point_velocity(scn, bodies, c.a, &c.geom.point))
+    .dot(&c.geom.normal)
 }

@@ -3,7 +3,7 @@
 //! (`# expect: …`) and, where the rule points at a line, which (`# line: N`).
 //! Good files (all of `cases/`) must load.
 
-use floebench::model::load_case;
+use floebench::formulation::load_case;
 use std::path::Path;
 
 #[test]

@@ -4,9 +4,11 @@
 
 use floebench::analysis::check::{self, check_run, claimed_failures, CheckOutcome};
 use floebench::compare::{self, CompareOptions};
+use floebench::formulation::load_case;
 use floebench::formulation::{self, FormulationOptions};
-use floebench::model::{load_case, Scenario};
-use floebench::run::{ContactEvent, EndReason, ImpulseRecord, RunOptions, RunResult, Runner};
+use floebench::model::Scenario;
+use floebench::record::{ContactEvent, ImpulseRecord};
+use floebench::run::{EndReason, RunOptions, RunResult, Runner};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -20,7 +22,7 @@ fn case(name: &str) -> Scenario {
 
 fn run(scn: &Scenario, name: &str) -> RunResult {
     let mut f = formulation::build(name, scn, &FormulationOptions::default()).unwrap();
-    Runner::new(RunOptions::default()).run(scn, f.as_mut())
+    Runner::new(RunOptions::default()).run(scn, f.name(), f.formulation.as_mut())
 }
 
 fn find<'a>(rows: &'a [CheckOutcome], id: &str) -> &'a CheckOutcome {
@@ -100,7 +102,7 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
             "check `{id}` never applied"
         );
     }
-    for (name, _) in formulation::NAMES {
+    for formulation::Entry { name, .. } in formulation::REGISTRY {
         assert!(
             rows.iter().any(|o| o.formulation == *name),
             "{name} never ran"
@@ -129,8 +131,8 @@ fn structure_decides_applicability() {
     scn.environment.coriolis = 1e-4;
     assert!(check::find_symmetry(&scn).is_none());
     // Contact-free cases only for free-drift.
-    assert!(check::contact_free(&case("free_drift_coriolis")));
-    assert!(!check::contact_free(&case("head_on")));
+    assert!(case("free_drift_coriolis").contact_free());
+    assert!(!case("head_on").contact_free());
     assert!(!check::default_formulations(&case("head_on")).contains(&"free-drift"));
     // The bouncing floe's gap along the wind is 1 m, face on.
     let scn = case("bouncing_floe");
@@ -266,7 +268,7 @@ fn bouncing_rest_passes_at_the_accumulation_time_and_fails_when_late() {
     let text = std::fs::read_to_string(&path)
         .unwrap()
         .replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9");
-    let scn = floebench::model::parse_case(&text, &path).unwrap();
+    let scn = floebench::formulation::parse_case(&text, &path).unwrap();
     let r = run(&scn, "event-driven");
     fails_when_spoiled(&scn, &r, "bouncing_rest", |b| {
         for row in b

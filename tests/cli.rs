@@ -59,7 +59,11 @@ fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["end"]["reason"], "completed");
     assert_eq!(summary["formulation"], "event-driven");
-    assert!(summary["counters"]["counts"]["impacts"].as_u64().unwrap() == 1);
+    assert_eq!(summary["counters"]["impacts"]["value"].as_u64(), Some(1));
+    assert_eq!(summary["counters"]["impacts"]["unit"], "count");
+    // Settings are reported apart from the counters, with their unit.
+    assert_eq!(summary["settings"]["contact_distance_m"]["unit"], "m");
+    assert!(summary["counters"].get("contact_distance_m").is_none());
     for key in ["cpu_total", "stages", "wall"] {
         assert!(summary["timing"].get(key).is_some(), "{key}");
     }

@@ -3,8 +3,8 @@
 //! for runs that must differ.
 
 use floebench::compare::{self, metrics, CompareOptions};
+use floebench::formulation::load_case;
 use floebench::formulation::{self, FormulationOptions};
-use floebench::model::load_case;
 use floebench::run::{RunOptions, Runner};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -208,7 +208,7 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
     let scn = load_case(&case("cradle_touching")).unwrap();
     let run = |name: &str| {
         let mut f = formulation::build(name, &scn, &FormulationOptions::default()).unwrap();
-        Runner::new(RunOptions::default()).run(&scn, f.as_mut())
+        Runner::new(RunOptions::default()).run(&scn, f.name(), f.formulation.as_mut())
     };
     let a = run("event-driven");
     let b = run("event-driven");

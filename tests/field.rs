@@ -1,8 +1,9 @@
 //! The `[[field]]` generator: deterministic, non-overlapping, at the target
 //! concentration, within the radius and sides ranges.
 
+use floebench::formulation::parse_case;
 use floebench::geometry::{check_convex_ccw, convex_overlap, Vec2};
-use floebench::model::{parse_case, Scenario};
+use floebench::model::Scenario;
 use std::path::Path;
 
 fn field(seed: u64, count: usize, concentration: f64) -> Scenario {

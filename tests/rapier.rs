@@ -9,11 +9,11 @@
 
 mod common;
 
-use common::{case_text, head_on_expected, rest_time, scenario};
+use common::{case_text, counter, head_on_expected, rest_time, scenario};
 use floebench::analysis::check;
 use floebench::formulation::free_drift::FreeDrift;
 use floebench::formulation::rapier_ref::RapierReference;
-use floebench::formulation::{build, FormulationOptions, NAMES};
+use floebench::formulation::{build, FormulationOptions, REGISTRY};
 use floebench::model::Scenario;
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
 
@@ -24,7 +24,7 @@ fn with_rapier(text: &str, settings: &str) -> String {
 
 fn run_rapier(scn: &Scenario) -> RunResult {
     let mut f = RapierReference::new(scn, &FormulationOptions::default()).unwrap();
-    let r = Runner::new(RunOptions::default()).run(scn, &mut f);
+    let r = Runner::new(RunOptions::default()).run(scn, "rapier", &mut f);
     assert_eq!(r.summary.end, EndReason::Completed, "{}", scn.name);
     ledger_checks(&r);
     r
@@ -37,7 +37,7 @@ fn run_rapier(scn: &Scenario) -> RunResult {
 /// shows at large `ω h`: measured 2e-5 of `δ` at `h` = 1 s, `ω` = 1e-3 rad/s.
 fn ledger_checks(r: &RunResult) {
     let e = &r.summary.energy;
-    let defect = r.summary.counters.values["integration_defect_j"];
+    let defect = counter(r, "integration_defect_j");
     assert!(
         (e.residual + defect).abs() <= 1e-4 * defect + 1e-9 * e.exchanged.max(1.0),
         "{}: residual {} vs integration defect {defect}",
@@ -52,7 +52,7 @@ fn rel(a: f64, b: f64) -> f64 {
 
 #[test]
 fn rapier_is_registered_and_holds_the_floe_model_mass_properties() {
-    assert!(NAMES.iter().any(|n| n.0 == "rapier"));
+    assert!(REGISTRY.iter().any(|e| e.name == "rapier"));
     for case in ["head_on", "free_drift", "fields/field_200_coast"] {
         let scn = scenario(&case_text(case));
         assert!(build("rapier", &scn, &FormulationOptions::default()).is_ok());
@@ -76,7 +76,7 @@ fn rapier_is_registered_and_holds_the_floe_model_mass_properties() {
 fn defaults_are_the_documented_ones() {
     let scn = scenario(&case_text("head_on"));
     let f = RapierReference::new(&scn, &FormulationOptions::default()).unwrap();
-    let s = f.settings();
+    let s = f.resolved();
     assert_eq!((s.step, s.iterations), (0.1, 4));
     // A quarter of the substep rate n/h, critically damped.
     assert_eq!((s.natural_frequency, s.damping_ratio), (10.0, 1.0));
@@ -89,7 +89,7 @@ fn defaults_are_the_documented_ones() {
         "step = 0.05\niterations = 8\nnatural_frequency = 30.0\ndamping_ratio = 5.0\nprediction = 0.3",
     ));
     let f = RapierReference::new(&scn, &FormulationOptions::default()).unwrap();
-    let s = f.settings();
+    let s = f.resolved();
     assert_eq!(
         (
             s.step,
@@ -131,7 +131,7 @@ fn free_drift_matches_the_project_integrator_to_first_order_in_h() {
     let reference = {
         let scn = scenario(&text);
         let mut f = FreeDrift::new(&scn, &FormulationOptions::default());
-        Runner::new(RunOptions::default()).run(&scn, &mut f)
+        Runner::new(RunOptions::default()).run(&scn, "free-drift", &mut f)
     };
     let mut gaps = Vec::new();
     for h in [1.0, 0.5, 0.1] {
@@ -201,7 +201,7 @@ fn rapier_head_on(e: f64) -> (f64, f64, f64, f64, RunResult, Scenario) {
     );
     // The approach (0.6 m/s × 0.1 s per step) is caught by the speculative
     // contacts: no penetration.
-    let pen = r.summary.counters.values["max_penetration_m"];
+    let pen = counter(&r, "max_penetration_m");
     assert!(pen <= 1e-9, "e = {e}: penetration {pen} m");
     (a.x, b.x, v1p, v2p, r, scn)
 }
@@ -258,7 +258,7 @@ fn sliding_floe_stop_time_and_distance_errors_are_pinned() {
     let dist = v0 * v0 / (2.0 * mu * a);
     let s = *RapierReference::new(&scn, &FormulationOptions::default())
         .unwrap()
-        .settings();
+        .resolved();
     let h = s.step;
     let r = run_rapier(&scn);
     // The deceleration is exactly μa: the floe stops (first sample with
@@ -298,7 +298,7 @@ fn sliding_floe_stop_time_and_distance_errors_are_pinned() {
     }
     // Rests pressed on the wall: the soft contact penetrates by about
     // a/(2π f)², 6e-8 m here (measured 7.6e-8 m).
-    let pen = r.summary.counters.values["max_penetration_m"];
+    let pen = counter(&r, "max_penetration_m");
     assert!(pen <= 1e-6, "penetration {pen}");
 }
 

@@ -4,7 +4,7 @@
 
 use criterion::measurement::{Measurement, ValueFormatter};
 use criterion::Throughput;
-use floebench::run::thread_cpu_seconds;
+use floebench::record::thread_cpu_seconds;
 
 /// Thread CPU time, in nanoseconds.
 pub struct ThreadCpu;

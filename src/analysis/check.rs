@@ -23,23 +23,26 @@
 //! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
 //!
 //! Whether a formulation *claims* a check is decided by one table,
-//! [`NOT_CLAIMED`]: every check is claimed by every formulation unless
+//! each formulation's registry entry ([`formulation::Entry::not_claimed`]): every check is claimed by every formulation unless
 //! listed there, with the reason. A failing claimed check makes
 //! `floebench check` exit non-zero; a failing unclaimed one is printed as
 //! `fail (known)`, a finding.
 //!
-//! Which formulations run: every formulation of [`crate::formulation::NAMES`],
+//! Which formulations run: every formulation of [`crate::formulation::REGISTRY`],
 //! except `free-drift` on a case where contacts can happen. A case is
-//! *contact-free* ([`contact_free`]) when it has no obstacle and every floe
+//! *contact-free* ([`Scenario::contact_free`]) when it has no obstacle and every floe
 //! starts at rest (only the environment moves them; the drift cases keep
 //! their floes apart, which the `penetration` check verifies).
 
 use crate::contact::{signed_distance, Aabb, BroadPhase};
 use crate::formulation;
 use crate::formulation::contact_solver::COULOMB_SLACK;
-use crate::formulation::event_driven::DEFAULT_PENETRATION_FRACTION;
+use crate::formulation::event_driven::{
+    floe_length_scale, EventDrivenSettings, DEFAULT_PENETRATION_FRACTION,
+};
 use crate::geometry::{cross, Vec2};
 use crate::model::{Scenario, VelocitySeries};
+use crate::record::counters::common::MAX_PENETRATION;
 use crate::run::{EndReason, RunResult, TrajectoryRow};
 use serde::Serialize;
 
@@ -65,7 +68,7 @@ pub struct CheckOutcome {
     pub unit: String,
     /// Whether the run passes.
     pub pass: bool,
-    /// Whether the formulation claims to pass ([`NOT_CLAIMED`]).
+    /// Whether the formulation claims to pass ([`not_claimed`]).
     pub claimed: bool,
     /// The reason when not claimed, or a detail of the measurement.
     pub note: String,
@@ -133,156 +136,14 @@ pub const LEDGER_TOLERANCE: f64 = 1e-6;
 /// (mirror images, touching floes, collinear centres).
 const GEOMETRY_MATCH: f64 = 1e-9;
 
-/// A check a formulation does not claim to pass, and why.
-#[derive(Debug, Clone, Copy)]
-pub struct NotClaimed {
-    /// Formulation name.
-    pub formulation: &'static str,
-    /// Check id.
-    pub check: &'static str,
-    /// Case name, or `None` for every case.
-    pub case: Option<&'static str>,
-    /// Why the check is not claimed (a measured finding).
-    pub reason: &'static str,
-}
-
-/// The one claims table: every formulation claims every check that applies,
-/// except these.
-pub const NOT_CLAIMED: &[NotClaimed] = &[
-    // event-driven
-    NotClaimed {
-        formulation: "event-driven",
-        check: "bouncing_rest",
-        case: None,
-        reason: "with the default contact distance (1e-3 of the smallest radius, 7.07 mm on bouncing_floe) the last bounces, lower than the distance, are resolved at step starts instead of being located: rests at 267 s for 273.3 s (2.3 % early); with distance = 1e-9 it rests within 0.3 % (tests/event_driven.rs)",
-    },
-    NotClaimed {
-        formulation: "event-driven",
-        check: "cradle_physical",
-        case: None,
-        reason: "a simultaneous impact law on touching floes gives the LCP answer ((2-n)/n, 2/n, ...) v0, not the sequential one (physics.md section 6); cradle_outcome checks the LCP answer",
-    },
-    // moreau (Lemke) and moreau-cone
-    NotClaimed {
-        formulation: "moreau",
-        check: "penetration",
-        case: None,
-        reason: "positions are not projected: a contact activated by the predicted gap ends its step penetrated by O(h u_N) (h = 1 s: 0.19 m head-on, 2.3 m in the elastic pool)",
-    },
-    NotClaimed {
-        formulation: "moreau-cone",
-        check: "penetration",
-        case: None,
-        reason: "positions are not projected (O(h u_N), as moreau); the cone relaxation also lifts a sliding floe off and lands it again (sliding_floe)",
-    },
-    NotClaimed {
-        formulation: "moreau",
-        check: "bouncing_rest",
-        case: None,
-        reason: "impacts are not located in time: with h = 1 s the rebounds shorter than a step are lumped into the step's impulse and the floe rests 3.3 s (1.2 %) before the accumulation time",
-    },
-    NotClaimed {
-        formulation: "moreau-cone",
-        check: "bouncing_rest",
-        case: None,
-        reason: "as moreau: impacts not located in time, rests 3.3 s (1.2 %) before the accumulation time at h = 1 s",
-    },
-    NotClaimed {
-        formulation: "moreau",
-        check: "cradle_physical",
-        case: None,
-        reason: "one contact problem per step: touching floes get the simultaneous LCP answer (cradle_outcome checks it)",
-    },
-    NotClaimed {
-        formulation: "moreau-cone",
-        check: "cradle_physical",
-        case: None,
-        reason: "one contact problem per step: touching floes get the simultaneous answer (cradle_outcome checks it)",
-    },
-    // rapier: the regularised reference
-    NotClaimed {
-        formulation: "rapier",
-        check: "head_on_v1",
-        case: None,
-        reason: "restitution applied in one sequential Gauss-Seidel sweep over a two-point manifold: e = 0.4 head-on velocities off by 7.56 % (v1') and 4.78 % (v2'), with a spin",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "head_on_v2",
-        case: None,
-        reason: "as head_on_v1: sequential restitution over a two-point manifold",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "symmetry",
-        case: None,
-        reason: "sequential restitution over two-point manifolds gives face-on impacts a spin the set-up cannot produce, so mirror images drift apart",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "coulomb",
-        case: None,
-        reason: "friction is solved in the relax sweeps against the normal impulse of the sweep; the step's accumulated impulses can leave the cone (narrow_channel: 19 of 16,405, some tangential impulses beside a zero normal one)",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "bouncing_rest",
-        case: None,
-        reason: "the face-on floe rebounds short (0.44 instead of 0.5) and rocks on its corners; once a rebound is about a h the contact persists, gets no restitution and sticks: rests 10 % early",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "energy_conserved",
-        case: None,
-        reason: "restitution only on new contacts and soft (spring) contacts: e = 1 collisions lose or gain energy (elastic pool: 5 %, cradles: 40-60 %)",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "impact_energy",
-        case: None,
-        reason: "soft contacts push penetrations out with a spring and give energy back (cradle_touching, elastic_pool, piles)",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "penetration",
-        case: None,
-        reason: "soft contacts penetrate by design (a resting floe sits a/(2 pi f)^2 into the wall; colliding floes overlap by cm)",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "cradle_outcome",
-        case: None,
-        reason: "neither the sequential nor the simultaneous answer: soft contacts and sequential restitution spread the momentum over the row",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "cradle_physical",
-        case: None,
-        reason: "as cradle_outcome",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "cannon_velocities",
-        case: None,
-        reason: "face-on impacts with restitution miss the head-on law (two-point manifolds, sequential restitution)",
-    },
-    NotClaimed {
-        formulation: "rapier",
-        check: "energy_ledger",
-        case: None,
-        reason: "the residual is -sum of rapier's integration defect h^2 |F|^2 / (2 n M) per step (first order in h), not a 1e-10 integration: 1.9e-4 of the exchanged energy on bouncing_floe",
-    },
-];
-
-/// The reason a formulation does not claim `check` on `case`, or `None` when
-/// it claims it.
+/// The reason formulation `formulation` does not claim `check` on `case`
+/// (its registry entry's [`formulation::NotClaimed`] list), or `None` when
+/// it claims it; an unknown formulation claims nothing.
 pub fn not_claimed(formulation: &str, check: &str, case: &str) -> Option<&'static str> {
-    NOT_CLAIMED
-        .iter()
-        .find(|c| {
-            c.formulation == formulation && c.check == check && c.case.is_none_or(|n| n == case)
-        })
-        .map(|c| c.reason)
+    match formulation::entry(formulation) {
+        Ok(e) => e.not_claimed(check, case),
+        Err(_) => Some("not a formulation of the registry"),
+    }
 }
 
 // ---------------------------------------------------------------------------
@@ -295,22 +156,13 @@ pub fn no_forcing(scn: &Scenario) -> bool {
     air_off && env.water.drag_factor() == 0.0 && env.coriolis == 0.0
 }
 
-/// Whether contacts cannot happen by construction: no obstacle and every
-/// floe starts at rest (see the module doc); `free-drift` runs only there.
-pub fn contact_free(scn: &Scenario) -> bool {
-    scn.obstacles.is_empty()
-        && scn
-            .floes
-            .iter()
-            .all(|f| f.velocity.norm() == 0.0 && f.angular_velocity == 0.0)
-}
-
-/// The formulations `check` runs on `scn` by default.
+/// The formulations `check` runs on `scn` by default: those of the registry
+/// that apply to it ([`formulation::Entry::applies`]).
 pub fn default_formulations(scn: &Scenario) -> Vec<&'static str> {
-    formulation::NAMES
+    formulation::REGISTRY
         .iter()
-        .map(|n| n.0)
-        .filter(|&n| n != "free-drift" || contact_free(scn))
+        .filter(|e| e.applies(scn))
+        .map(|e| e.name)
         .collect()
 }
 
@@ -663,7 +515,7 @@ impl Rows<'_> {
 }
 
 /// Every check that applies to `scn`, measured on `run` (see the module
-/// doc); `claimed` and `note` from [`NOT_CLAIMED`].
+/// doc); `claimed` and `note` from [`not_claimed`].
 pub fn check_run(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     let mut r = Rows {
         scn,
@@ -825,15 +677,13 @@ fn penetration(r: &mut Rows) {
         .run
         .summary
         .counters
-        .values
-        .get("max_penetration_m")
-        .copied();
-    let rmin = scn.min_floe_radius();
-    let tol = scn
-        .formulations
-        .event_driven
-        .penetration_tolerance
-        .unwrap_or(DEFAULT_PENETRATION_FRACTION * rmin);
+        .value(&MAX_PENETRATION)
+        .ok()
+        .flatten();
+    let tol = EventDrivenSettings::of(scn)
+        .map_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn), |s| {
+            s.penetration_tolerance(scn)
+        });
     r.push(
         "penetration",
         "deepest overlap, at the outputs and as the formulation saw it",

@@ -14,6 +14,7 @@
 
 use super::CompareError;
 use crate::model::Scenario;
+use crate::record::SettingValue;
 use crate::run::{EndReason, RunResult, TrajectoryRow};
 use serde::Serialize;
 
@@ -168,24 +169,9 @@ pub fn divergence(
     })
 }
 
-/// The unit of a counter's real-valued figure, from its name's suffix.
-fn value_unit(name: &str) -> &'static str {
-    const SUFFIXES: &[(&str, &str)] = &[
-        ("_m_per_s", "m/s"),
-        ("_rel", "-"),
-        ("_m", "m"),
-        ("_s", "s"),
-        ("_j", "J"),
-        ("_hz", "Hz"),
-    ];
-    SUFFIXES
-        .iter()
-        .find(|(s, _)| name.ends_with(s))
-        .map_or("-", |(_, u)| u)
-}
-
 /// The figures of one run: time reached, energy totals, CPU time in total,
-/// per simulated second and per stage, and every counter of the formulation.
+/// per simulated second and per stage, every counter of the formulation
+/// with its unit, and its numeric settings.
 pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     let s = &run.summary;
     let e = &s.energy;
@@ -239,11 +225,13 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     push("cpu_integration", t.stages.integration, "s");
     push("cpu_other", t.cpu_other, "s");
     push("wall", t.wall, "s");
-    for (name, &n) in &s.counters.counts {
-        push(name, n as f64, "count");
+    for (c, v) in s.counters.iter() {
+        push(c.name, v, c.unit.symbol());
     }
-    for (name, &v) in &s.counters.values {
-        push(name, v, value_unit(name));
+    for st in &s.settings.0 {
+        if let SettingValue::Number(v) = st.value {
+            push(st.name, v, st.unit.symbol());
+        }
     }
     rows
 }

@@ -19,8 +19,8 @@ pub mod page;
 pub mod report;
 
 use crate::analysis::check::{self, CheckOutcome};
-use crate::formulation::{self, FormulationOptions};
-use crate::model::{load_case, IntegratorKind, Scenario};
+use crate::formulation::{self, load_case, FormulationOptions};
+use crate::model::{IntegratorKind, Scenario};
 use crate::run::{RunOptions, RunResult, Runner};
 use metrics::{MetricRow, PairDivergence};
 use std::path::PathBuf;
@@ -60,10 +60,10 @@ pub enum CompareError {
 /// Every formulation that handles contacts (all but `free-drift`): the
 /// benches' list.
 pub fn default_formulations() -> Vec<String> {
-    formulation::NAMES
+    formulation::REGISTRY
         .iter()
-        .map(|n| n.0.to_string())
-        .filter(|n| n != "free-drift")
+        .filter(|e| e.resolves_contacts)
+        .map(|e| e.name.to_string())
         .collect()
 }
 
@@ -214,7 +214,7 @@ pub fn compare(
                     multi: multi.clone(),
                 });
                 let out = formulation::build(&lists[c][f], scn, &fopts)
-                    .map(|mut form| runner.run(scn, form.as_mut()));
+                    .map(|mut form| runner.run(scn, form.name(), form.formulation.as_mut()));
                 if let Ok(mut r) = results.lock() {
                     r[k] = Some(out);
                 }

@@ -20,6 +20,12 @@ use super::metrics::{self, MetricRow, PairDivergence};
 use super::page::{self, Block};
 use super::{CaseComparison, CompareError};
 use crate::analysis::check::{self, CheckOutcome};
+use crate::formulation::contact_solver::{
+    CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
+    LCP_SOLVES, LCP_UNRESOLVED,
+};
+use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
+use crate::record::Counter;
 use crate::run::output::{self, write_atomic};
 use crate::run::{EndReason, RunResult, RunSummary};
 use serde::Serialize;
@@ -116,10 +122,10 @@ struct CaseSummary<'a> {
 }
 
 /// The sum of the counts `keys`, or `-` if the formulation keeps none of them.
-fn count(s: &RunSummary, keys: &[&str]) -> String {
+fn count(s: &RunSummary, keys: &[&Counter]) -> String {
     let found: Vec<u64> = keys
         .iter()
-        .filter_map(|k| s.counters.counts.get(*k).copied())
+        .filter_map(|k| s.counters.count(k).ok())
         .collect();
     if found.is_empty() {
         "-".into()
@@ -130,7 +136,7 @@ fn count(s: &RunSummary, keys: &[&str]) -> String {
 
 /// Contact problems solved (LCPs and cone programs).
 fn solves(s: &RunSummary) -> String {
-    count(s, &["lcp_solves", "cone_solves"])
+    count(s, &[&LCP_SOLVES, &CONE_SOLVES])
 }
 
 /// Contact problems that needed a fallback or were not solved.
@@ -138,10 +144,10 @@ fn fallbacks(s: &RunSummary) -> String {
     count(
         s,
         &[
-            "lcp_solved_by_fallback",
-            "lcp_last_resort_frictionless",
-            "lcp_unresolved",
-            "cone_fallback_lcp",
+            &LCP_SOLVED_BY_FALLBACK,
+            &LCP_LAST_RESORT_FRICTIONLESS,
+            &LCP_UNRESOLVED,
+            &CONE_FALLBACK_LCP,
         ],
     )
 }
@@ -298,14 +304,15 @@ fn runs_table(comp: &CaseComparison) -> Block {
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 fmt_num(s.energy.max_abs_residual / s.energy.exchanged.max(1e-300)),
-                count(s, &["steps"]),
-                count(s, &["impacts"]),
+                count(s, &[&STEPS]),
+                count(s, &[&IMPACTS]),
                 solves(s),
                 fallbacks(s),
                 s.counters
-                    .values
-                    .get("max_penetration_m")
-                    .map_or("-".into(), |v| fmt_num(*v)),
+                    .value(&MAX_PENETRATION)
+                    .ok()
+                    .flatten()
+                    .map_or("-".into(), fmt_num),
             ]
         })
         .collect();

@@ -1,58 +1,261 @@
-//! The contact-problem solver shared by the formulations that solve the
-//! velocity–impulse LCP of physics.md 3.1 (event-driven, Moreau–Jean): one
-//! place for the solve with fallbacks, the last resort, the counters, the
-//! LCP dumps and the Coulomb check.
+//! The one contact-problem solver of the formulations that solve contact
+//! problems (event-driven, Moreau–Jean): Lemke's LCP and the cone program are
+//! two choices of it ([`SolverKind`]), with one set of counters, one
+//! fallback chain, one Coulomb check, one row scaling and one dump writer.
 //!
-//! Every LCP goes through [`crate::lcp::solve()`] (lexicographic Lemke, another
-//! pivot rule with another covering vector, a perturbed matrix), whose
-//! residual is recomputed on the original data. When all attempts fail, the
-//! documented last resort is the frictionless LCP of the same contacts
-//! (counted as `lcp_last_resort_frictionless`); if that fails too, no impulse
-//! is applied (counted as `lcp_unresolved`). The returned `z` is never NaN.
+//! - **`lcp`**: the velocity–impulse LCP of docs/physics.md §3.1 by
+//!   [`crate::lcp::solve()`] (lexicographic Lemke, another pivot rule with
+//!   another covering vector, a perturbed matrix), whose residual is
+//!   recomputed on the original data. Before the solve, each Coulomb row
+//!   `σ_j = μ λ_j − Eᵀβ̃` is scaled by the contact's normal Delassus diagonal
+//!   ([`ContactLcp::with_velocity_coulomb_rows`]) so that every row of `w`
+//!   is a velocity and the residual `‖min(z, w)‖/‖q‖` is consistent in units;
+//!   the scaling keeps the solutions. When every attempt fails, the last
+//!   resort is the frictionless LCP of the same contacts
+//!   ([`LCP_LAST_RESORT_FRICTIONLESS`]); if that fails too, no impulse is
+//!   applied ([`LCP_UNRESOLVED`]). Every LCP solved is written to the dump
+//!   folder when one is given.
+//! - **`cone`**: the Anitescu–Tasora relaxation ([`crate::contact::cone`]),
+//!   a second-order-cone program solved by clarabel; a failed cone solve is
+//!   counted ([`CONE_FAILED`]) and the problem falls back to the `lcp`
+//!   chain above ([`CONE_FALLBACK_LCP`]).
 //!
-//! Counters written into the formulation's [`Counters`]: `lcp_solves`,
-//! `lcp_unknowns_total`, `lcp_size_max`, `lcp_dump_failures`,
-//! `coulomb_violations` (an accepted impulse with `|β| > μ λ (1 + 1e-9)`
-//! beyond the rounding allowance of the accepted residual, see
-//! [`ContactSolver::check_coulomb`]),
-//! and by [`ContactSolver::report`]: the Lemke pivots and fallbacks
-//! (`lemke_pivots`, `lemke_max_pivots`, `lcp_solved_first_attempt`,
-//! `lcp_solved_by_fallback`, `lcp_fallback_alternative_rule`,
-//! `lcp_fallback_perturbed`, `lcp_failed`, `lcp_max_accepted_residual`) and
-//! `max_coulomb_ratio` (largest `|β| / (μ λ)` over accepted impulses).
+//! Every accepted frictional impulse goes through the same Coulomb check
+//! ([`ContactSolver::check_coulomb`]) and into the contact log. The returned
+//! `z` is never NaN.
 
+use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::ContactLcp;
 use crate::lcp::{solve, LcpDump, LcpSolution, SolveCounters, SolveOptions};
-use crate::run::{ContactLog, Counters, ImpulseRecord};
+use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, Unit};
 use std::path::PathBuf;
 
 /// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
 /// LCP solution has residual ≤ 1e-10 relative to `‖q‖`.
 pub const COULOMB_SLACK: f64 = 1e-9;
 
-/// Lemke with fallbacks, last resort, dumps and the Coulomb check.
+/// LCPs solved (every attempt chain, the frictionless last resort included).
+pub const LCP_SOLVES: Counter = Counter::sum("lcp_solves", "LCPs solved");
+/// Unknowns over every LCP solved.
+pub const LCP_UNKNOWNS_TOTAL: Counter =
+    Counter::sum("lcp_unknowns_total", "unknowns over every LCP solved");
+/// Largest LCP solved, unknowns.
+pub const LCP_SIZE_MAX: Counter =
+    Counter::max("lcp_size_max", Unit::Count, "largest LCP solved, unknowns");
+/// Dumps that could not be written.
+pub const LCP_DUMP_FAILURES: Counter =
+    Counter::sum("lcp_dump_failures", "LCP dumps that could not be written");
+/// Accepted impulses outside the Coulomb cone beyond the rounding allowance.
+pub const COULOMB_VIOLATIONS: Counter = Counter::sum(
+    "coulomb_violations",
+    "accepted impulses with |β| > μ λ (1 + 1e-9) beyond the rounding allowance",
+);
+/// Frictional LCPs replaced by the frictionless LCP of the same contacts.
+pub const LCP_LAST_RESORT_FRICTIONLESS: Counter = Counter::sum(
+    "lcp_last_resort_frictionless",
+    "frictional LCPs replaced by the frictionless LCP of the same contacts",
+);
+/// Contact problems left without impulse (every attempt failed).
+pub const LCP_UNRESOLVED: Counter = Counter::sum(
+    "lcp_unresolved",
+    "contact problems left without impulse: every attempt failed",
+);
+/// Lemke pivots over every attempt.
+pub const LEMKE_PIVOTS: Counter = Counter::sum("lemke_pivots", "Lemke pivots over every attempt");
+/// Most pivots of one solve.
+pub const LEMKE_MAX_PIVOTS: Counter = Counter::sum("lemke_max_pivots", "most pivots of one solve");
+/// LCPs solved by the first attempt.
+pub const LCP_SOLVED_FIRST_ATTEMPT: Counter = Counter::sum(
+    "lcp_solved_first_attempt",
+    "LCPs solved by the first attempt",
+);
+/// LCPs solved by a fallback attempt.
+pub const LCP_SOLVED_BY_FALLBACK: Counter = Counter::sum(
+    "lcp_solved_by_fallback",
+    "LCPs solved by a fallback attempt",
+);
+/// LCPs solved by the alternative pivot rule.
+pub const LCP_FALLBACK_ALTERNATIVE_RULE: Counter = Counter::sum(
+    "lcp_fallback_alternative_rule",
+    "LCPs solved by the alternative pivot rule",
+);
+/// LCPs solved with a perturbed matrix.
+pub const LCP_FALLBACK_PERTURBED: Counter = Counter::sum(
+    "lcp_fallback_perturbed",
+    "LCPs solved with a perturbed matrix",
+);
+/// LCPs no attempt solved.
+pub const LCP_FAILED: Counter = Counter::sum("lcp_failed", "LCPs no attempt solved");
+/// Largest accepted relative residual.
+pub const LCP_MAX_ACCEPTED_RESIDUAL: Counter = Counter::value(
+    "lcp_max_accepted_residual",
+    Unit::Dimensionless,
+    "largest accepted residual ‖min(z, w)‖/‖q‖",
+);
+/// Largest `|β| / (μ λ)` over accepted impulses.
+pub const MAX_COULOMB_RATIO: Counter = Counter::value(
+    "max_coulomb_ratio",
+    Unit::Dimensionless,
+    "largest |β|/(μ λ) over accepted impulses",
+);
+/// Cone programs solved.
+pub const CONE_SOLVES: Counter = Counter::sum("cone_solves", "cone programs solved");
+/// Interior-point iterations over every cone solve.
+pub const CONE_ITERATIONS: Counter = Counter::sum(
+    "cone_iterations",
+    "interior-point iterations over every cone solve",
+);
+/// Most iterations of one cone solve.
+pub const CONE_MAX_ITERATIONS: Counter = Counter::max(
+    "cone_max_iterations",
+    Unit::Count,
+    "most interior-point iterations of one cone solve",
+);
+/// Unknowns over every cone program.
+pub const CONE_UNKNOWNS_TOTAL: Counter =
+    Counter::sum("cone_unknowns_total", "unknowns over every cone program");
+/// Cone solves clarabel reported `AlmostSolved`.
+pub const CONE_ALMOST_SOLVED: Counter = Counter::sum(
+    "cone_almost_solved",
+    "cone solves clarabel reported AlmostSolved",
+);
+/// Cone solves rescued by the active-set polish.
+pub const CONE_RESCUED_BY_POLISH: Counter = Counter::sum(
+    "cone_rescued_by_polish",
+    "cone solves rescued by the active-set polish",
+);
+/// Cone solves that failed.
+pub const CONE_FAILED: Counter = Counter::sum("cone_failed", "cone solves that failed");
+/// Failed cone solves handed to the LCP chain.
+pub const CONE_FALLBACK_LCP: Counter = Counter::sum(
+    "cone_fallback_lcp",
+    "failed cone solves handed to the LCP chain",
+);
+/// Largest distance of a raw cone solution outside the cone, relative.
+pub const CONE_MAX_PROJECTION_REL: Counter = Counter::max(
+    "cone_max_projection_rel",
+    Unit::Dimensionless,
+    "largest distance of a raw cone solution outside the cone, relative to the impulse scale",
+);
+/// Cone solutions replaced by their active-set polish.
+pub const CONE_POLISHED: Counter = Counter::sum(
+    "cone_polished",
+    "cone solutions replaced by their active-set polish",
+);
+/// The cone artefact: largest normal speed of a pushing contact, m/s.
+pub const CONE_MAX_PUSHING_NORMAL_SPEED: Counter = Counter::max(
+    "cone_max_pushing_normal_speed_m_per_s",
+    Unit::MetrePerSecond,
+    "largest normal speed (with the Newton offset) of a pushing contact: μ|u_T| while sliding",
+);
+
+/// The counters of the `lcp` solver.
+const LCP_COUNTERS: &[&Counter] = &[
+    &LCP_SOLVES,
+    &LCP_UNKNOWNS_TOTAL,
+    &LCP_DUMP_FAILURES,
+    &COULOMB_VIOLATIONS,
+    &LCP_LAST_RESORT_FRICTIONLESS,
+    &LCP_UNRESOLVED,
+    &LEMKE_PIVOTS,
+    &LEMKE_MAX_PIVOTS,
+    &LCP_SOLVED_FIRST_ATTEMPT,
+    &LCP_SOLVED_BY_FALLBACK,
+    &LCP_FALLBACK_ALTERNATIVE_RULE,
+    &LCP_FALLBACK_PERTURBED,
+    &LCP_FAILED,
+    &LCP_SIZE_MAX,
+    &LCP_MAX_ACCEPTED_RESIDUAL,
+    &MAX_COULOMB_RATIO,
+];
+
+/// The counters the `cone` solver adds.
+const CONE_COUNTERS: &[&Counter] = &[
+    &CONE_SOLVES,
+    &CONE_ITERATIONS,
+    &CONE_UNKNOWNS_TOTAL,
+    &CONE_ALMOST_SOLVED,
+    &CONE_RESCUED_BY_POLISH,
+    &CONE_FAILED,
+    &CONE_FALLBACK_LCP,
+    &CONE_POLISHED,
+    &CONE_MAX_ITERATIONS,
+    &CONE_MAX_PROJECTION_REL,
+    &CONE_MAX_PUSHING_NORMAL_SPEED,
+];
+
+/// Which method solves a contact problem (`solver = "lcp" | "cone"` in a
+/// formulation's settings table).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SolverKind {
+    /// `"lcp"`: the Stewart–Trinkle LCP by our Lemke (exact Coulomb in 2D).
+    Lcp,
+    /// `"cone"`: the Anitescu–Tasora convex relaxation by clarabel.
+    Cone,
+}
+
+impl SolverKind {
+    /// The name in settings and reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            SolverKind::Lcp => "lcp",
+            SolverKind::Cone => "cone",
+        }
+    }
+}
+
+impl std::str::FromStr for SolverKind {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "lcp" => Ok(SolverKind::Lcp),
+            "cone" => Ok(SolverKind::Cone),
+            other => Err(format!(
+                "unknown solver `{other}`; expected `lcp` or `cone`"
+            )),
+        }
+    }
+}
+
+/// Lemke or the cone, with fallbacks, last resort, dumps and the Coulomb check.
 #[derive(Debug, Clone)]
 pub struct ContactSolver {
+    kind: SolverKind,
     opts: SolveOptions,
+    cone_opts: ConeOptions,
     dump: Option<PathBuf>,
     dump_seq: u64,
     lcp_counters: SolveCounters,
+    counters: Counters,
     max_coulomb_ratio: f64,
     log: ContactLog,
 }
 
 impl ContactSolver {
-    /// A solver with the default [`SolveOptions`]; with `dump`, every LCP
-    /// solved is written there as `<seq>.json` (`000000.json`, …).
-    pub fn new(dump: Option<PathBuf>) -> ContactSolver {
+    /// A solver of `kind` with the default [`SolveOptions`] and
+    /// [`ConeOptions`]; with `dump`, every LCP solved is written there as
+    /// `<seq>.json` (`000000.json`, …).
+    pub fn new(kind: SolverKind, dump: Option<PathBuf>) -> ContactSolver {
+        let mut counters = Counters::new(LCP_COUNTERS);
+        if kind == SolverKind::Cone {
+            counters.declare(CONE_COUNTERS);
+        }
         ContactSolver {
+            kind,
             opts: SolveOptions::default(),
+            cone_opts: ConeOptions::default(),
             dump,
             dump_seq: 0,
             lcp_counters: SolveCounters::default(),
+            counters,
             max_coulomb_ratio: 0.0,
             log: ContactLog::recording(),
         }
+    }
+
+    /// The method in use.
+    pub fn kind(&self) -> SolverKind {
+        self.kind
     }
 
     /// Largest `|β| / (μ λ)` over every accepted contact impulse so far (0
@@ -72,41 +275,104 @@ impl ContactSolver {
         std::mem::replace(&mut self.log, ContactLog::recording())
     }
 
-    /// Solves one contact LCP with the fallbacks and the last resort; returns
-    /// `z` (never NaN, length `lcp.lcp.n`) and records counters and dumps. `t`
-    /// is the simulation time written into the dump, s.
-    pub fn solve(&mut self, lcp: &ContactLcp, t: f64, counters: &mut Counters) -> Vec<f64> {
+    /// The solver's counters: its own, the Lemke pivots and attempts, and
+    /// the largest Coulomb ratio.
+    pub fn counters(&self) -> Counters {
+        let mut c = self.counters.clone();
+        let l = &self.lcp_counters;
+        c.add(&LEMKE_PIVOTS, l.total_pivots);
+        c.add(&LEMKE_MAX_PIVOTS, l.max_pivots);
+        c.add(&LCP_SOLVED_FIRST_ATTEMPT, l.solved);
+        c.add(&LCP_SOLVED_BY_FALLBACK, l.solved_by_fallback);
+        c.add(&LCP_FALLBACK_ALTERNATIVE_RULE, l.by_alternative_rule);
+        c.add(&LCP_FALLBACK_PERTURBED, l.by_perturbed);
+        c.add(&LCP_FAILED, l.failed);
+        c.set(&LCP_MAX_ACCEPTED_RESIDUAL, l.max_accepted_residual);
+        c.set(&MAX_COULOMB_RATIO, self.max_coulomb_ratio);
+        c
+    }
+
+    /// Solves one contact problem by the method in use; returns the LCP
+    /// unknowns `z` of the (scaled) problem (never NaN, length `lcp.lcp.n`)
+    /// for [`ContactLcp::impulses`] and [`ContactLcp::velocity_changes`].
+    /// `t` is the simulation time, s (for the log and the dumps).
+    pub fn solve(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
+        match self.kind {
+            SolverKind::Lcp => self.solve_lcp(lcp, t),
+            SolverKind::Cone => self.solve_cone(lcp, t),
+        }
+    }
+
+    /// Solves one contact problem as an LCP whatever the method in use (the
+    /// compression LCP of an impact, a failed cone solve): Lemke with the
+    /// fallbacks and the last resort.
+    pub fn solve_lcp(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
+        let lcp = &lcp.with_velocity_coulomb_rows();
         let sol = solve(&lcp.lcp, &self.opts);
-        self.record_solve(lcp, &sol, t, counters);
+        self.record_solve(lcp, &sol, t);
         if sol.status.is_solved() {
             return sol.z;
         }
         if lcp.friction {
-            counters.add("lcp_last_resort_frictionless", 1);
+            self.counters.add(&LCP_LAST_RESORT_FRICTIONLESS, 1);
             let fl = lcp.frictionless();
             let sol2 = solve(&fl.lcp, &self.opts);
-            self.record_solve(&fl, &sol2, t, counters);
+            self.record_solve(&fl, &sol2, t);
             if sol2.status.is_solved() {
                 let mut z = vec![0.0; lcp.lcp.n];
                 z[..lcp.m].copy_from_slice(&sol2.z);
                 return z;
             }
         }
-        counters.add("lcp_unresolved", 1);
+        self.counters.add(&LCP_UNRESOLVED, 1);
         vec![0.0; lcp.lcp.n]
     }
 
-    fn record_solve(
-        &mut self,
-        lcp: &ContactLcp,
-        sol: &LcpSolution,
-        t: f64,
-        counters: &mut Counters,
-    ) {
+    /// One problem by the cone program, with the LCP chain as fallback.
+    fn solve_cone(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
+        let p = lcp.normal_tangent();
+        let sol = solve_cone(&p, &self.cone_opts);
+        let c = &mut self.counters;
+        c.add(&CONE_SOLVES, 1);
+        c.add(&CONE_ITERATIONS, u64::from(sol.iterations));
+        c.max(&CONE_MAX_ITERATIONS, f64::from(sol.iterations));
+        c.add(&CONE_UNKNOWNS_TOTAL, p.dim() as u64);
+        match sol.status {
+            ConeStatus::Solved => {}
+            ConeStatus::AlmostSolved => c.add(&CONE_ALMOST_SOLVED, 1),
+            ConeStatus::RescuedByPolish => c.add(&CONE_RESCUED_BY_POLISH, 1),
+            ConeStatus::Failed => {
+                c.add(&CONE_FAILED, 1);
+                c.add(&CONE_FALLBACK_LCP, 1);
+                return self.solve_lcp(lcp, t);
+            }
+        }
+        c.max(&CONE_MAX_PROJECTION_REL, sol.cone_excess);
+        if sol.polished {
+            c.add(&CONE_POLISHED, 1);
+        }
+        let mut flat = sol.lambda.clone();
+        if p.friction {
+            flat.extend_from_slice(&sol.beta);
+            self.check_coulomb(t, &sol.lambda, &sol.beta, p.mu, &[]);
+        }
+        // The artefact: normal speed (with the Newton offset) of the
+        // contacts that push, u_N⁺ + c = μ |u_T⁺| while sliding.
+        let u = p.velocities(&flat);
+        let lam_max = sol.lambda.iter().fold(0.0f64, |s, l| s.max(*l));
+        for (l, uj) in sol.lambda.iter().zip(&u) {
+            if *l > 1e-9 * lam_max {
+                self.counters.max(&CONE_MAX_PUSHING_NORMAL_SPEED, *uj);
+            }
+        }
+        lcp.z_from_impulses(&sol.lambda, &sol.beta)
+    }
+
+    fn record_solve(&mut self, lcp: &ContactLcp, sol: &LcpSolution, t: f64) {
         self.lcp_counters.record(sol);
-        counters.add("lcp_solves", 1);
-        counters.add("lcp_unknowns_total", lcp.lcp.n as u64);
-        counters.max_value("lcp_size_max", lcp.lcp.n as f64);
+        self.counters.add(&LCP_SOLVES, 1);
+        self.counters.add(&LCP_UNKNOWNS_TOTAL, lcp.lcp.n as u64);
+        self.counters.max(&LCP_SIZE_MAX, lcp.lcp.n as f64);
         if let Some(dir) = &self.dump {
             let path = dir.join(format!("{:06}.json", self.dump_seq));
             self.dump_seq += 1;
@@ -114,7 +380,7 @@ impl ContactSolver {
                 .write(&path)
                 .is_err()
             {
-                counters.add("lcp_dump_failures", 1);
+                self.counters.add(&LCP_DUMP_FAILURES, 1);
             }
         }
         if sol.status.is_solved() && lcp.friction {
@@ -134,26 +400,18 @@ impl ContactSolver {
                 })
                 .collect();
             let beta = lcp.tangential(&sol.z);
-            self.check_coulomb(t, &lcp.normal(&sol.z), &beta, lcp.mu, &slack, counters);
+            self.check_coulomb(t, &lcp.normal(&sol.z), &beta, lcp.mu, &slack);
         }
     }
 
     /// Coulomb on accepted impulses `λ`, `β` (N·s) with friction coefficient
-    /// `mu`: keeps the largest `|β| / (μ λ)` and counts `coulomb_violations`,
-    /// i.e. `|β| > μ λ (1 + COULOMB_SLACK) + slack`. `slack[j]` (N·s, 0 if
-    /// missing) is the rounding allowance of contact `j`: a tangential
-    /// impulse below it is rounding (e.g. 1e-21 N·s beside `λ = 0`) and is
-    /// left out of the ratio. Every impulse goes into the log
+    /// `mu`: keeps the largest `|β| / (μ λ)` and counts
+    /// [`COULOMB_VIOLATIONS`], i.e. `|β| > μ λ (1 + COULOMB_SLACK) + slack`.
+    /// `slack[j]` (N·s, 0 if missing) is the rounding allowance of contact
+    /// `j`: a tangential impulse below it is rounding (e.g. 1e-21 N·s beside
+    /// `λ = 0`) and is left out of the ratio. Every impulse goes into the log
     /// ([`ImpulseRecord`], at time `t`, s), whose ratio is the one used here.
-    pub fn check_coulomb(
-        &mut self,
-        t: f64,
-        lambda: &[f64],
-        beta: &[f64],
-        mu: f64,
-        slack: &[f64],
-        counters: &mut Counters,
-    ) {
+    pub fn check_coulomb(&mut self, t: f64, lambda: &[f64], beta: &[f64], mu: f64, slack: &[f64]) {
         for (j, (l, b)) in lambda.iter().zip(beta).enumerate() {
             let bound = mu * l;
             let eps = slack.get(j).copied().unwrap_or(0.0);
@@ -168,40 +426,9 @@ impl ContactSolver {
             if b.abs() > eps {
                 self.max_coulomb_ratio = self.max_coulomb_ratio.max(rec.coulomb_ratio());
                 if b.abs() > bound * (1.0 + COULOMB_SLACK) + eps {
-                    counters.add("coulomb_violations", 1);
+                    self.counters.add(&COULOMB_VIOLATIONS, 1);
                 }
             }
         }
     }
-
-    /// Adds the Lemke counters and `max_coulomb_ratio` to `c`.
-    pub fn report(&self, c: &mut Counters) {
-        let l = &self.lcp_counters;
-        c.add("lemke_pivots", l.total_pivots);
-        c.add("lemke_max_pivots", l.max_pivots);
-        c.add("lcp_solved_first_attempt", l.solved);
-        c.add("lcp_solved_by_fallback", l.solved_by_fallback);
-        c.add("lcp_fallback_alternative_rule", l.by_alternative_rule);
-        c.add("lcp_fallback_perturbed", l.by_perturbed);
-        c.add("lcp_failed", l.failed);
-        c.set_value("lcp_max_accepted_residual", l.max_accepted_residual);
-        c.set_value("max_coulomb_ratio", self.max_coulomb_ratio);
-    }
-}
-
-/// Normal relative velocity of a contact (positive: separating), m/s.
-pub fn normal_velocity(
-    scn: &crate::model::Scenario,
-    bodies: &[crate::state::BodyState],
-    c: &crate::contact::Contact,
-) -> f64 {
-    let n = scn.floes.len();
-    let vel = |i: usize| -> crate::geometry::Vec2 {
-        if i >= n {
-            return crate::geometry::Vec2::zeros();
-        }
-        let b = &bodies[i];
-        b.velocity + crate::geometry::perp(&(c.geom.point - b.position)) * b.angular_velocity
-    };
-    (vel(c.b) - vel(c.a)).dot(&c.geom.normal)
 }

@@ -60,16 +60,175 @@
 //! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
 //!   Contacts* (Poisson's impact law).
 
-use super::contact_solver::normal_velocity;
-use super::contact_solver::ContactSolver;
-use super::{Formulation, FormulationError, FormulationOptions};
+use super::contact_solver::{ContactSolver, SolverKind};
+use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
 use crate::contact::problem::{groups, ContactLcp, Gen};
-use crate::contact::{detect, Aabb, BroadPhase, Contact};
+use crate::contact::{Aabb, BroadPhase, Contact};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, Vec2};
-use crate::model::Scenario;
+use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, Wrench};
-use crate::run::{ContactEvent, ContactLog, Counters, Stage, StageClock};
-use crate::state::{BodyState, Ledger, System};
+use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
+use crate::record::{
+    thread_cpu_seconds, ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock,
+    Unit,
+};
+use crate::state::{detect_contacts, normal_velocity, world_polygons, BodyState, Ledger, System};
+
+/// The registry entry (see [`crate::formulation::REGISTRY`]).
+pub const ENTRY: Entry = Entry {
+    name: "event-driven",
+    description: "Rabatel (2015): advance to each impact, velocity-impulse LCP (Stewart-Trinkle friction) by Lemke, Poisson restitution",
+    build: |scn, opts| Ok(Box::new(EventDriven::new(scn, opts)?)),
+    settings: Some(TABLE),
+    resolves_contacts: true,
+    not_claimed: &[
+        NotClaimed {
+            check: "bouncing_rest",
+            case: None,
+            reason: "with the default contact distance (1e-3 of the smallest radius) the last bounces, lower than the distance, are resolved at step starts instead of being located, and an accumulation is completed at once: the floe rests early (see the README, Check results); with distance = 1e-9 it rests at the accumulation time",
+        },
+        NotClaimed {
+            check: "cradle_physical",
+            case: None,
+            reason: "a simultaneous impact law on touching floes gives the LCP answer ((2-n)/n, 2/n, ...) v0, not the sequential one (docs/physics.md §6); cradle_outcome checks the LCP answer",
+        },
+    ],
+};
+
+/// `[formulation.event_driven]`.
+pub const TABLE: TableSpec = TableSpec {
+    name: "event_driven",
+    validate: |t| EventDrivenSettings::from_table(t).map(|_| ()),
+};
+
+/// Settings of the event-driven formulation (`[formulation.event_driven]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventDrivenSettings {
+    /// `penetration_tolerance`: penetration tolerated before a step is
+    /// rejected, m (default [`DEFAULT_PENETRATION_FRACTION`] of the smallest
+    /// floe radius: see [`EventDrivenSettings::penetration_tolerance`]).
+    pub penetration_tolerance: Option<f64>,
+    /// `solver`: the method of the sustained-contact problems, `"lcp"`
+    /// (default: Lemke, exact Coulomb) or `"cone"` (the convex relaxation);
+    /// impacts are always the compression LCP of Poisson's law.
+    pub solver: SolverKind,
+}
+
+impl EventDrivenSettings {
+    /// Parses `[formulation.event_driven]` (errors name the line and key).
+    pub fn from_table(t: &SettingsTable) -> Result<EventDrivenSettings, CaseError> {
+        let mut r = t.read();
+        let s = EventDrivenSettings {
+            penetration_tolerance: r.positive("penetration_tolerance")?,
+            solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
+        };
+        r.finish()?;
+        Ok(s)
+    }
+
+    /// The settings of `scn`.
+    pub fn of(scn: &Scenario) -> Result<EventDrivenSettings, CaseError> {
+        EventDrivenSettings::from_table(&scn.settings_table(TABLE.name))
+    }
+
+    /// The penetration tolerance in use on `scn`, m.
+    pub fn penetration_tolerance(&self, scn: &Scenario) -> f64 {
+        self.penetration_tolerance
+            .unwrap_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn))
+    }
+}
+
+/// The smallest floe radius, or 1 m without floes: the length the default
+/// tolerances are fractions of, m.
+pub fn floe_length_scale(scn: &Scenario) -> f64 {
+    let rmin = scn.min_floe_radius();
+    if rmin.is_finite() {
+        rmin
+    } else {
+        1.0
+    }
+}
+
+/// The contact distance `δ` in use on `scn`, m: the case's, or
+/// [`DEFAULT_DISTANCE_FRACTION`] of the smallest floe radius.
+pub fn contact_distance(scn: &Scenario) -> f64 {
+    if scn.contact.distance > 0.0 {
+        scn.contact.distance
+    } else {
+        DEFAULT_DISTANCE_FRACTION * floe_length_scale(scn)
+    }
+}
+
+/// Impacts that were completed at once (plastically) as an accumulation.
+pub const ZENO_TRUNCATIONS: Counter = Counter::sum(
+    "zeno_truncations",
+    "impacts whose remaining bounces would accumulate within the horizon, completed at once",
+);
+/// Impacts that increased the kinetic energy of their group.
+pub const IMPACT_ENERGY_INCREASES: Counter = Counter::sum(
+    "impact_energy_increases",
+    "impacts that increased the kinetic energy of their group",
+);
+/// Closed contacts whose micro-bounce stays within δ, absorbed by the sustained LCP.
+pub const MICRO_BOUNCES_ABSORBED: Counter = Counter::sum(
+    "micro_bounces_absorbed",
+    "closed contacts whose flight stays within the contact distance, absorbed by the sustained LCP",
+);
+/// Sustained-contact steps that asked a penetrating contact to separate.
+pub const POSITION_CORRECTIONS: Counter = Counter::sum(
+    "position_corrections",
+    "sustained-contact steps with a penetrating contact asked to separate at -g/h",
+);
+/// Sustained-contact problems solved (one per group and trial step).
+pub const SUSTAINED_SOLVES: Counter =
+    Counter::sum("sustained_solves", "sustained-contact problems solved");
+/// Iterations of the event root finding.
+pub const ROOT_ITERATIONS: Counter =
+    Counter::sum("root_iterations", "iterations of the event root finding");
+/// Instants whose impact rounds hit the cap.
+pub const IMPACT_ROUNDS_CAPPED: Counter = Counter::sum(
+    "impact_rounds_capped",
+    "instants whose impact rounds hit the cap",
+);
+/// Instants with at least one impact.
+pub const IMPACT_INSTANTS: Counter =
+    Counter::sum("impact_instants", "instants with at least one impact");
+/// Trial steps cut at the apex of a flight that leaves the contact distance.
+pub const STEPS_CUT_FOR_FLIGHT: Counter = Counter::sum(
+    "steps_cut_for_flight",
+    "trial steps cut at the apex of a flight that leaves the contact distance",
+);
+/// Steps cut at a located event.
+pub const EVENTS_LOCATED: Counter = Counter::sum("events_located", "steps cut at a located event");
+/// Trial steps rejected for a penetration beyond the tolerance.
+pub const STEPS_REJECTED_PENETRATION: Counter = Counter::sum(
+    "steps_rejected_penetration",
+    "trial steps rejected for a penetration beyond the tolerance (retried with half the step)",
+);
+/// Steps accepted with a penetration beyond the tolerance after the last halving.
+pub const PENETRATIONS_BEYOND_TOLERANCE: Counter = Counter::sum(
+    "penetrations_beyond_tolerance",
+    "steps accepted with a penetration beyond the tolerance after the last halving",
+);
+
+/// The counters of the formulation (the contact solver adds its own).
+const COUNTERS: &[&Counter] = &[
+    &STEPS,
+    &IMPACTS,
+    &ZENO_TRUNCATIONS,
+    &IMPACT_ENERGY_INCREASES,
+    &MICRO_BOUNCES_ABSORBED,
+    &POSITION_CORRECTIONS,
+    &SUSTAINED_SOLVES,
+    &ROOT_ITERATIONS,
+    &IMPACT_ROUNDS_CAPPED,
+    &IMPACT_INSTANTS,
+    &STEPS_CUT_FOR_FLIGHT,
+    &EVENTS_LOCATED,
+    &STEPS_REJECTED_PENETRATION,
+    &PENETRATIONS_BEYOND_TOLERANCE,
+    &MAX_PENETRATION,
+];
 
 /// Default contact distance as a fraction of the smallest floe radius, when
 /// the case leaves `[contact] distance = 0`.
@@ -118,21 +277,13 @@ pub struct EventDriven {
 const MAX_IMPACT_RECORDS: usize = 100_000;
 
 impl EventDriven {
-    /// Sets up the formulation for `scn`.
-    pub fn new(scn: &Scenario, opts: &FormulationOptions) -> EventDriven {
+    /// Sets up the formulation for `scn` with its `[formulation.event_driven]`
+    /// settings.
+    pub fn new(scn: &Scenario, opts: &FormulationOptions) -> Result<EventDriven, String> {
         faer::set_global_parallelism(faer::Par::Seq);
-        let rmin = scn.min_floe_radius();
-        let rmin = if rmin.is_finite() { rmin } else { 1.0 };
-        let distance = if scn.contact.distance > 0.0 {
-            scn.contact.distance
-        } else {
-            DEFAULT_DISTANCE_FRACTION * rmin
-        };
-        let pen_tol = scn
-            .formulations
-            .event_driven
-            .penetration_tolerance
-            .unwrap_or(DEFAULT_PENETRATION_FRACTION * rmin);
+        let settings = EventDrivenSettings::of(scn).map_err(|e| e.to_string())?;
+        let distance = contact_distance(scn);
+        let pen_tol = settings.penetration_tolerance(scn);
         let max_step = (0..scn.floes.len())
             .map(|i| scn.euler_stability_bound(i))
             .fold(f64::INFINITY, f64::min);
@@ -142,23 +293,19 @@ impl EventDriven {
         // force of a step is first order), absorbed by the next sustained LCP.
         let tau = max_step.min(scn.output_interval);
         let impact_speed = APPROACH_TOLERANCE.max(0.1 * pen_tol / tau);
-        let mut counters = Counters::default();
-        counters.set_value("impact_speed_threshold_m_per_s", impact_speed);
-        counters.set_value("contact_distance_m", distance);
-        counters.set_value("penetration_tolerance_m", pen_tol);
-        EventDriven {
+        Ok(EventDriven {
             integ: SmoothIntegrator::new(scn, opts.integrator),
             distance,
             pen_tol,
             max_step,
             impact_speed,
-            solver: ContactSolver::new(opts.dump_lcp.clone()),
+            solver: ContactSolver::new(settings.solver, opts.dump_lcp.clone()),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
-            counters,
+            counters: Counters::new(COUNTERS),
             impacts: Vec::new(),
             max_penetration: 0.0,
-        }
+        })
     }
 
     /// The impacts resolved so far (the first [`MAX_IMPACT_RECORDS`]).
@@ -176,32 +323,10 @@ impl EventDriven {
         self.solver.max_coulomb_ratio()
     }
 
-    /// World polygons of all bodies: floes at `bodies`, then obstacles.
-    fn polygons(scn: &Scenario, bodies: &[BodyState]) -> Vec<Vec<Vec2>> {
-        let mut out = Vec::with_capacity(bodies.len() + scn.obstacles.len());
-        for (f, b) in scn.floes.iter().zip(bodies) {
-            let mut p = Vec::with_capacity(f.shape.len());
-            f.world_polygon(&b.position, b.angle, &mut p);
-            out.push(p);
-        }
-        out.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
-        out
-    }
-
     fn detect(&mut self, scn: &Scenario, bodies: &[BodyState]) -> Vec<Contact> {
-        let polys = Self::polygons(scn, bodies);
-        let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
-        let n = scn.floes.len();
-        let fixed: Vec<bool> = (0..refs.len()).map(|i| i >= n).collect();
         let mut out = Vec::new();
-        detect(&refs, &fixed, self.distance, &mut self.bp, &mut out);
+        detect_contacts(scn, bodies, self.distance, &mut self.bp, &mut out);
         out
-    }
-
-    /// Solves one contact LCP with the shared fallbacks and last resort
-    /// ([`ContactSolver::solve`]); returns `z` (never NaN).
-    fn solve_contact(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
-        self.solver.solve(lcp, t, &mut self.counters)
     }
 
     /// Resolves the impacts of every group with an approaching closed contact.
@@ -228,9 +353,11 @@ impl EventDriven {
                 continue;
             }
             let lcp = ContactLcp::assemble(scn, &centres, contacts, &g, &w, &zeros);
-            let z = self.solve_contact(&lcp, sys.t);
+            // The compression LCP of Poisson's law, whatever the solver of
+            // the sustained contacts.
+            let z = self.solver.solve_lcp(&lcp, sys.t);
             let dv = lcp.velocity_changes(&z);
-            let before = group_energy(scn, &sys.bodies, &g.floes);
+            let before = sys.group_kinetic_energy(scn, &g.floes);
             let w_minus: Vec<BodyState> = g.floes.iter().map(|&i| sys.bodies[i]).collect();
             let apply = |bodies: &mut [BodyState], k: f64| {
                 for (l, &i) in g.floes.iter().enumerate() {
@@ -244,14 +371,14 @@ impl EventDriven {
                 // The remaining bounces accumulate within the step: complete
                 // them at once (plastic), as a time-stepping scheme would.
                 apply(&mut sys.bodies, 1.0);
-                self.counters.add("zeno_truncations", 1);
+                self.counters.add(&ZENO_TRUNCATIONS, 1);
             }
-            let after = group_energy(scn, &sys.bodies, &g.floes);
+            let after = sys.group_kinetic_energy(scn, &g.floes);
             if after > before * (1.0 + 1e-12) + 1e-300 {
-                self.counters.add("impact_energy_increases", 1);
+                self.counters.add(&IMPACT_ENERGY_INCREASES, 1);
             }
             sys.ledger.dissipated += before - after;
-            self.counters.add("impacts", 1);
+            self.counters.add(&IMPACTS, 1);
             self.solver.log_mut().push_event(ContactEvent {
                 t: sys.t,
                 contacts: g.contacts.len(),
@@ -284,7 +411,6 @@ impl EventDriven {
         e: f64,
     ) -> bool {
         let tau = self.max_step.min(scn.output_interval);
-        let n = scn.floes.len();
         for &k in which {
             let c = &contacts[k];
             let u = normal_velocity(scn, &sys.bodies, c);
@@ -292,9 +418,9 @@ impl EventDriven {
                 continue;
             }
             let acc = |i: usize| -> Vec2 {
-                if i >= n {
+                let Body::Floe(i) = scn.body(i) else {
                     return Vec2::zeros();
-                }
+                };
                 let b = &sys.bodies[i];
                 let f = self.integ.forces(scn, i, sys.t, b);
                 let r = c.geom.point - b.position;
@@ -365,7 +491,7 @@ impl EventDriven {
                     if c.geom.gap + 0.5 * u0 * apex > self.distance {
                         cut = cut.min(apex);
                     } else {
-                        self.counters.add("micro_bounces_absorbed", 1);
+                        self.counters.add(&MICRO_BOUNCES_ABSORBED, 1);
                     }
                 }
             }
@@ -385,12 +511,12 @@ impl EventDriven {
             })
             .collect();
         if offsets.iter().any(|&o| o < 0.0) {
-            self.counters.add("position_corrections", 1);
+            self.counters.add(&POSITION_CORRECTIONS, 1);
         }
-        let solve_start = crate::run::thread_cpu_seconds();
+        let solve_start = thread_cpu_seconds();
         for g in &gs {
             let lcp = ContactLcp::assemble(scn, &centres, contacts, g, &w_free, &offsets);
-            let z = self.solve_contact(&lcp, t);
+            let z = self.solver.solve(&lcp, t);
             let p = lcp.impulses(&z);
             for (l, &i) in g.floes.iter().enumerate() {
                 wrenches[i] = Wrench {
@@ -398,9 +524,9 @@ impl EventDriven {
                     torque: p[l][2] / h,
                 };
             }
-            self.counters.add("sustained_solves", 1);
+            self.counters.add(&SUSTAINED_SOLVES, 1);
         }
-        clock.charge(Stage::Solve, crate::run::thread_cpu_seconds() - solve_start);
+        clock.charge(Stage::Solve, thread_cpu_seconds() - solve_start);
         Ok((wrenches, None))
     }
 
@@ -427,12 +553,7 @@ impl EventDriven {
     /// The largest step allowed from `sys`, s.
     fn step_cap(&self, scn: &Scenario, sys: &System) -> f64 {
         let mut cap = self.max_step;
-        let speed = sys
-            .bodies
-            .iter()
-            .zip(&scn.floes)
-            .map(|(b, f)| b.velocity.norm() + b.angular_velocity.abs() * f.radius)
-            .fold(0.0, f64::max);
+        let speed = sys.max_point_speed(scn);
         let rmin = scn.min_floe_radius();
         if speed > 0.0 && rmin.is_finite() {
             cap = cap.min(0.25 * rmin / speed);
@@ -447,7 +568,6 @@ impl EventDriven {
         p0: &[Vec<Vec2>],
         p1: &[Vec<Vec2>],
     ) -> Vec<(usize, usize)> {
-        let n = scn.floes.len();
         let boxes: Vec<Aabb> = p0
             .iter()
             .zip(p1)
@@ -458,7 +578,7 @@ impl EventDriven {
                 Aabb {
                     min: lo0.inf(&lo1),
                     max: hi0.sup(&hi1),
-                    fixed: i >= n,
+                    fixed: matches!(scn.body(i), Body::Obstacle(_)),
                 }
             })
             .collect();
@@ -492,7 +612,6 @@ impl EventDriven {
         p0: &[Vec<Vec2>],
         p1: &[Vec<Vec2>],
     ) -> Result<Option<f64>, FormulationError> {
-        let n = scn.floes.len();
         let delta = self.distance;
         let mut first: Option<f64> = None;
         let _ = end;
@@ -516,7 +635,7 @@ impl EventDriven {
             let target = 0.75 * delta;
             let phi = |s: f64, me: &mut Self| -> Result<f64, FormulationError> {
                 let mut poly = |idx: usize| -> Result<Vec<Vec2>, FormulationError> {
-                    if idx >= n {
+                    if let Body::Obstacle(_) = scn.body(idx) {
                         return Ok(p0[idx].clone());
                     }
                     let mut b = sys.bodies[idx];
@@ -552,7 +671,7 @@ impl EventDriven {
             let mut side = 0i8;
             let mut s = hi;
             for _ in 0..200 {
-                self.counters.add("root_iterations", 1);
+                self.counters.add(&ROOT_ITERATIONS, 1);
                 s = if f_lo - f_hi != 0.0 {
                     (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
                 } else {
@@ -591,21 +710,7 @@ impl EventDriven {
     }
 }
 
-fn group_energy(scn: &Scenario, bodies: &[BodyState], floes: &[usize]) -> f64 {
-    floes
-        .iter()
-        .map(|&i| {
-            let (f, b) = (&scn.floes[i], &bodies[i]);
-            0.5 * f.mass * b.velocity.norm_squared() + 0.5 * f.inertia * b.angular_velocity.powi(2)
-        })
-        .sum()
-}
-
 impl Formulation for EventDriven {
-    fn name(&self) -> &'static str {
-        "event-driven"
-    }
-
     fn advance(
         &mut self,
         scn: &Scenario,
@@ -628,38 +733,38 @@ impl Formulation for EventDriven {
                 any = true;
                 rounds += 1;
                 if rounds >= MAX_IMPACT_ROUNDS {
-                    self.counters.add("impact_rounds_capped", 1);
+                    self.counters.add(&IMPACT_ROUNDS_CAPPED, 1);
                     break;
                 }
             }
             if any {
-                self.counters.add("impact_instants", 1);
+                self.counters.add(&IMPACT_INSTANTS, 1);
             }
             // 3. Trial step with sustained contact forces.
             let mut h = (t_end - sys.t).min(self.step_cap(scn, sys));
-            let p0 = Self::polygons(scn, &sys.bodies);
+            let p0 = world_polygons(scn, &sys.bodies);
             let mut rejections = 0;
             loop {
                 let (wrenches, cut) = self.sustained_wrenches(scn, sys, &contacts, h, clock)?;
                 if let Some(shorter) = cut {
-                    self.counters.add("steps_cut_for_flight", 1);
+                    self.counters.add(&STEPS_CUT_FOR_FLIGHT, 1);
                     h = shorter;
                     continue;
                 }
                 let trial = clock.time(Stage::Integration, || {
                     self.integrate(scn, sys, h, &wrenches)
                 })?;
-                let p1 = Self::polygons(scn, &trial.bodies);
+                let p1 = world_polygons(scn, &trial.bodies);
                 // 4. Event location.
                 let event = {
-                    let t0 = crate::run::thread_cpu_seconds();
+                    let t0 = thread_cpu_seconds();
                     let r = self.locate(scn, sys, &trial, h, &wrenches, &p0, &p1);
-                    clock.charge(Stage::Detection, crate::run::thread_cpu_seconds() - t0);
+                    clock.charge(Stage::Detection, thread_cpu_seconds() - t0);
                     r?
                 };
                 let next = match event {
                     Some(s) if s < h => {
-                        self.counters.add("events_located", 1);
+                        self.counters.add(&EVENTS_LOCATED, 1);
                         clock.time(Stage::Integration, || {
                             self.integrate(scn, sys, s, &wrenches)
                         })?
@@ -670,7 +775,7 @@ impl Formulation for EventDriven {
                 let p_next = if next.t == sys.t + h {
                     p1
                 } else {
-                    Self::polygons(scn, &next.bodies)
+                    world_polygons(scn, &next.bodies)
                 };
                 let depth = clock.time(Stage::Detection, || {
                     self.swept_pairs(scn, &p_next, &p_next)
@@ -680,18 +785,18 @@ impl Formulation for EventDriven {
                 });
                 if depth > self.pen_tol && rejections < MAX_REJECTIONS {
                     rejections += 1;
-                    self.counters.add("steps_rejected_penetration", 1);
+                    self.counters.add(&STEPS_REJECTED_PENETRATION, 1);
                     h *= 0.5;
                     continue;
                 }
                 if depth > self.pen_tol {
-                    self.counters.add("penetrations_beyond_tolerance", 1);
+                    self.counters.add(&PENETRATIONS_BEYOND_TOLERANCE, 1);
                 }
                 self.max_penetration = self.max_penetration.max(depth);
                 let t_new = if next.t >= t_end { t_end } else { next.t };
                 *sys = next;
                 sys.t = t_new;
-                self.counters.add("steps", 1);
+                self.counters.add(&STEPS, 1);
                 break;
             }
             if sys.bodies.len() != n {
@@ -703,10 +808,22 @@ impl Formulation for EventDriven {
 
     fn counters(&self) -> Counters {
         let mut c = self.counters.clone();
-        c.integrator(&self.integ.stats);
-        self.solver.report(&mut c);
-        c.set_value("max_penetration_m", self.max_penetration);
+        self.integ.stats.report(&mut c);
+        c.absorb(&self.solver.counters());
+        c.set(&MAX_PENETRATION, self.max_penetration);
         c
+    }
+
+    fn settings(&self) -> Settings {
+        Settings::default()
+            .number(
+                "impact_speed_threshold_m_per_s",
+                self.impact_speed,
+                Unit::MetrePerSecond,
+            )
+            .number("contact_distance_m", self.distance, Unit::Metre)
+            .number("penetration_tolerance_m", self.pen_tol, Unit::Metre)
+            .text("solver", self.solver.kind().name())
     }
 
     fn take_contact_log(&mut self) -> ContactLog {

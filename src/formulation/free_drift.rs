@@ -4,11 +4,21 @@
 //! (physics.md section 2) before any contact solver is involved, and is the
 //! smooth part every other formulation must reproduce between impacts.
 
-use super::{Formulation, FormulationError, FormulationOptions};
+use super::{Entry, Formulation, FormulationError, FormulationOptions};
 use crate::model::Scenario;
 use crate::physics::SmoothIntegrator;
-use crate::run::{Counters, Stage, StageClock};
+use crate::record::{Counters, Stage, StageClock};
 use crate::state::System;
+
+/// The registry entry (see [`crate::formulation::REGISTRY`]).
+pub const ENTRY: Entry = Entry {
+    name: "free-drift",
+    description: "no contacts: every floe drifts under the environment forces alone",
+    build: |scn, opts| Ok(Box::new(FreeDrift::new(scn, opts))),
+    settings: None,
+    resolves_contacts: false,
+    not_claimed: &[],
+};
 
 /// Free drift without contacts.
 #[derive(Debug)]
@@ -26,10 +36,6 @@ impl FreeDrift {
 }
 
 impl Formulation for FreeDrift {
-    fn name(&self) -> &'static str {
-        "free-drift"
-    }
-
     fn advance(
         &mut self,
         scn: &Scenario,
@@ -48,7 +54,7 @@ impl Formulation for FreeDrift {
 
     fn counters(&self) -> Counters {
         let mut c = Counters::default();
-        c.integrator(&self.integrator.stats);
+        self.integrator.stats.report(&mut c);
         c
     }
 }

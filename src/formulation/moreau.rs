@@ -100,8 +100,9 @@
 //! | `gamma` | – | 0.5 | γ of the activation test `g + h γ u_N ≤ 0` |
 //! | `solver` | – | `"lcp"` | `"lcp"` (Lemke) or `"cone"` (clarabel) |
 //!
-//! The formulation name `moreau` uses the case's solver; `moreau-cone`
-//! always the cone. [`Formulation::name`] reports the solver in use.
+//! The entry `moreau` uses the case's solver (and is labelled `moreau`
+//! whichever it is; the `solver` setting of `summary.json` says which);
+//! `moreau-cone` always the cone.
 //!
 //! # References
 //!
@@ -116,17 +117,166 @@
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
-use super::contact_solver::normal_velocity;
-use super::contact_solver::ContactSolver;
-use super::{Formulation, FormulationError, FormulationOptions};
-use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
+use super::contact_solver::{ContactSolver, SolverKind};
+use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
 use crate::contact::problem::{groups, ContactLcp, Gen};
-use crate::contact::{detect, BroadPhase, Contact};
+use crate::contact::{BroadPhase, Contact};
 use crate::geometry::Vec2;
-use crate::model::{MoreauSolver, Scenario};
+use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::SmoothIntegrator;
-use crate::run::{ContactEvent, ContactLog, Counters, Stage, StageClock};
-use crate::state::{BodyState, System};
+use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
+use crate::record::{
+    ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock, Unit,
+};
+use crate::state::{detect_contacts, normal_velocity, BodyState, System};
+
+/// Claims shared by both solvers.
+const NOT_CLAIMED_BOTH: [NotClaimed; 2] = [
+    NotClaimed {
+        check: "bouncing_rest",
+        case: None,
+        reason: "impacts are not located in time: the rebounds shorter than a step are lumped into the step's impulse, so the floe comes to rest on the step grid, not at the accumulation time",
+    },
+    NotClaimed {
+        check: "cradle_physical",
+        case: None,
+        reason: "one contact problem per step: touching floes get the simultaneous LCP answer (cradle_outcome checks it)",
+    },
+];
+
+/// The registry entry `moreau`: the solver of the case
+/// (`[formulation.moreau] solver`, default Lemke).
+pub const ENTRY: Entry = Entry {
+    name: "moreau",
+    description: "Moreau-Jean time stepping: fixed step, theta-method, Newton impact law, one contact problem per step and group; solver from the case ([formulation.moreau] solver, default lcp: Lemke)",
+    build: |scn, opts| Ok(Box::new(Moreau::new(scn, opts, None)?)),
+    settings: Some(TABLE),
+    resolves_contacts: true,
+    not_claimed: &[
+        NotClaimed {
+            check: "penetration",
+            case: None,
+            reason: "positions are not projected: a contact activated by the predicted gap ends its step penetrated by O(h u_N)",
+        },
+        NOT_CLAIMED_BOTH[0],
+        NOT_CLAIMED_BOTH[1],
+    ],
+};
+
+/// The registry entry `moreau-cone`: always the cone relaxation.
+pub const CONE_ENTRY: Entry = Entry {
+    name: "moreau-cone",
+    description: "Moreau-Jean time stepping with the Anitescu-Tasora convex cone relaxation solved by clarabel (sliding contacts separate at mu |u_T|)",
+    build: |scn, opts| Ok(Box::new(Moreau::new(scn, opts, Some(SolverKind::Cone))?)),
+    settings: Some(TABLE),
+    resolves_contacts: true,
+    not_claimed: &[
+        NotClaimed {
+            check: "penetration",
+            case: None,
+            reason: "positions are not projected (O(h u_N), as moreau); the cone relaxation also lifts a sliding floe off and lands it again (sliding_floe)",
+        },
+        NOT_CLAIMED_BOTH[0],
+        NOT_CLAIMED_BOTH[1],
+    ],
+};
+
+/// `[formulation.moreau]`, read by both entries.
+pub const TABLE: TableSpec = TableSpec {
+    name: "moreau",
+    validate: |t| MoreauSettings::from_table(t).map(|_| ()),
+};
+
+/// Settings of the Moreau–Jean formulation (`[formulation.moreau]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoreauSettings {
+    /// `step`: time step `h`, s (default 1.0: an upper bound, see the
+    /// module doc).
+    pub step: f64,
+    /// `theta`: θ of the θ-method on the smooth forces and the positions, in
+    /// [0, 1] (default 0.5: trapezoidal, exact for constant forces).
+    pub theta: f64,
+    /// `gamma`: γ of the predicted gap `g + h γ u_N` activating a contact, in
+    /// [0, 1] (default 0.5, Acary & Brogliato's choice).
+    pub gamma: f64,
+    /// `solver`: the one-step contact solver, `"lcp"` (default) or `"cone"`;
+    /// the entry `moreau-cone` overrides it.
+    pub solver: SolverKind,
+}
+
+impl Default for MoreauSettings {
+    fn default() -> Self {
+        MoreauSettings {
+            step: 1.0,
+            theta: 0.5,
+            gamma: 0.5,
+            solver: SolverKind::Lcp,
+        }
+    }
+}
+
+impl MoreauSettings {
+    /// Parses `[formulation.moreau]` (errors name the line and key).
+    pub fn from_table(t: &SettingsTable) -> Result<MoreauSettings, CaseError> {
+        let d = MoreauSettings::default();
+        let mut r = t.read();
+        let s = MoreauSettings {
+            step: r.positive("step")?.unwrap_or(d.step),
+            theta: r.unit_interval("theta")?.unwrap_or(d.theta),
+            gamma: r.unit_interval("gamma")?.unwrap_or(d.gamma),
+            solver: r.choice("solver")?.unwrap_or(d.solver),
+        };
+        r.finish()?;
+        Ok(s)
+    }
+
+    /// The settings of `scn`.
+    pub fn of(scn: &Scenario) -> Result<MoreauSettings, CaseError> {
+        MoreauSettings::from_table(&scn.settings_table(TABLE.name))
+    }
+}
+
+/// Active contacts over every step.
+pub const ACTIVE_CONTACTS: Counter =
+    Counter::sum("active_contacts", "active contacts over every step");
+/// Most active contacts in one step.
+pub const ACTIVE_CONTACTS_MAX: Counter = Counter::max(
+    "active_contacts_max",
+    Unit::Count,
+    "most active contacts in one step",
+);
+/// Contact groups over every step.
+pub const CONTACT_GROUPS: Counter =
+    Counter::sum("contact_groups", "connected contact groups over every step");
+/// Group solves that increased the kinetic energy.
+pub const CONTACT_ENERGY_INCREASES: Counter = Counter::sum(
+    "contact_energy_increases",
+    "group solves that increased the kinetic energy of the group",
+);
+/// Largest kinetic energy created by one group solve, J.
+pub const CONTACT_ENERGY_INCREASE_MAX: Counter = Counter::max(
+    "contact_energy_increase_max_j",
+    Unit::Joule,
+    "largest kinetic energy created by one group solve",
+);
+/// Steps in which contact impulses changed a velocity.
+pub const STEPS_WITH_IMPULSES: Counter = Counter::sum(
+    "steps_with_impulses",
+    "steps in which contact impulses changed a velocity",
+);
+
+/// The counters of the formulation (the contact solver adds its own).
+const COUNTERS: &[&Counter] = &[
+    &STEPS,
+    &FORCE_EVALUATIONS,
+    &ACTIVE_CONTACTS,
+    &CONTACT_GROUPS,
+    &CONTACT_ENERGY_INCREASES,
+    &STEPS_WITH_IMPULSES,
+    &ACTIVE_CONTACTS_MAX,
+    &CONTACT_ENERGY_INCREASE_MAX,
+    &MAX_PENETRATION,
+];
 
 /// Rounding allowance of the activation test `g + h γ u_N ≤ ε`, as a
 /// fraction of the smallest floe radius. Without it a resting contact whose
@@ -164,14 +314,12 @@ pub struct ContactStep {
 /// The Moreau–Jean formulation.
 #[derive(Debug)]
 pub struct Moreau {
-    solver_kind: MoreauSolver,
     step: f64,
     theta: f64,
     gamma: f64,
     integ: SmoothIntegrator,
     bp: BroadPhase,
     solver: ContactSolver,
-    cone_opts: ConeOptions,
     counters: Counters,
     records: Vec<ContactStep>,
     max_penetration: f64,
@@ -183,39 +331,36 @@ impl Moreau {
     /// Sets up the formulation for `scn` with the case's
     /// `[formulation.moreau]` settings, the solver overridden by `solver`
     /// when given.
-    pub fn new(scn: &Scenario, opts: &FormulationOptions, solver: Option<MoreauSolver>) -> Moreau {
+    pub fn new(
+        scn: &Scenario,
+        opts: &FormulationOptions,
+        solver: Option<SolverKind>,
+    ) -> Result<Moreau, String> {
         faer::set_global_parallelism(faer::Par::Seq);
-        let s = scn.formulations.moreau;
+        let s = MoreauSettings::of(scn).map_err(|e| e.to_string())?;
         let rmin = scn.min_floe_radius();
         let activation_tolerance = if rmin.is_finite() {
             ACTIVATION_TOLERANCE_FRACTION * rmin
         } else {
             0.0
         };
-        let mut counters = Counters::default();
-        counters.set_value("activation_tolerance_m", activation_tolerance);
-        counters.set_value("step_s", s.step);
-        counters.set_value("theta", s.theta);
-        counters.set_value("gamma", s.gamma);
-        Moreau {
-            solver_kind: solver.unwrap_or(s.solver),
+        Ok(Moreau {
             step: s.step,
             theta: s.theta,
             gamma: s.gamma,
             integ: SmoothIntegrator::new(scn, opts.integrator),
             bp: BroadPhase::new(),
-            solver: ContactSolver::new(opts.dump_lcp.clone()),
-            cone_opts: ConeOptions::default(),
-            counters,
+            solver: ContactSolver::new(solver.unwrap_or(s.solver), opts.dump_lcp.clone()),
+            counters: Counters::new(COUNTERS),
             records: Vec::new(),
             max_penetration: 0.0,
             activation_tolerance,
-        }
+        })
     }
 
     /// The one-step solver in use.
-    pub fn solver(&self) -> MoreauSolver {
-        self.solver_kind
+    pub fn solver(&self) -> SolverKind {
+        self.solver.kind()
     }
 
     /// The steps in which contact impulses were applied (the first
@@ -295,7 +440,7 @@ impl Moreau {
                     b.angular_velocity + h * a_th[2],
                 ]);
             }
-            self.counters.add("force_evaluations", evals);
+            self.counters.add(&FORCE_EVALUATIONS, evals);
             w_free
         });
         // 2. Detection and active contacts.
@@ -317,7 +462,7 @@ impl Moreau {
                 b.angular_velocity = w[2];
             }
         });
-        self.counters.add("steps", 1);
+        self.counters.add(&STEPS, 1);
         if let Some(i) = sys.bodies.iter().position(|b| !b.is_finite()) {
             return Err(FormulationError::Other(format!(
                 "floe {i}: non-finite state after the step from t = {t0} s"
@@ -329,25 +474,9 @@ impl Moreau {
     /// Contacts at `q_k` whose predicted gap `g + h γ u_N` is closed; updates
     /// the penetration record from the gaps.
     fn active_contacts(&mut self, scn: &Scenario, sys: &System, h: f64) -> Vec<Contact> {
-        let n = scn.floes.len();
-        let v_max = sys
-            .bodies
-            .iter()
-            .zip(&scn.floes)
-            .map(|(b, f)| b.velocity.norm() + b.angular_velocity.abs() * f.radius)
-            .fold(0.0, f64::max);
-        let margin = 2.0 * h * self.gamma * v_max;
-        let mut polys: Vec<Vec<Vec2>> = Vec::with_capacity(n + scn.obstacles.len());
-        for (f, b) in scn.floes.iter().zip(&sys.bodies) {
-            let mut p = Vec::with_capacity(f.shape.len());
-            f.world_polygon(&b.position, b.angle, &mut p);
-            polys.push(p);
-        }
-        polys.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
-        let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
-        let fixed: Vec<bool> = (0..refs.len()).map(|i| i >= n).collect();
+        let margin = 2.0 * h * self.gamma * sys.max_point_speed(scn);
         let mut contacts = Vec::new();
-        detect(&refs, &fixed, margin, &mut self.bp, &mut contacts);
+        detect_contacts(scn, &sys.bodies, margin, &mut self.bp, &mut contacts);
         for c in &contacts {
             self.max_penetration = self.max_penetration.max(-c.geom.gap);
         }
@@ -378,19 +507,14 @@ impl Moreau {
         let offsets: Vec<f64> = u_minus.iter().map(|&u| e * u).collect();
         let centres: Vec<Vec2> = sys.bodies.iter().map(|b| b.position).collect();
         let gs = groups(active, n);
-        self.counters.add("active_contacts", active.len() as u64);
-        self.counters
-            .max_value("active_contacts_max", active.len() as f64);
-        self.counters.add("contact_groups", gs.len() as u64);
+        self.counters.add(&ACTIVE_CONTACTS, active.len() as u64);
+        self.counters.max(&ACTIVE_CONTACTS_MAX, active.len() as f64);
+        self.counters.add(&CONTACT_GROUPS, gs.len() as u64);
         let mut any = false;
         let (mut e_before, mut e_after) = (0.0, 0.0);
         for g in &gs {
-            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets)
-                .with_velocity_coulomb_rows();
-            let z = match self.solver_kind {
-                MoreauSolver::Lcp => self.solver.solve(&lcp, sys.t, &mut self.counters),
-                MoreauSolver::Cone => self.solve_cone(&lcp, sys.t),
-            };
+            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets);
+            let z = self.solver.solve(&lcp, sys.t);
             let dv = lcp.velocity_changes(&z);
             let v_scale = g
                 .floes
@@ -409,9 +533,9 @@ impl Moreau {
             }
             let after = group_energy(scn, w_new, &g.floes);
             if after > before * (1.0 + 1e-12) + 1e-300 {
-                self.counters.add("contact_energy_increases", 1);
+                self.counters.add(&CONTACT_ENERGY_INCREASES, 1);
                 self.counters
-                    .max_value("contact_energy_increase_max_j", after - before);
+                    .max(&CONTACT_ENERGY_INCREASE_MAX, after - before);
             }
             sys.ledger.dissipated += before - after;
             if dv.iter().flatten().any(|d| d.abs() > negligible) {
@@ -426,7 +550,7 @@ impl Moreau {
             e_after += after;
         }
         if any {
-            self.counters.add("steps_with_impulses", 1);
+            self.counters.add(&STEPS_WITH_IMPULSES, 1);
             if self.records.len() < MAX_RECORDS {
                 self.records.push(ContactStep {
                     t: sys.t,
@@ -438,69 +562,16 @@ impl Moreau {
             }
         }
     }
-
-    /// One group by the cone program, with the Lemke LCP as fallback.
-    fn solve_cone(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
-        let p = lcp.normal_tangent();
-        let sol = solve_cone(&p, &self.cone_opts);
-        let c = &mut self.counters;
-        c.add("cone_solves", 1);
-        c.add("cone_iterations", u64::from(sol.iterations));
-        c.max_value("cone_max_iterations", f64::from(sol.iterations));
-        c.add("cone_unknowns_total", p.dim() as u64);
-        match sol.status {
-            ConeStatus::Solved => {}
-            ConeStatus::AlmostSolved => c.add("cone_almost_solved", 1),
-            ConeStatus::RescuedByPolish => c.add("cone_rescued_by_polish", 1),
-            ConeStatus::Failed => {
-                c.add("cone_failed", 1);
-                c.add("cone_fallback_lcp", 1);
-                return self.solver.solve(lcp, t, &mut self.counters);
-            }
-        }
-        c.max_value("cone_max_projection_rel", sol.cone_excess);
-        if sol.polished {
-            c.add("cone_polished", 1);
-        }
-        let mut flat = sol.lambda.clone();
-        if p.friction {
-            flat.extend_from_slice(&sol.beta);
-            self.solver
-                .check_coulomb(t, &sol.lambda, &sol.beta, p.mu, &[], &mut self.counters);
-        }
-        // The artefact: normal speed (with the Newton offset) of the
-        // contacts that push, u_N⁺ + c = μ |u_T⁺| while sliding.
-        let u = p.velocities(&flat);
-        let lam_max = sol.lambda.iter().fold(0.0f64, |s, l| s.max(*l));
-        for (l, uj) in sol.lambda.iter().zip(&u) {
-            if *l > 1e-9 * lam_max {
-                self.counters
-                    .max_value("cone_max_pushing_normal_speed_m_per_s", *uj);
-            }
-        }
-        lcp.z_from_impulses(&sol.lambda, &sol.beta)
-    }
 }
 
 fn group_energy(scn: &Scenario, w: &[Gen], floes: &[usize]) -> f64 {
     floes
         .iter()
-        .map(|&i| {
-            let f = &scn.floes[i];
-            0.5 * f.mass * (w[i][0] * w[i][0] + w[i][1] * w[i][1])
-                + 0.5 * f.inertia * w[i][2] * w[i][2]
-        })
+        .map(|&i| scn.floes[i].kinetic_energy(&Vec2::new(w[i][0], w[i][1]), w[i][2]))
         .sum()
 }
 
 impl Formulation for Moreau {
-    fn name(&self) -> &'static str {
-        match self.solver_kind {
-            MoreauSolver::Lcp => "moreau",
-            MoreauSolver::Cone => "moreau-cone",
-        }
-    }
-
     fn advance(
         &mut self,
         scn: &Scenario,
@@ -526,9 +597,22 @@ impl Formulation for Moreau {
 
     fn counters(&self) -> Counters {
         let mut c = self.counters.clone();
-        self.solver.report(&mut c);
-        c.set_value("max_penetration_m", self.max_penetration);
+        c.absorb(&self.solver.counters());
+        c.set(&MAX_PENETRATION, self.max_penetration);
         c
+    }
+
+    fn settings(&self) -> Settings {
+        Settings::default()
+            .number(
+                "activation_tolerance_m",
+                self.activation_tolerance,
+                Unit::Metre,
+            )
+            .number("step_s", self.step, Unit::Second)
+            .number("theta", self.theta, Unit::Dimensionless)
+            .number("gamma", self.gamma, Unit::Dimensionless)
+            .text("solver", self.solver.kind().name())
     }
 
     fn take_contact_log(&mut self) -> ContactLog {

@@ -6,14 +6,15 @@
 //! or an error: nothing is written anywhere before a case has loaded.
 
 use super::field::generate_field;
+use super::settings::{SettingsTable, TableSpec};
 use super::{
-    ContactLaw, Environment, EventDrivenSettings, Floe, FloeOrigin, Fluid, FormulationSettings,
-    IntegratorKind, IntegratorSettings, MoreauSettings, MoreauSolver, Obstacle, RapierSettings,
+    ContactLaw, Environment, Floe, FloeOrigin, Fluid, IntegratorKind, IntegratorSettings, Obstacle,
     Scenario, VelocitySeries, DEFAULT_ICE_DENSITY,
 };
 use crate::contact::{Aabb, BroadPhase};
 use crate::geometry::{check_convex_ccw, sat_separation, Vec2};
 use serde::Deserialize;
+use std::collections::BTreeMap;
 use std::ops::Range;
 use std::path::{Path, PathBuf};
 use toml::Spanned;
@@ -45,7 +46,7 @@ struct CaseFile {
     obstacle: Vec<Spanned<ObstacleSpec>>,
     #[serde(default)]
     field: Vec<Spanned<FieldSpec>>,
-    formulation: Option<Spanned<FormulationSpec>>,
+    formulation: Option<Spanned<BTreeMap<String, Spanned<toml::Table>>>>,
     integrator: Option<Spanned<IntegratorSpec>>,
 }
 
@@ -139,39 +140,6 @@ pub struct FieldSpec {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct FormulationSpec {
-    event_driven: Option<Spanned<EventDrivenSpec>>,
-    moreau: Option<Spanned<MoreauSpec>>,
-    rapier: Option<Spanned<RapierSpec>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct EventDrivenSpec {
-    penetration_tolerance: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct MoreauSpec {
-    step: Option<f64>,
-    theta: Option<f64>,
-    gamma: Option<f64>,
-    solver: Option<String>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RapierSpec {
-    step: Option<f64>,
-    iterations: Option<usize>,
-    natural_frequency: Option<f64>,
-    damping_ratio: Option<f64>,
-    prediction: Option<f64>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 struct IntegratorSpec {
     method: Option<String>,
     tolerance: Option<f64>,
@@ -204,9 +172,8 @@ impl Ctx<'_> {
         }
     }
 
-    /// The error at the line where `key` is written inside `span`, or at the
-    /// start of `span` when it cannot be found.
-    fn key_err(&self, span: &Range<usize>, key: &str, message: impl Into<String>) -> CaseError {
+    /// The line where `key` is written inside `span`, if it can be found.
+    fn key_line(&self, span: &Range<usize>, key: &str) -> Option<usize> {
         // A table's span may cover only its header: search on to the next header.
         let start = span.start.min(self.text.len());
         let end = span.end.min(self.text.len()).max(start);
@@ -217,11 +184,24 @@ impl Ctx<'_> {
                 break;
             }
             if contains_key(line, key) {
-                return self.err(Some(offset..offset), message);
+                return Some(self.line_of(offset));
             }
             offset += line.len();
         }
-        self.err(Some(span.clone()), message)
+        None
+    }
+
+    /// The error at the line where `key` is written inside `span`, or at the
+    /// start of `span` when it cannot be found.
+    fn key_err(&self, span: &Range<usize>, key: &str, message: impl Into<String>) -> CaseError {
+        CaseError {
+            file: self.file.to_path_buf(),
+            line: Some(
+                self.key_line(span, key)
+                    .unwrap_or_else(|| self.line_of(span.start)),
+            ),
+            message: message.into(),
+        }
     }
 }
 
@@ -252,25 +232,32 @@ fn vec2(v: [f64; 2]) -> Vec2 {
 
 // ---------------------------------------------------------------------------
 
-/// Reads and validates a case file.
-pub fn load_case(path: &Path) -> Result<Scenario, CaseError> {
+/// Reads and validates a case file; each `[formulation.<name>]` table is
+/// checked by the parser in `tables` that has its name (an unknown table is
+/// an error). [`crate::formulation::load_case`] passes the registry's.
+pub fn load_case_with(path: &Path, tables: &[TableSpec]) -> Result<Scenario, CaseError> {
     let text = std::fs::read_to_string(path).map_err(|e| CaseError {
         file: path.to_path_buf(),
         line: None,
         message: format!("cannot read the case file: {e}"),
     })?;
-    parse_case(&text, path)
+    parse_case_with(&text, path, tables)
 }
 
 /// Parses and validates case text; `file` is used in messages (and, for
-/// future keys holding paths, as the base of relative paths).
-pub fn parse_case(text: &str, file: &Path) -> Result<Scenario, CaseError> {
+/// future keys holding paths, as the base of relative paths); `tables` as in
+/// [`load_case_with`].
+pub fn parse_case_with(
+    text: &str,
+    file: &Path,
+    tables: &[TableSpec],
+) -> Result<Scenario, CaseError> {
     let ctx = Ctx { file, text };
     // Syntax first, then the version, before any typed rule.
     let raw: toml::Table = toml::from_str(text).map_err(|e| ctx.err(e.span(), e.message()))?;
     check_version(&ctx, &raw)?;
     let case: CaseFile = toml::from_str(text).map_err(|e| ctx.err(e.span(), e.message()))?;
-    build(&ctx, case)
+    build(&ctx, case, tables)
 }
 
 fn check_version(ctx: &Ctx, raw: &toml::Table) -> Result<(), CaseError> {
@@ -295,7 +282,7 @@ fn check_version(ctx: &Ctx, raw: &toml::Table) -> Result<(), CaseError> {
     }
 }
 
-fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
+fn build(ctx: &Ctx, case: CaseFile, tables: &[TableSpec]) -> Result<Scenario, CaseError> {
     // [case]
     let hspan = case.case.span();
     let header = case.case.into_inner();
@@ -481,80 +468,40 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
         check_field_against_fixed(ctx, &span, k, &floes, first, &obstacles)?;
     }
 
-    // [formulation.*]
-    let mut formulations = FormulationSettings::default();
+    // [formulation.*]: kept as written, each checked by its owner.
+    let mut formulation_settings = BTreeMap::new();
     if let Some(spec) = case.formulation {
-        let spec = spec.into_inner();
-        if let Some(ed) = spec.event_driven {
-            let span = ed.span();
-            let ed = ed.into_inner();
-            if let Some(p) = ed.penetration_tolerance {
-                positive(
-                    ctx,
-                    &span,
-                    "formulation.event_driven",
-                    "penetration_tolerance",
-                    p,
-                )?;
-            }
-            formulations.event_driven = EventDrivenSettings {
-                penetration_tolerance: ed.penetration_tolerance,
+        let outer = spec.span();
+        for (name, table) in spec.into_inner() {
+            let span = table.span();
+            let Some(owner) = tables.iter().find(|t| t.name == name) else {
+                let known: Vec<&str> = tables.iter().map(|t| t.name).collect();
+                let line = ctx
+                    .key_line(&outer, &name)
+                    .or(Some(ctx.line_of(span.start)));
+                return Err(CaseError {
+                    file: ctx.file.to_path_buf(),
+                    line,
+                    message: format!(
+                        "unknown table [formulation.{name}]; known: {}",
+                        known.join(", ")
+                    ),
+                });
             };
-        }
-        if let Some(m) = spec.moreau {
-            let span = m.span();
-            let m = m.into_inner();
-            let mut s = MoreauSettings::default();
-            if let Some(step) = m.step {
-                positive(ctx, &span, "formulation.moreau", "step", step)?;
-                s.step = step;
-            }
-            if let Some(theta) = m.theta {
-                unit_interval(ctx, &span, "formulation.moreau", "theta", theta)?;
-                s.theta = theta;
-            }
-            if let Some(gamma) = m.gamma {
-                unit_interval(ctx, &span, "formulation.moreau", "gamma", gamma)?;
-                s.gamma = gamma;
-            }
-            if let Some(solver) = m.solver {
-                s.solver = solver.parse::<MoreauSolver>().map_err(|e| {
-                    ctx.key_err(&span, "solver", format!("[formulation.moreau] {e}"))
-                })?;
-            }
-            formulations.moreau = s;
-        }
-        if let Some(r) = spec.rapier {
-            let span = r.span();
-            let r = r.into_inner();
-            let mut s = RapierSettings::default();
-            if let Some(step) = r.step {
-                positive(ctx, &span, "formulation.rapier", "step", step)?;
-                s.step = step;
-            }
-            if let Some(it) = r.iterations {
-                if it == 0 {
-                    return Err(ctx.key_err(
-                        &span,
-                        "iterations",
-                        "[formulation.rapier] iterations must be >= 1",
-                    ));
-                }
-                s.iterations = it;
-            }
-            if let Some(f) = r.natural_frequency {
-                positive(ctx, &span, "formulation.rapier", "natural_frequency", f)?;
-                s.natural_frequency = Some(f);
-            }
-            if let Some(d) = r.damping_ratio {
-                positive(ctx, &span, "formulation.rapier", "damping_ratio", d)?;
-                s.damping_ratio = d;
-            }
-            if let Some(p) = r.prediction {
-                positive(ctx, &span, "formulation.rapier", "prediction", p)?;
-                s.prediction = Some(p);
-            }
-            formulations.rapier = s;
+            let values = table.into_inner();
+            let key_lines = values
+                .keys()
+                .filter_map(|k| ctx.key_line(&span, k).map(|l| (k.clone(), l)))
+                .collect();
+            let t = SettingsTable::new(
+                &name,
+                values,
+                ctx.file.to_path_buf(),
+                Some(ctx.line_of(span.start)),
+                key_lines,
+            );
+            (owner.validate)(&t)?;
+            formulation_settings.insert(name, t);
         }
     }
 
@@ -594,7 +541,7 @@ fn build(ctx: &Ctx, case: CaseFile) -> Result<Scenario, CaseError> {
         floes,
         obstacles,
         integrator,
-        formulations,
+        formulation_settings,
     })
 }
 
@@ -612,24 +559,6 @@ fn positive(
             span,
             key,
             format!("[{table}] {key} = {v} must be finite and > 0"),
-        ))
-    }
-}
-
-fn unit_interval(
-    ctx: &Ctx,
-    span: &Range<usize>,
-    table: &str,
-    key: &str,
-    v: f64,
-) -> Result<(), CaseError> {
-    if (0.0..=1.0).contains(&v) {
-        Ok(())
-    } else {
-        Err(ctx.key_err(
-            span,
-            key,
-            format!("[{table}] {key} = {v} must be in [0, 1]"),
         ))
     }
 }

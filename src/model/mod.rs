@@ -8,11 +8,14 @@
 
 pub mod case;
 pub mod field;
+pub mod settings;
 
 use crate::geometry::{area_properties, radius_about, rotate, Vec2};
 use serde::Serialize;
+use std::collections::BTreeMap;
 
-pub use case::{load_case, parse_case, CaseError};
+pub use case::{load_case_with, parse_case_with, CaseError};
+pub use settings::{SettingsReader, SettingsTable, TableSpec};
 
 /// Default ice density, kg/m³.
 pub const DEFAULT_ICE_DENSITY: f64 = 917.0;
@@ -93,6 +96,12 @@ impl Floe {
     pub fn world_polygon(&self, g: &Vec2, theta: f64, out: &mut Vec<Vec2>) {
         out.clear();
         out.extend(self.shape.iter().map(|p| g + rotate(p, theta)));
+    }
+
+    /// Kinetic energy `½ M |v|² + ½ I ω²` at velocity `v` (m/s) and angular
+    /// velocity `omega` (rad/s), J: the one formula of the project.
+    pub fn kinetic_energy(&self, v: &Vec2, omega: f64) -> f64 {
+        0.5 * self.mass * v.norm_squared() + 0.5 * self.inertia * omega * omega
     }
 
     /// Mass per unit area `ρ_i h`, kg/m².
@@ -265,135 +274,14 @@ impl Default for IntegratorSettings {
     }
 }
 
-/// Settings of the event-driven formulation (`[formulation.event_driven]`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
-pub struct EventDrivenSettings {
-    /// Penetration tolerated before a step is rejected, m (default: 1e-6 of
-    /// the smallest floe radius).
-    pub penetration_tolerance: Option<f64>,
-}
-
-/// Settings of the Moreau–Jean formulation (`[formulation.moreau]`).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct MoreauSettings {
-    /// Time step `h`, s (default 1.0).
-    pub step: f64,
-    /// θ of the θ-method on the smooth forces, in [0, 1] (default 0.5).
-    pub theta: f64,
-    /// γ of the predicted gap `g + h γ u_N` activating a contact, in [0, 1] (default 0.5).
-    pub gamma: f64,
-    /// The one-step contact solver (default [`MoreauSolver::Lcp`]); the
-    /// formulation names `moreau` and `moreau-cone` override it.
-    pub solver: MoreauSolver,
-}
-
-/// The one-step contact solver of the Moreau–Jean formulation
-/// (`[formulation.moreau] solver`).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum MoreauSolver {
-    /// `"lcp"`: the Stewart–Trinkle LCP (physics.md 3.1) by our Lemke.
-    Lcp,
-    /// `"cone"`: the Anitescu–Tasora convex relaxation, a second-order-cone
-    /// program solved by clarabel.
-    Cone,
-}
-
-impl std::str::FromStr for MoreauSolver {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "lcp" => Ok(MoreauSolver::Lcp),
-            "cone" => Ok(MoreauSolver::Cone),
-            other => Err(format!(
-                "unknown solver `{other}`; expected `lcp` or `cone`"
-            )),
-        }
-    }
-}
-
-impl Default for MoreauSettings {
-    fn default() -> Self {
-        MoreauSettings {
-            step: 1.0,
-            theta: 0.5,
-            gamma: 0.5,
-            solver: MoreauSolver::Lcp,
-        }
-    }
-}
-
-/// Settings of the rapier reference formulation (`[formulation.rapier]`).
-///
-/// They decide what "regularised" means for [`crate::formulation::rapier_ref`];
-/// the defaults are chosen for floes (metres to kilometres, tonnes to
-/// megatonnes, drift below 1 m/s, forcing time scales of minutes to hours),
-/// not rapier's game defaults (1/60 s steps, 30 Hz contacts with damping
-/// ratio 10, a 2 cm prediction distance): see the README, "The rapier
-/// reference".
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct RapierSettings {
-    /// Time step `h`, s (default 0.1: a floe at 0.5 m/s moves 5 cm per step,
-    /// 0.5 % of the smallest bundled floe).
-    pub step: f64,
-    /// Substeps (rapier's solver iterations) per step, `n` (default 4,
-    /// rapier's default).
-    pub iterations: usize,
-    /// Contact softness: natural frequency of the spring that pushes a
-    /// penetration out, Hz (default `n / (4h)`, a quarter of the substep
-    /// rate: 10 Hz at the default step and substeps; a stiffer spring is not
-    /// resolved by the substeps and only gives energy back to piles).
-    pub natural_frequency: Option<f64>,
-    /// Damping ratio of that spring (default 1: critically damped, the
-    /// penetration is removed without overshoot; ice does not spring back,
-    /// restitution is applied separately).
-    pub damping_ratio: f64,
-    /// Prediction distance, m: pairs closer than this get speculative
-    /// contacts (default `h × 1 m/s`: an approach up to 1 m/s, twice the
-    /// fastest drift, is stopped at contact instead of penetrating).
-    pub prediction: Option<f64>,
-}
-
-impl RapierSettings {
-    /// Speed (m/s) whose travel over one step is the default prediction distance.
-    pub const DEFAULT_PREDICTION_SPEED: f64 = 1.0;
-    /// The default natural frequency is this fraction of the substep rate `n/h`.
-    pub const DEFAULT_FREQUENCY_FRACTION: f64 = 0.25;
-
-    /// The natural frequency in use, Hz.
-    pub fn natural_frequency(&self) -> f64 {
-        self.natural_frequency
-            .unwrap_or(Self::DEFAULT_FREQUENCY_FRACTION * self.iterations as f64 / self.step)
-    }
-
-    /// The prediction distance in use, m.
-    pub fn prediction(&self) -> f64 {
-        self.prediction
-            .unwrap_or(Self::DEFAULT_PREDICTION_SPEED * self.step)
-    }
-}
-
-impl Default for RapierSettings {
-    fn default() -> Self {
-        RapierSettings {
-            step: 0.1,
-            iterations: 4,
-            natural_frequency: None,
-            damping_ratio: 1.0,
-            prediction: None,
-        }
-    }
-}
-
-/// Per-formulation settings, each from its own `[formulation.<name>]` table.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Default)]
-pub struct FormulationSettings {
-    /// `[formulation.event_driven]`.
-    pub event_driven: EventDrivenSettings,
-    /// `[formulation.moreau]`.
-    pub moreau: MoreauSettings,
-    /// `[formulation.rapier]`.
-    pub rapier: RapierSettings,
+/// What a body id names: bodies are numbered floes first (in the
+/// scenario's order), then obstacles.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Body {
+    /// Floe `k` (`scn.floes[k]`).
+    Floe(usize),
+    /// Obstacle `k` (`scn.obstacles[k]`): fixed, infinite mass.
+    Obstacle(usize),
 }
 
 /// A validated scenario: everything a formulation needs, immutable during a run.
@@ -417,11 +305,42 @@ pub struct Scenario {
     pub obstacles: Vec<Obstacle>,
     /// The smooth integrator.
     pub integrator: IntegratorSettings,
-    /// Settings of each formulation.
-    pub formulations: FormulationSettings,
+    /// The `[formulation.<name>]` tables as written (validated by their
+    /// owners at load), by name.
+    pub formulation_settings: BTreeMap<String, SettingsTable>,
 }
 
 impl Scenario {
+    /// What body id `i` names (floes first, then obstacles).
+    pub fn body(&self, i: usize) -> Body {
+        let n = self.floes.len();
+        if i < n {
+            Body::Floe(i)
+        } else {
+            Body::Obstacle(i - n)
+        }
+    }
+
+    /// The `[formulation.<name>]` table of the case (empty when the case
+    /// does not write it).
+    pub fn settings_table(&self, name: &str) -> SettingsTable {
+        self.formulation_settings
+            .get(name)
+            .cloned()
+            .unwrap_or_else(|| SettingsTable::empty(name))
+    }
+
+    /// Whether contacts cannot happen by construction: no obstacle and every
+    /// floe at rest at t = 0 (only the environment moves them); the
+    /// formulations that ignore contacts (`free-drift`) run only there.
+    pub fn contact_free(&self) -> bool {
+        self.obstacles.is_empty()
+            && self
+                .floes
+                .iter()
+                .all(|f| f.velocity.norm() == 0.0 && f.angular_velocity == 0.0)
+    }
+
     /// The drag stability bound of explicit Euler for floe `i`, s
     /// (physics.md section 4, report eq. 3.6):
     /// `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` with the largest wind

@@ -27,6 +27,7 @@
 
 use super::forces::{environment_forces, Forces, Quadrature};
 use crate::model::{IntegratorKind, Scenario};
+use crate::record::counters::{common, Counters};
 use crate::state::{BodyState, Ledger};
 
 /// A failure of the smooth integration.
@@ -59,6 +60,16 @@ pub struct IntegratorStats {
     pub rejected: u64,
     /// Evaluations of the environment forces.
     pub force_evaluations: u64,
+}
+
+impl IntegratorStats {
+    /// Adds these counts to `c` (`integrator_steps`,
+    /// `integrator_rejected_steps`, `force_evaluations`).
+    pub fn report(&self, c: &mut Counters) {
+        c.add(&common::INTEGRATOR_STEPS, self.steps);
+        c.add(&common::INTEGRATOR_REJECTED_STEPS, self.rejected);
+        c.add(&common::FORCE_EVALUATIONS, self.force_evaluations);
+    }
 }
 
 const N: usize = 10;

@@ -7,52 +7,14 @@
 //! contacts `D`, and the balance residual `E(t) − E(0) − W_ext + D`, which
 //! is zero for an exact integration.
 
-pub mod clock;
 pub mod output;
-
-pub use clock::{thread_cpu_seconds, Stage, StageClock, StageTimes};
 
 use crate::formulation::Formulation;
 use crate::model::Scenario;
-use crate::physics::IntegratorStats;
+use crate::record::{thread_cpu_seconds, ContactLog, Counters, Settings, StageClock, StageTimes};
 use crate::state::System;
 use serde::Serialize;
-use std::collections::BTreeMap;
 use std::time::{Duration, Instant};
-
-/// A formulation's counters: integer counts and real-valued figures, by name.
-#[derive(Debug, Clone, Default, PartialEq, Serialize)]
-pub struct Counters {
-    /// Event counts (steps, impacts, solves, pivots, fallbacks, …).
-    pub counts: BTreeMap<String, u64>,
-    /// Real-valued figures with their unit in the name (e.g. `max_penetration_m`).
-    pub values: BTreeMap<String, f64>,
-}
-
-impl Counters {
-    /// Adds `n` to the count `name`.
-    pub fn add(&mut self, name: &str, n: u64) {
-        *self.counts.entry(name.to_string()).or_insert(0) += n;
-    }
-
-    /// Sets the figure `name`.
-    pub fn set_value(&mut self, name: &str, v: f64) {
-        self.values.insert(name.to_string(), v);
-    }
-
-    /// Keeps the largest figure seen under `name`.
-    pub fn max_value(&mut self, name: &str, v: f64) {
-        let e = self.values.entry(name.to_string()).or_insert(v);
-        *e = e.max(v);
-    }
-
-    /// Adds the smooth integrator's counts.
-    pub fn integrator(&mut self, s: &IntegratorStats) {
-        self.add("integrator_steps", s.steps);
-        self.add("integrator_rejected_steps", s.rejected);
-        self.add("force_evaluations", s.force_evaluations);
-    }
-}
 
 /// One row of the trajectory: the state of one floe at one time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -170,6 +132,8 @@ pub struct RunSummary {
     pub timing: Timing,
     /// Energy totals.
     pub energy: EnergyTotals,
+    /// The settings the formulation ran with, defaults resolved.
+    pub settings: Settings,
     /// The formulation's counters.
     pub counters: Counters,
 }
@@ -188,164 +152,6 @@ pub struct RunResult {
     /// What the formulation recorded of its contact impulses and impacts
     /// (bounded; empty for formulations that record nothing).
     pub contacts: ContactLog,
-}
-
-/// One contact impulse as a formulation applied it: the normal impulse `λ`
-/// and the tangential (friction) impulse `β` of one contact point, N·s.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ImpulseRecord {
-    /// Time, s.
-    pub t: f64,
-    /// Normal impulse `λ`, N·s (≥ 0 when pushing).
-    pub normal: f64,
-    /// Tangential impulse `β`, N·s (signed).
-    pub tangent: f64,
-    /// Friction coefficient `μ` of the contact.
-    pub mu: f64,
-    /// Rounding allowance of this impulse, N·s: a tangential impulse below it
-    /// is rounding and is left out of the Coulomb ratio (0 for none).
-    pub slack: f64,
-}
-
-impl ImpulseRecord {
-    /// The Coulomb ratio `|β| / (μ λ)` (1 on the cone's boundary); 0 when
-    /// `|β|` is within the rounding allowance; infinite for a tangential
-    /// impulse without a normal one. This is the one definition used by the
-    /// formulations' counters and by `floebench check`.
-    pub fn coulomb_ratio(&self) -> f64 {
-        let b = self.tangent.abs();
-        if b <= self.slack {
-            return 0.0;
-        }
-        let bound = self.mu * self.normal;
-        if bound > 0.0 {
-            b / bound
-        } else {
-            f64::INFINITY
-        }
-    }
-}
-
-/// One contact resolution that changed velocities: an impact (event-driven),
-/// the contact impulses of one step (time stepping), with the kinetic energy
-/// of the floes involved just before and just after the impulses, J.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct ContactEvent {
-    /// Time (start of the step for time-stepping schemes), s.
-    pub t: f64,
-    /// Number of contact points involved.
-    pub contacts: usize,
-    /// Kinetic energy of the floes involved before the impulses, J.
-    pub energy_before: f64,
-    /// Kinetic energy of the same floes after the impulses, J.
-    pub energy_after: f64,
-}
-
-impl ContactEvent {
-    /// Kinetic energy gained by the impulses (positive: energy created), J.
-    /// The one definition used by `floebench check`.
-    pub fn energy_gain(&self) -> f64 {
-        self.energy_after - self.energy_before
-    }
-}
-
-/// Aggregates over the records a bounded log did not keep.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
-pub struct Overflow {
-    /// Records not kept.
-    pub count: u64,
-    /// Largest [`ImpulseRecord::coulomb_ratio`] (impulses) or
-    /// [`ContactEvent::energy_gain`] (events, J) among them.
-    pub max: Option<f64>,
-    /// First time among them, s.
-    pub first_t: Option<f64>,
-}
-
-impl Overflow {
-    fn fold(&mut self, v: f64, t: f64) {
-        self.count += 1;
-        self.max = Some(self.max.map_or(v, |m| m.max(v)));
-        self.first_t = Some(self.first_t.map_or(t, |f| f.min(t)));
-    }
-}
-
-/// A bounded log of contact impulses and contact events: the first
-/// [`ContactLog::CAP`] of each are kept, the rest aggregated, so memory stays
-/// bounded on long field runs (hundreds of thousands of solves).
-#[derive(Debug, Clone, PartialEq, Default, Serialize)]
-pub struct ContactLog {
-    /// Whether the formulation records impulses (false: nothing to check).
-    pub records_impulses: bool,
-    /// Whether the formulation records contact events.
-    pub records_events: bool,
-    /// The first impulses.
-    pub impulses: Vec<ImpulseRecord>,
-    /// The impulses beyond the cap (max Coulomb ratio).
-    pub impulses_overflow: Overflow,
-    /// The first contact events.
-    pub events: Vec<ContactEvent>,
-    /// The events beyond the cap (max energy gain).
-    pub events_overflow: Overflow,
-}
-
-impl ContactLog {
-    /// Records kept of each kind.
-    pub const CAP: usize = 20_000;
-
-    /// A log that records both impulses and events.
-    pub fn recording() -> ContactLog {
-        ContactLog {
-            records_impulses: true,
-            records_events: true,
-            ..ContactLog::default()
-        }
-    }
-
-    /// Adds one impulse.
-    pub fn push_impulse(&mut self, r: ImpulseRecord) {
-        if self.impulses.len() < Self::CAP {
-            self.impulses.push(r);
-        } else {
-            self.impulses_overflow.fold(r.coulomb_ratio(), r.t);
-        }
-    }
-
-    /// Adds one contact event.
-    pub fn push_event(&mut self, e: ContactEvent) {
-        if self.events.len() < Self::CAP {
-            self.events.push(e);
-        } else {
-            self.events_overflow.fold(e.energy_gain(), e.t);
-        }
-    }
-
-    /// Number of impulses recorded, kept or not.
-    pub fn impulse_count(&self) -> u64 {
-        self.impulses.len() as u64 + self.impulses_overflow.count
-    }
-
-    /// Number of events recorded, kept or not.
-    pub fn event_count(&self) -> u64 {
-        self.events.len() as u64 + self.events_overflow.count
-    }
-
-    /// Largest Coulomb ratio over every impulse (0 without any).
-    pub fn max_coulomb_ratio(&self) -> f64 {
-        self.impulses
-            .iter()
-            .map(ImpulseRecord::coulomb_ratio)
-            .chain(self.impulses_overflow.max)
-            .fold(0.0, f64::max)
-    }
-
-    /// Largest energy gain over every event, J (`None` without any).
-    pub fn max_energy_gain(&self) -> Option<f64> {
-        self.events
-            .iter()
-            .map(ContactEvent::energy_gain)
-            .chain(self.events_overflow.max)
-            .reduce(f64::max)
-    }
 }
 
 /// Options of a run.
@@ -385,8 +191,10 @@ impl Runner {
         Runner { options }
     }
 
-    /// Runs `form` on `scn` from t = 0 to the case's duration.
-    pub fn run(&self, scn: &Scenario, form: &mut dyn Formulation) -> RunResult {
+    /// Runs `form` on `scn` from t = 0 to the case's duration; `label` names
+    /// the run (the formulation's registry name, see
+    /// [`crate::formulation::Instance`]).
+    pub fn run(&self, scn: &Scenario, label: &str, form: &mut dyn Formulation) -> RunResult {
         let wall0 = Instant::now();
         let cpu0 = thread_cpu_seconds();
         let mut clock = StageClock::new();
@@ -397,7 +205,7 @@ impl Runner {
         record(scn, &sys, e0, &mut trajectory, &mut energy);
 
         let times = output_times(scn.duration, scn.output_interval);
-        let bar = Progress::new(&self.options, times.len() as u64, scn, form.name());
+        let bar = Progress::new(&self.options, times.len() as u64, scn, label);
         let mut end = EndReason::Completed;
         for (k, &t) in times.iter().enumerate() {
             let mut next = sys.clone();
@@ -446,7 +254,7 @@ impl Runner {
         };
         let summary = RunSummary {
             case: scn.name.clone(),
-            formulation: form.name().to_string(),
+            formulation: label.to_string(),
             floes: scn.floes.len(),
             obstacles: scn.obstacles.len(),
             duration: scn.duration,
@@ -460,6 +268,7 @@ impl Runner {
                 wall: wall0.elapsed().as_secs_f64(),
             },
             energy: totals,
+            settings: form.settings(),
             counters: form.counters(),
         };
         RunResult {

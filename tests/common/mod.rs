@@ -4,8 +4,9 @@
 
 #![allow(dead_code)] // each test crate uses a part
 
+use floebench::formulation::parse_case;
 use floebench::geometry::Vec2;
-use floebench::model::{parse_case, Scenario};
+use floebench::model::Scenario;
 use floebench::run::RunResult;
 use std::path::Path;
 
@@ -84,4 +85,22 @@ pub fn assert_head_on(r: &RunResult, scn: &Scenario, e: f64, label: &str) {
         "{label}: momentum {} vs {p0}",
         p1.x
     );
+}
+
+/// The counter `name` of a run as a real number; panics if the run does not
+/// keep it (a misspelt name fails the test instead of reading 0).
+pub fn counter(r: &RunResult, name: &str) -> f64 {
+    match r.summary.counters.by_name(name) {
+        Ok(Some(v)) => v,
+        Ok(None) => panic!("{}: counter `{name}` kept but never set", r.summary.case),
+        Err(e) => panic!("{}: {e}", r.summary.case),
+    }
+}
+
+/// The numeric setting `name` of a run; panics if the run has none.
+pub fn setting(r: &RunResult, name: &str) -> f64 {
+    r.summary
+        .settings
+        .get(name)
+        .unwrap_or_else(|| panic!("{}: no numeric setting `{name}`", r.summary.case))
 }

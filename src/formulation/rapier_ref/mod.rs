@@ -133,11 +133,13 @@
 
 mod convert;
 
-use super::{Formulation, FormulationError, FormulationOptions};
-use crate::model::{RapierSettings, Scenario};
+use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
+use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{Forces, SmoothIntegrator};
-use crate::run::{
-    thread_cpu_seconds, ContactEvent, ContactLog, Counters, ImpulseRecord, Stage, StageClock,
+use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
+use crate::record::{
+    thread_cpu_seconds, ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings,
+    Stage, StageClock, Unit,
 };
 use crate::state::{BodyState, System};
 use rapier2d_f64::prelude::{
@@ -145,6 +147,196 @@ use rapier2d_f64::prelude::{
     IntegrationParameters, IslandManager, MultibodyJointSet, NarrowPhase, PhysicsPipeline,
     RigidBodyBuilder, RigidBodyHandle, RigidBodySet, SoftBodySet, SpringCoefficients,
 };
+
+/// The registry entry (see [`crate::formulation::REGISTRY`]).
+pub const ENTRY: Entry = Entry {
+    name: "rapier",
+    description: "rapier2d-f64 0.36: soft contacts (TGS-soft, substeps), restitution on new contacts only; the regularised reference",
+    build: |scn, opts| Ok(Box::new(RapierReference::new(scn, opts)?)),
+    settings: Some(TABLE),
+    resolves_contacts: true,
+    not_claimed: &[
+        NotClaimed {
+            check: "head_on_v1",
+            case: None,
+            reason: "restitution applied in one sequential Gauss-Seidel sweep over a two-point manifold: face-on rebound velocities are off, with a spin the set-up cannot produce",
+        },
+        NotClaimed {
+            check: "head_on_v2",
+            case: None,
+            reason: "as head_on_v1: sequential restitution over a two-point manifold",
+        },
+        NotClaimed {
+            check: "symmetry",
+            case: None,
+            reason: "sequential restitution over two-point manifolds gives face-on impacts a spin the set-up cannot produce, so mirror images drift apart",
+        },
+        NotClaimed {
+            check: "coulomb",
+            case: None,
+            reason: "friction is solved in the relax sweeps against the normal impulse of the sweep; the step's accumulated impulses can leave the cone (some tangential impulses beside a zero normal one)",
+        },
+        NotClaimed {
+            check: "bouncing_rest",
+            case: None,
+            reason: "the face-on floe rebounds short and rocks on its corners; once a rebound is about a h the contact persists, gets no restitution and sticks: it rests early",
+        },
+        NotClaimed {
+            check: "energy_conserved",
+            case: None,
+            reason: "restitution only on new contacts and soft (spring) contacts: e = 1 collisions lose or gain energy",
+        },
+        NotClaimed {
+            check: "impact_energy",
+            case: None,
+            reason: "soft contacts push penetrations out with a spring and give energy back (touching rows, pools, piles)",
+        },
+        NotClaimed {
+            check: "penetration",
+            case: None,
+            reason: "soft contacts penetrate by design (a resting floe sits a/(2 pi f)^2 into the wall; colliding floes overlap)",
+        },
+        NotClaimed {
+            check: "cradle_outcome",
+            case: None,
+            reason: "neither the sequential nor the simultaneous answer: soft contacts and sequential restitution spread the momentum over the row",
+        },
+        NotClaimed {
+            check: "cradle_physical",
+            case: None,
+            reason: "as cradle_outcome",
+        },
+        NotClaimed {
+            check: "cannon_velocities",
+            case: None,
+            reason: "face-on impacts with restitution miss the head-on law (two-point manifolds, sequential restitution)",
+        },
+        NotClaimed {
+            check: "energy_ledger",
+            case: None,
+            reason: "the residual is minus the sum of rapier's integration defect h^2 |F|^2 / (2 n M) per step (first order in h), not a 1e-10 integration",
+        },
+    ],
+};
+
+/// `[formulation.rapier]`.
+pub const TABLE: TableSpec = TableSpec {
+    name: "rapier",
+    validate: |t| RapierSettings::from_table(t).map(|_| ()),
+};
+
+/// Settings of the rapier reference formulation (`[formulation.rapier]`).
+///
+/// They decide what "regularised" means for [`crate::formulation::rapier_ref`];
+/// the defaults are chosen for floes (metres to kilometres, tonnes to
+/// megatonnes, drift below 1 m/s, forcing time scales of minutes to hours),
+/// not rapier's game defaults (1/60 s steps, 30 Hz contacts with damping
+/// ratio 10, a 2 cm prediction distance): see the README, "The rapier
+/// reference".
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RapierSettings {
+    /// Time step `h`, s (default 0.1: a floe at 0.5 m/s moves 5 cm per step,
+    /// 0.5 % of the smallest bundled floe).
+    pub step: f64,
+    /// Substeps (rapier's solver iterations) per step, `n` (default 4,
+    /// rapier's default).
+    pub iterations: usize,
+    /// Contact softness: natural frequency of the spring that pushes a
+    /// penetration out, Hz (default `n / (4h)`, a quarter of the substep
+    /// rate: 10 Hz at the default step and substeps; a stiffer spring is not
+    /// resolved by the substeps and only gives energy back to piles).
+    pub natural_frequency: Option<f64>,
+    /// Damping ratio of that spring (default 1: critically damped, the
+    /// penetration is removed without overshoot; ice does not spring back,
+    /// restitution is applied separately).
+    pub damping_ratio: f64,
+    /// Prediction distance, m: pairs closer than this get speculative
+    /// contacts (default `h × 1 m/s`: an approach up to 1 m/s, twice the
+    /// fastest drift, is stopped at contact instead of penetrating).
+    pub prediction: Option<f64>,
+}
+
+impl RapierSettings {
+    /// Speed (m/s) whose travel over one step is the default prediction distance.
+    pub const DEFAULT_PREDICTION_SPEED: f64 = 1.0;
+    /// The default natural frequency is this fraction of the substep rate `n/h`.
+    pub const DEFAULT_FREQUENCY_FRACTION: f64 = 0.25;
+
+    /// The natural frequency in use, Hz.
+    pub fn natural_frequency(&self) -> f64 {
+        self.natural_frequency
+            .unwrap_or(Self::DEFAULT_FREQUENCY_FRACTION * self.iterations as f64 / self.step)
+    }
+
+    /// The prediction distance in use, m.
+    pub fn prediction(&self) -> f64 {
+        self.prediction
+            .unwrap_or(Self::DEFAULT_PREDICTION_SPEED * self.step)
+    }
+}
+
+impl Default for RapierSettings {
+    fn default() -> Self {
+        RapierSettings {
+            step: 0.1,
+            iterations: 4,
+            natural_frequency: None,
+            damping_ratio: 1.0,
+            prediction: None,
+        }
+    }
+}
+
+impl RapierSettings {
+    /// Parses `[formulation.rapier]` (errors name the line and key).
+    pub fn from_table(t: &SettingsTable) -> Result<RapierSettings, CaseError> {
+        let d = RapierSettings::default();
+        let mut r = t.read();
+        let s = RapierSettings {
+            step: r.positive("step")?.unwrap_or(d.step),
+            iterations: r
+                .integer_at_least("iterations", 1)?
+                .map_or(d.iterations, |n| n as usize),
+            natural_frequency: r.positive("natural_frequency")?,
+            damping_ratio: r.positive("damping_ratio")?.unwrap_or(d.damping_ratio),
+            prediction: r.positive("prediction")?,
+        };
+        r.finish()?;
+        Ok(s)
+    }
+
+    /// The settings of `scn`.
+    pub fn of(scn: &Scenario) -> Result<RapierSettings, CaseError> {
+        RapierSettings::from_table(&scn.settings_table(TABLE.name))
+    }
+}
+
+/// Pairs with contacts seen by the solver, summed over steps.
+pub const CONTACT_PAIR_STEPS: Counter = Counter::sum(
+    "contact_pair_steps",
+    "pairs with contacts seen by the solver (speculative ones included), summed over steps",
+);
+/// Most pairs with contacts in one step.
+pub const MAX_CONTACT_PAIRS: Counter = Counter::value(
+    "max_contact_pairs",
+    Unit::Count,
+    "most pairs with contacts in one step",
+);
+/// Kinetic energy given back by contacts, J.
+pub const CONTACT_ENERGY_GAINED: Counter = Counter::value(
+    "contact_energy_gained_j",
+    Unit::Joule,
+    "kinetic energy given back by contacts (steps in which contacts created energy)",
+);
+/// Sum of the integration defect of the substepped symplectic Euler, J.
+pub const INTEGRATION_DEFECT: Counter = Counter::value(
+    "integration_defect_j",
+    Unit::Joule,
+    "sum over steps of the integration defect of rapier's substepped symplectic Euler",
+);
+
+/// The counters of the formulation.
+const COUNTERS: &[&Counter] = &[&STEPS, &FORCE_EVALUATIONS, &CONTACT_PAIR_STEPS];
 
 /// Largest speed at which rapier pushes a penetration out, m/s: twice the
 /// fastest sea-ice drift (physics.md: up to 0.5 m/s), instead of rapier's
@@ -173,22 +365,22 @@ pub struct Resolved {
 
 impl Resolved {
     /// The settings of `scn` with their defaults resolved.
-    pub fn of(scn: &Scenario) -> Resolved {
-        let s: &RapierSettings = &scn.formulations.rapier;
+    pub fn of(scn: &Scenario) -> Result<Resolved, CaseError> {
+        let s = RapierSettings::of(scn)?;
         let rmin = scn.min_floe_radius();
         let rmin = if rmin.is_finite() && rmin > 0.0 {
             rmin
         } else {
             1.0
         };
-        Resolved {
+        Ok(Resolved {
             step: s.step,
             iterations: s.iterations,
             natural_frequency: s.natural_frequency(),
             damping_ratio: s.damping_ratio,
             prediction: s.prediction(),
             length_unit: rmin,
-        }
+        })
     }
 
     /// rapier's integration parameters for these settings and a step `dt` (s).
@@ -262,7 +454,7 @@ impl std::fmt::Debug for RapierReference {
 impl RapierReference {
     /// Sets up rapier for `scn`. Fails if parry rejects a polygon.
     pub fn new(scn: &Scenario, opts: &FormulationOptions) -> Result<RapierReference, String> {
-        let settings = Resolved::of(scn);
+        let settings = Resolved::of(scn).map_err(|e| e.to_string())?;
         let params = settings.integration_parameters(settings.step);
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
@@ -299,14 +491,6 @@ impl RapierReference {
             colliders.insert_with_parent(material(collider), h, &mut bodies);
         }
         let synced = System::initial(scn).bodies;
-        let mut counters = Counters::default();
-        counters.set_value("step_s", settings.step);
-        counters.set_value("iterations", settings.iterations as f64);
-        counters.set_value("natural_frequency_hz", settings.natural_frequency);
-        counters.set_value("damping_ratio", settings.damping_ratio);
-        counters.set_value("prediction_m", settings.prediction);
-        counters.set_value("length_unit_m", settings.length_unit);
-        counters.set_value("max_corrective_velocity_m_per_s", MAX_CORRECTIVE_VELOCITY);
         let mut pipeline = PhysicsPipeline::new();
         pipeline.counters.enable();
         Ok(RapierReference {
@@ -331,7 +515,7 @@ impl RapierReference {
             log: ContactLog::recording(),
             touched: vec![false; scn.floes.len()],
             step_points: 0,
-            counters,
+            counters: Counters::new(COUNTERS),
             max_penetration: 0.0,
             max_pairs: 0,
             energy_gained: 0.0,
@@ -340,7 +524,7 @@ impl RapierReference {
     }
 
     /// The settings in use, defaults resolved.
-    pub fn settings(&self) -> &Resolved {
+    pub fn resolved(&self) -> &Resolved {
         &self.settings
     }
 
@@ -389,7 +573,7 @@ impl RapierReference {
             }
         });
         self.counters
-            .add("force_evaluations", sys.bodies.len() as u64);
+            .add(&FORCE_EVALUATIONS, sys.bodies.len() as u64);
 
         self.params.dt = h;
         let cpu0 = thread_cpu_seconds();
@@ -409,7 +593,7 @@ impl RapierReference {
             &(),
         );
         self.charge_step(thread_cpu_seconds() - cpu0, clock);
-        self.counters.add("steps", 1);
+        self.counters.add(&STEPS, 1);
 
         // Read back; work of each force along the actual displacement.
         let n = self.settings.iterations as f64;
@@ -553,17 +737,13 @@ impl RapierReference {
                 }
             }
         }
-        self.counters.add("contact_pair_steps", pairs);
+        self.counters.add(&CONTACT_PAIR_STEPS, pairs);
         self.max_pairs = self.max_pairs.max(pairs);
         self.max_penetration = self.max_penetration.max(deepest);
     }
 }
 
 impl Formulation for RapierReference {
-    fn name(&self) -> &'static str {
-        "rapier"
-    }
-
     fn advance(
         &mut self,
         scn: &Scenario,
@@ -591,11 +771,27 @@ impl Formulation for RapierReference {
 
     fn counters(&self) -> Counters {
         let mut c = self.counters.clone();
-        c.set_value("max_penetration_m", self.max_penetration);
-        c.set_value("max_contact_pairs", self.max_pairs as f64);
-        c.set_value("contact_energy_gained_j", self.energy_gained);
-        c.set_value("integration_defect_j", self.integration_defect);
+        c.set(&MAX_PENETRATION, self.max_penetration);
+        c.set(&MAX_CONTACT_PAIRS, self.max_pairs as f64);
+        c.set(&CONTACT_ENERGY_GAINED, self.energy_gained);
+        c.set(&INTEGRATION_DEFECT, self.integration_defect);
         c
+    }
+
+    fn settings(&self) -> Settings {
+        let s = &self.settings;
+        Settings::default()
+            .number("step_s", s.step, Unit::Second)
+            .number("iterations", s.iterations as f64, Unit::Count)
+            .number("natural_frequency_hz", s.natural_frequency, Unit::Hertz)
+            .number("damping_ratio", s.damping_ratio, Unit::Dimensionless)
+            .number("prediction_m", s.prediction, Unit::Metre)
+            .number("length_unit_m", s.length_unit, Unit::Metre)
+            .number(
+                "max_corrective_velocity_m_per_s",
+                MAX_CORRECTIVE_VELOCITY,
+                Unit::MetrePerSecond,
+            )
     }
 
     fn take_contact_log(&mut self) -> ContactLog {

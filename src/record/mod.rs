@@ -1,0 +1,19 @@
+//! The reporting vocabulary: what a formulation reports with, below both
+//! the formulations and the [`crate::run::Runner`] that drives them.
+//!
+//! - [`counters`]: typed counters, each declared once with its unit
+//!   ([`Counter`]), and the settings a formulation ran with ([`Settings`]),
+//!   reported apart from the counters;
+//! - [`log`]: the bounded log of contact impulses and contact events
+//!   ([`ContactLog`], [`ImpulseRecord`], [`ContactEvent`]);
+//! - [`clock`]: CPU time per stage ([`StageClock`]).
+
+pub mod clock;
+pub mod counters;
+pub mod log;
+
+pub use clock::{thread_cpu_seconds, Stage, StageClock, StageTimes};
+pub use counters::{
+    Counter, CounterKind, Counters, Setting, SettingValue, Settings, Unit, UnknownCounter,
+};
+pub use log::{ContactEvent, ContactLog, ImpulseRecord, Overflow};
