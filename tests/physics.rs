@@ -4,7 +4,7 @@
 use floebench::formulation::{build, FormulationOptions};
 use floebench::geometry::{area_properties, Vec2};
 use floebench::model::{parse_case, IntegratorKind, Scenario};
-use floebench::physics::{environment_forces, Quadrature, SmoothIntegrator};
+use floebench::physics::{ForceModel, SmoothIntegrator};
 use floebench::run::{RunOptions, RunResult, Runner};
 use floebench::state::{BodyState, Ledger, System};
 use std::f64::consts::PI;
@@ -151,7 +151,7 @@ fn drag_integral_of_a_translating_floe_is_area_times_traction() {
         PENTAGON,
     );
     let f = &scn.floes[0];
-    let quad = Quadrature::for_shape(&f.shape);
+    let model = ForceModel::new(&scn.floes);
     for angle in [0.0, 0.7, 2.9] {
         let b = BodyState {
             position: f.position,
@@ -159,7 +159,7 @@ fn drag_integral_of_a_translating_floe_is_area_times_traction() {
             velocity: Vec2::new(-0.3, 0.45),
             angular_velocity: 0.0,
         };
-        let forces = environment_forces(&scn.environment, f, &quad, 0.0, &b);
+        let forces = model.forces(&scn.environment, 0, 0.0, &b);
         let u = Vec2::new(0.2, 0.1) - b.velocity;
         let expected = u * (1025.0 * 5.5e-3 * u.norm() * f.area);
         assert!((forces.water - expected).norm() < 1e-12 * expected.norm());
@@ -179,14 +179,14 @@ fn a_spinning_floe_in_still_water_loses_angular_momentum() {
         &format!("{PENTAGON}\nangular_velocity = 0.01"),
     );
     let f = &scn.floes[0];
-    let quad = Quadrature::for_shape(&f.shape);
+    let model = ForceModel::new(&scn.floes);
     let b = BodyState {
         position: f.position,
         angle: 0.0,
         velocity: Vec2::zeros(),
         angular_velocity: 0.01,
     };
-    let forces = environment_forces(&scn.environment, f, &quad, 0.0, &b);
+    let forces = model.forces(&scn.environment, 0, 0.0, &b);
     assert!(forces.water_torque < 0.0, "drag torque opposes the spin");
     let r = run(&scn, "free-drift", None);
     let omegas: Vec<f64> = r.trajectory.iter().map(|row| row.omega).collect();
