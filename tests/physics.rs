@@ -3,9 +3,13 @@
 
 use floebench::formulation::parse_case;
 use floebench::formulation::{build, FormulationOptions};
-use floebench::geometry::{area_properties, Vec2};
-use floebench::model::{IntegratorKind, Scenario};
-use floebench::physics::{environment_forces, Quadrature, SmoothIntegrator};
+use floebench::geometry::{area_properties, cross, perp, Vec2};
+use floebench::model::{
+    Environment, Floe, FloeOrigin, Fluid, IntegratorKind, Scenario, VelocitySeries,
+};
+use floebench::physics::{
+    air_drag_quadrature, air_velocity, ForceModel, Forces, Quadrature, SmoothIntegrator,
+};
 use floebench::run::{RunOptions, RunResult, Runner};
 use floebench::state::{BodyState, Ledger, System};
 use std::f64::consts::PI;
@@ -152,7 +156,7 @@ fn drag_integral_of_a_translating_floe_is_area_times_traction() {
         PENTAGON,
     );
     let f = &scn.floes[0];
-    let quad = Quadrature::for_shape(&f.shape);
+    let model = ForceModel::new(&scn.floes);
     for angle in [0.0, 0.7, 2.9] {
         let b = BodyState {
             position: f.position,
@@ -160,7 +164,7 @@ fn drag_integral_of_a_translating_floe_is_area_times_traction() {
             velocity: Vec2::new(-0.3, 0.45),
             angular_velocity: 0.0,
         };
-        let forces = environment_forces(&scn.environment, f, &quad, 0.0, &b);
+        let forces = model.forces(&scn.environment, 0, 0.0, &b);
         let u = Vec2::new(0.2, 0.1) - b.velocity;
         let expected = u * (1025.0 * 5.5e-3 * u.norm() * f.area);
         assert!((forces.water - expected).norm() < 1e-12 * expected.norm());
@@ -180,14 +184,14 @@ fn a_spinning_floe_in_still_water_loses_angular_momentum() {
         &format!("{PENTAGON}\nangular_velocity = 0.01"),
     );
     let f = &scn.floes[0];
-    let quad = Quadrature::for_shape(&f.shape);
+    let model = ForceModel::new(&scn.floes);
     let b = BodyState {
         position: f.position,
         angle: 0.0,
         velocity: Vec2::zeros(),
         angular_velocity: 0.01,
     };
-    let forces = environment_forces(&scn.environment, f, &quad, 0.0, &b);
+    let forces = model.forces(&scn.environment, 0, 0.0, &b);
     assert!(forces.water_torque < 0.0, "drag torque opposes the spin");
     let r = run(&scn, "free-drift", None);
     let omegas: Vec<f64> = r.trajectory.iter().map(|row| row.omega).collect();
@@ -198,6 +202,234 @@ fn a_spinning_floe_in_still_water_loses_angular_momentum() {
         );
     }
     assert!(omegas.last().unwrap() < &(0.5 * 0.01));
+}
+
+// The force model: air drag by quadrature, the split of the forces, the map
+// to accelerations.
+
+/// ρ_a C_a of the tests' air, kg/m³.
+const KA: f64 = 1.3 * 1.7e-3;
+
+fn windy(ua: Vec2) -> Environment {
+    Environment {
+        coriolis: 0.0,
+        air: Fluid {
+            density: 1.3,
+            drag: 1.7e-3,
+            velocity: VelocitySeries::Constant(ua),
+        },
+        water: Fluid::none(),
+    }
+}
+
+/// A triangle, a square and an irregular convex hexagon, world outlines at
+/// t = 0 away from the origin, m.
+fn test_shapes() -> Vec<(&'static str, Vec<Vec2>)> {
+    vec![
+        (
+            "triangle",
+            offset(&[(0.0, 0.0), (300.0, 40.0), (90.0, 210.0)], (2e3, -1e3)),
+        ),
+        (
+            "square",
+            offset(
+                &[(0.0, 0.0), (120.0, 0.0), (120.0, 120.0), (0.0, 120.0)],
+                (-500.0, 700.0),
+            ),
+        ),
+        (
+            "hexagon",
+            offset(
+                &[
+                    (0.0, 0.0),
+                    (150.0, -30.0),
+                    (270.0, 60.0),
+                    (300.0, 180.0),
+                    (180.0, 270.0),
+                    (30.0, 150.0),
+                ],
+                (4e3, 3e3),
+            ),
+        ),
+    ]
+}
+
+#[test]
+fn air_drag_quadrature_of_a_uniform_wind_is_the_closed_form_without_torque() {
+    let ua = Vec2::new(8.0, -3.0);
+    let env = windy(ua);
+    let expected_traction = ua * (KA * ua.norm());
+    for (name, poly) in test_shapes() {
+        let floe =
+            Floe::from_world_polygon(&poly, 1.0, 917.0, Vec2::zeros(), 0.0, FloeOrigin::Listed(0));
+        let model = ForceModel::new(std::slice::from_ref(&floe));
+        for (angle, shift) in [
+            (0.0, Vec2::zeros()),
+            (0.7, Vec2::new(350.0, -1200.0)),
+            (2.9, Vec2::new(-4e3, 2.5e3)),
+            (-1.3, Vec2::new(1e4, 1e4)),
+        ] {
+            let b = BodyState {
+                position: floe.position + shift,
+                angle,
+                velocity: Vec2::new(-0.3, 0.45),
+                angular_velocity: 2e-3,
+            };
+            // The model takes the closed form: area × traction, no torque.
+            let forces = model.forces(&env, 0, 0.0, &b);
+            let expected = expected_traction * floe.area;
+            assert_eq!(forces.air, expected, "{name}, θ = {angle}");
+            assert_eq!(forces.air_torque, 0.0, "{name}, θ = {angle}");
+            // The quadrature path agrees with it, its torque is rounding.
+            let (f, m) =
+                air_drag_quadrature(KA, model.quadrature(0), &b, |p| air_velocity(&env, p, 0.0));
+            assert!(
+                (f - forces.air).norm() <= 1e-13 * forces.air.norm(),
+                "{name}, θ = {angle}: force {f:?} vs {:?}",
+                forces.air
+            );
+            assert!(
+                m.abs() <= 1e-12 * forces.air.norm() * floe.radius,
+                "{name}, θ = {angle}: torque {m} N·m"
+            );
+        }
+    }
+}
+
+#[test]
+fn air_drag_quadrature_of_a_shear_wind_matches_the_analytic_integrals() {
+    // U_a = (a + b y, 0), positive over the floe: the traction k (a + b y)² x̂
+    // is of degree 2 and its moment of degree 3, both integrated exactly by
+    // the degree-5 rule. Rectangle of half sides (hx, hy) about G; with
+    // s = y − G_y and u_G = a + b G_y:
+    //   F_x = k 2hx ∫ (u_G + b s)² ds = k 2hx (2 hy u_G² + 2 b² hy³ / 3),
+    //   M_G = −k 2hx ∫ s (u_G + b s)² ds = −k 2hx 4 u_G b hy³ / 3.
+    let (a, b) = (2.0, 0.01);
+    let (hx, hy) = (150.0, 75.0);
+    let g = Vec2::new(1150.0, 275.0); // y in [200, 350] m: U_a in [4, 5.5] m/s
+    let ug = a + b * g.y;
+    let fx = KA * 2.0 * hx * (2.0 * hy * ug * ug + 2.0 * b * b * hy.powi(3) / 3.0);
+    let torque = -KA * 2.0 * hx * 4.0 * ug * b * hy.powi(3) / 3.0;
+    let wind = |p: &Vec2| Vec2::new(a + b * p.y, 0.0);
+    // The same world rectangle at each quarter turn of the body frame.
+    for k in 0..4 {
+        let (sx, sy) = if k % 2 == 0 { (hx, hy) } else { (hy, hx) };
+        let shape = [
+            Vec2::new(-sx, -sy),
+            Vec2::new(sx, -sy),
+            Vec2::new(sx, sy),
+            Vec2::new(-sx, sy),
+        ];
+        let quad = Quadrature::for_shape(&shape);
+        let body = BodyState {
+            position: g,
+            angle: k as f64 * PI / 2.0,
+            velocity: Vec2::new(0.3, -0.2),
+            angular_velocity: 1e-3,
+        };
+        let (f, m) = air_drag_quadrature(KA, &quad, &body, wind);
+        assert!(rel(f.x, fx) < 1e-12, "turn {k}: F_x {} vs {fx}", f.x);
+        assert!(f.y.abs() < 1e-12 * fx, "turn {k}: F_y {}", f.y);
+        assert!(rel(m, torque) < 1e-12, "turn {k}: M {m} vs {torque}");
+    }
+}
+
+#[test]
+fn water_drag_quadrature_is_unchanged() {
+    // The water drag of the force law before the force model, verbatim: the
+    // model must give the same bits.
+    let scn = one_floe(
+        "water = { density = 1025.0, drag = 5.5e-3, velocity = [0.2, 0.1] }\nair = { density = 1.3, drag = 1.7e-3, velocity = [8.0, -3.0] }",
+        "duration = 1.0\noutput_interval = 1.0",
+        PENTAGON,
+    );
+    let f = &scn.floes[0];
+    let model = ForceModel::new(&scn.floes);
+    assert_eq!(model.quadrature(0).nodes().len(), 7 * f.shape.len());
+    let kw = 1025.0 * 5.5e-3;
+    let uw = Vec2::new(0.2, 0.1);
+    for (angle, velocity, omega) in [
+        (0.0, Vec2::new(0.2, 0.1), 0.0),
+        (0.7, Vec2::new(-0.3, 0.45), 0.0),
+        (2.9, Vec2::new(0.1, 0.05), 3e-3),
+        (-1.1, Vec2::new(0.5, -0.2), -2e-2),
+    ] {
+        let b = BodyState {
+            position: f.position + Vec2::new(-300.0, 800.0),
+            angle,
+            velocity,
+            angular_velocity: omega,
+        };
+        let forces = model.forces(&scn.environment, 0, 0.0, &b);
+        let (mut water, mut water_torque) = (Vec2::zeros(), 0.0);
+        let (s, c) = b.angle.sin_cos();
+        for (r0, w) in model.quadrature(0).nodes() {
+            let r = Vec2::new(c * r0.x - s * r0.y, s * r0.x + c * r0.y);
+            let u = uw - b.velocity - perp(&r) * b.angular_velocity;
+            let tau = u * (kw * u.norm()) * *w;
+            water += tau;
+            water_torque += cross(&r, &tau);
+        }
+        assert_eq!(forces.water, water, "θ = {angle}");
+        assert_eq!(forces.water_torque, water_torque, "θ = {angle}");
+    }
+}
+
+#[test]
+fn the_air_torque_enters_the_torque_the_power_and_the_work() {
+    let f = Forces {
+        air: Vec2::new(3.0, 4.0),
+        air_torque: 5.0,
+        water: Vec2::new(1.0, -2.0),
+        water_torque: -7.0,
+        coriolis: Vec2::new(0.5, 0.25),
+    };
+    assert_eq!(f.force(), Vec2::new(4.5, 2.25));
+    assert_eq!(f.torque(), -2.0);
+    let b = BodyState {
+        position: Vec2::new(10.0, 20.0),
+        angle: 0.3,
+        velocity: Vec2::new(2.0, -1.0),
+        angular_velocity: 0.5,
+    };
+    // air 3·2 − 4 + 5·0.5, water 2 + 2 − 7·0.5, Coriolis 1 − 0.25.
+    assert_eq!(f.powers(&b), (4.5, 0.5, 0.75));
+    assert_eq!(f.works(&Vec2::new(-1.0, 0.5), 2.0), (9.0, -16.0, -0.375));
+}
+
+#[test]
+fn the_acceleration_is_force_over_mass_and_torque_over_inertia() {
+    // Two floes of different mass and inertia: each gets its own.
+    let scn = case(&format!(
+        "[case]\nversion = 1\nname = \"t\"\nduration = 1.0\noutput_interval = 1.0\n{HEADER}\
+         [[floe]]\n{PENTAGON}\n\
+         [[floe]]\npolygon = [[1000.0, 0.0], [1010.0, 0.0], [1010.0, 20.0], [1000.0, 20.0]]\nthickness = 2.0\n"
+    ));
+    let model = ForceModel::new(&scn.floes);
+    let f = Forces {
+        air: Vec2::new(3.0e4, 4.0e4),
+        air_torque: 5.0e6,
+        water: Vec2::new(1.0e4, -2.0e4),
+        water_torque: -7.0e6,
+        coriolis: Vec2::new(0.5e4, 0.25e4),
+    };
+    // Rectangle 10 m × 20 m, 2 m thick: M = 917 · 2 · 200 kg,
+    // I = ρ h (a b (a² + b²) / 12) kg·m².
+    let m1 = 917.0 * 2.0 * 200.0;
+    let i1 = 917.0 * 2.0 * (10.0 * 20.0 * (100.0 + 400.0) / 12.0);
+    let a1 = model.acceleration(1, &f);
+    assert!(rel(a1[0], 4.5e4 / m1) < 1e-12, "{a1:?}");
+    assert!(rel(a1[1], 2.25e4 / m1) < 1e-12, "{a1:?}");
+    assert!(rel(a1[2], -2.0e6 / i1) < 1e-12, "{a1:?}");
+    let p = &scn.floes[0];
+    let a0 = model.acceleration(0, &f);
+    assert!(rel(a0[0], 4.5e4 / p.mass) < 1e-15, "{a0:?}");
+    assert!(rel(a0[2], -2.0e6 / p.inertia) < 1e-15, "{a0:?}");
+    assert_eq!(
+        model.wrench_acceleration(1, &f.force(), f.torque()),
+        a1,
+        "the same map"
+    );
 }
 
 // ---------------------------------------------------------------------------

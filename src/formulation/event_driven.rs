@@ -422,10 +422,10 @@ impl EventDriven {
                     return Vec2::zeros();
                 };
                 let b = &sys.bodies[i];
-                let f = self.integ.forces(scn, i, sys.t, b);
+                let model = self.integ.model();
+                let a = model.acceleration(i, &model.forces(&scn.environment, i, sys.t, b));
                 let r = c.geom.point - b.position;
-                let alpha = f.torque() / scn.floes[i].inertia;
-                f.force() / scn.floes[i].mass + perp(&r) * alpha - r * b.angular_velocity.powi(2)
+                Vec2::new(a[0], a[1]) + perp(&r) * a[2] - r * b.angular_velocity.powi(2)
             };
             let a_n = (acc(c.b) - acc(c.a)).dot(&c.geom.normal);
             if a_n < 0.0 && 2.0 * u / (-a_n * (1.0 - e)) < tau {

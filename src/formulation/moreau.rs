@@ -8,7 +8,7 @@
 //! A fixed step `h`; impacts are not located in time. From `(q_k, W_k)` at
 //! `t_k` (`q = (G, θ)` per floe, `W = (Ġ, θ̇)`, `M` the block mass matrix,
 //! `H(t, q, W)` the environment forces and torque of physics.md section 2,
-//! from the shared [`SmoothIntegrator::forces`]):
+//! from the shared [`ForceModel::forces`]):
 //!
 //! 1. **Smooth impulse, θ-method with one predictor pass.**
 //!    `W* = W_k + h M⁻¹ H(t_k, q_k, W_k)`,
@@ -123,7 +123,7 @@ use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{BroadPhase, Contact};
 use crate::geometry::Vec2;
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
-use crate::physics::SmoothIntegrator;
+use crate::physics::ForceModel;
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
     ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock, Unit,
@@ -317,7 +317,7 @@ pub struct Moreau {
     step: f64,
     theta: f64,
     gamma: f64,
-    integ: SmoothIntegrator,
+    model: ForceModel,
     bp: BroadPhase,
     solver: ContactSolver,
     counters: Counters,
@@ -348,7 +348,7 @@ impl Moreau {
             step: s.step,
             theta: s.theta,
             gamma: s.gamma,
-            integ: SmoothIntegrator::new(scn, opts.integrator),
+            model: ForceModel::new(&scn.floes),
             bp: BroadPhase::new(),
             solver: ContactSolver::new(solver.unwrap_or(s.solver), opts.dump_lcp.clone()),
             counters: Counters::new(COUNTERS),
@@ -394,14 +394,10 @@ impl Moreau {
         let w_free: Vec<Gen> = clock.time(Stage::Integration, || {
             let mut w_free = Vec::with_capacity(n);
             let mut evals = 0u64;
-            for (i, (b, f)) in sys.bodies.iter().zip(&scn.floes).enumerate() {
-                let f0 = self.integ.forces(scn, i, t0, b);
+            for (i, b) in sys.bodies.iter().enumerate() {
+                let f0 = self.model.forces(&scn.environment, i, t0, b);
                 evals += 1;
-                let a0 = [
-                    f0.force().x / f.mass,
-                    f0.force().y / f.mass,
-                    f0.torque() / f.inertia,
-                ];
+                let a0 = self.model.acceleration(i, &f0);
                 let p0 = f0.powers(b);
                 let (a_th, p1) = if th > 0.0 {
                     let v = b.velocity + Vec2::new(a0[0], a0[1]) * h;
@@ -412,13 +408,9 @@ impl Moreau {
                         velocity: v,
                         angular_velocity: om,
                     };
-                    let f1 = self.integ.forces(scn, i, t0 + h, &pred);
+                    let f1 = self.model.forces(&scn.environment, i, t0 + h, &pred);
                     evals += 1;
-                    let a1 = [
-                        f1.force().x / f.mass,
-                        f1.force().y / f.mass,
-                        f1.torque() / f.inertia,
-                    ];
+                    let a1 = self.model.acceleration(i, &f1);
                     (
                         [
                             (1.0 - th) * a0[0] + th * a1[0],

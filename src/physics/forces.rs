@@ -1,21 +1,20 @@
-//! Environment forces of physics.md section 2: the one force law of the
-//! project, used by every formulation.
-//!
-//! - Coriolis: `F_c = −M f k ∧ Ġ` (no torque, no work in exact arithmetic);
-//! - air drag: `τ_a = ρ_a C_a |U_a| U_a`, uniform, so its force is `|ω| τ_a`
-//!   and its torque about the centroid is exactly zero;
-//! - water drag at each point: `τ_w(P) = ρ_w C_w |U_w − Ṗ| (U_w − Ṗ)` with
-//!   `Ṗ = Ġ + θ̇ k ∧ GP`, integrated over the polygon.
+//! The pieces of the force law (physics.md section 2): the split of the
+//! environment forces by origin ([`Forces`]), the quadratic drag traction,
+//! and the quadrature of a surface traction over a floe. The law itself,
+//! which puts them together for every formulation, is
+//! [`ForceModel`](super::ForceModel).
 //!
 //! The quadrature fans the polygon into triangles from the centroid and
 //! applies Dunavant's 7-point rule (degree 5) on each. Its weights sum to the
-//! triangle areas, so the integral is exact (to rounding) for a translating
-//! floe, where the integrand is constant. For a spinning floe it is a
-//! degree-5 rule on a piecewise smooth integrand (the traction has a kink where
-//! the relative velocity vanishes).
+//! triangle areas, so the integral is exact (to rounding) for a constant
+//! traction (a translating floe in water, a wind uniform in space), and its
+//! nodes have zero first moment about the centroid, so such a traction has
+//! no torque (to rounding). It integrates polynomial tractions of degree ≤ 5
+//! exactly. For a spinning floe the water traction is piecewise smooth (it
+//! has a kink where the relative velocity vanishes) and the rule is then
+//! only approximate.
 
 use crate::geometry::{cross, perp, Vec2};
-use crate::model::{Environment, Floe};
 use crate::state::BodyState;
 
 /// Quadrature nodes of one floe in its body frame: `(GP at θ = 0, weight m²)`.
@@ -63,16 +62,19 @@ impl Quadrature {
     }
 }
 
-/// Environment forces on one floe, split by origin.
+/// Environment forces on one floe, split by origin. Forces in N, torques
+/// about the centre of mass `G` in N·m (counter-clockwise positive).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Forces {
-    /// Air drag force, N (its torque about `G` is zero).
+    /// Air drag force, N.
     pub air: Vec2,
+    /// Air drag torque about `G`, N·m (zero for a wind uniform in space).
+    pub air_torque: f64,
     /// Water drag force, N.
     pub water: Vec2,
     /// Water drag torque about `G`, N·m.
     pub water_torque: f64,
-    /// Coriolis force, N.
+    /// Coriolis force, N (no torque).
     pub coriolis: Vec2,
 }
 
@@ -84,63 +86,58 @@ impl Forces {
 
     /// Total torque about the centre of mass, N·m.
     pub fn torque(&self) -> f64 {
-        self.water_torque
+        self.water_torque + self.air_torque
     }
 
-    /// Power of each force `(air, water, coriolis)` at the body velocity, W.
+    /// Power of each force `(air, water, coriolis)` at the body velocity, W:
+    /// `F · Ġ + M θ̇` for each origin.
     pub fn powers(&self, b: &BodyState) -> (f64, f64, f64) {
+        self.works(&b.velocity, b.angular_velocity)
+    }
+
+    /// Work of each force `(air, water, coriolis)`, J, held constant along a
+    /// displacement `dg` of the centre (m) and a rotation `dtheta` (rad):
+    /// `F · dG + M dθ` for each origin. With a velocity (m/s) and an angular
+    /// velocity (rad/s) in their place it is the power, W.
+    pub fn works(&self, dg: &Vec2, dtheta: f64) -> (f64, f64, f64) {
         (
-            self.air.dot(&b.velocity),
-            self.water.dot(&b.velocity) + self.water_torque * b.angular_velocity,
-            self.coriolis.dot(&b.velocity),
+            self.air.dot(dg) + self.air_torque * dtheta,
+            self.water.dot(dg) + self.water_torque * dtheta,
+            self.coriolis.dot(dg),
         )
     }
 }
 
-/// The quadratic drag traction `k |u| u`, N/m², for a relative velocity `u`.
+/// The quadratic drag traction `k |u| u`, N/m², for a drag factor `k = ρ C`
+/// (kg/m³) and a fluid velocity `u` (m/s) relative to the surface.
 #[inline]
 pub fn drag_traction(k: f64, u: &Vec2) -> Vec2 {
     u * (k * u.norm())
 }
 
-/// The environment forces on `floe` in state `b` at time `t` (s).
-pub fn environment_forces(
-    env: &Environment,
-    floe: &Floe,
-    quad: &Quadrature,
-    t: f64,
-    b: &BodyState,
-) -> Forces {
-    let ka = env.air.drag_factor();
-    let air = if ka > 0.0 {
-        drag_traction(ka, &env.air.velocity.at(t)) * floe.area
-    } else {
-        Vec2::zeros()
-    };
-    let kw = env.water.drag_factor();
-    let (mut water, mut water_torque) = (Vec2::zeros(), 0.0);
-    if kw > 0.0 {
-        let uw = env.water.velocity.at(t);
-        let (s, c) = b.angle.sin_cos();
-        for (r0, w) in quad.nodes() {
-            let r = Vec2::new(c * r0.x - s * r0.y, s * r0.x + c * r0.y);
-            let u = uw - b.velocity - perp(&r) * b.angular_velocity;
-            let tau = drag_traction(kw, &u) * *w;
-            water += tau;
-            water_torque += cross(&r, &tau);
-        }
+/// The force (N) and the torque about the centre of mass (N·m) of a surface
+/// traction over a floe with quadrature `quad` in state `b`, by the rule:
+/// `F = Σ_k w_k τ(P_k) ≈ ∫ τ dA`, `M = Σ_k w_k GP_k ∧ τ(P_k) ≈ ∫ GP ∧ τ dA`.
+///
+/// `traction(p, r)` is the traction at the node, N/m², given its world
+/// position `p = G + r` (m) and its world offset `r = GP` from the centre
+/// (m). Only `b.position` and `b.angle` are used here; a traction that
+/// depends on the motion (drag on the relative velocity) reads it itself.
+#[inline]
+pub fn integrate_traction<T>(quad: &Quadrature, b: &BodyState, mut traction: T) -> (Vec2, f64)
+where
+    T: FnMut(&Vec2, &Vec2) -> Vec2,
+{
+    let (mut force, mut torque) = (Vec2::zeros(), 0.0);
+    let (s, c) = b.angle.sin_cos();
+    for (r0, w) in quad.nodes() {
+        let r = Vec2::new(c * r0.x - s * r0.y, s * r0.x + c * r0.y);
+        let p = b.position + r;
+        let tau = traction(&p, &r) * *w;
+        force += tau;
+        torque += cross(&r, &tau);
     }
-    let coriolis = if env.coriolis != 0.0 {
-        -perp(&b.velocity) * (floe.mass * env.coriolis)
-    } else {
-        Vec2::zeros()
-    };
-    Forces {
-        air,
-        water,
-        water_torque,
-        coriolis,
-    }
+    (force, torque)
 }
 
 /// Velocity of the material point at world offset `r = GP` from the centre, m/s.

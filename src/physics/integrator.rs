@@ -1,6 +1,11 @@
 //! The smooth integrator: advances floes between impacts under the
 //! environment forces, shared by the formulations that need it.
 //!
+//! It holds the scenario's [`ForceModel`] (the one force law and the map from
+//! forces to accelerations) and integrates with it; formulations that
+//! evaluate forces without integrating (event-driven impact tests) reach it
+//! by [`SmoothIntegrator::model`].
+//!
 //! Floes do not interact through the smooth forces, so each floe is
 //! integrated on its own, with its own steps. The state of a floe is
 //! `y = (G, θ, Ġ, θ̇, W_air, W_water, W_cor, W_extra)`: the work of each force is
@@ -25,7 +30,7 @@
 //! The wind and current series are piecewise linear: steps stop at their
 //! kinks so that the adaptive method never straddles one.
 
-use super::forces::{environment_forces, Forces, Quadrature};
+use super::force_model::ForceModel;
 use crate::model::{IntegratorKind, Scenario};
 use crate::record::counters::{common, Counters};
 use crate::state::{BodyState, Ledger};
@@ -90,7 +95,7 @@ pub struct Wrench {
 pub struct SmoothIntegrator {
     kind: IntegratorKind,
     rtol: f64,
-    quadrature: Vec<Quadrature>,
+    model: ForceModel,
     /// Step bound per floe, s.
     max_step: Vec<f64>,
     /// Last accepted adaptive step per floe, s (0 when unknown).
@@ -139,11 +144,7 @@ impl SmoothIntegrator {
         SmoothIntegrator {
             kind,
             rtol: scn.integrator.tolerance,
-            quadrature: scn
-                .floes
-                .iter()
-                .map(|f| Quadrature::for_shape(&f.shape))
-                .collect(),
+            model: ForceModel::new(&scn.floes),
             max_step,
             hint: vec![0.0; scn.floes.len()],
             scales,
@@ -157,19 +158,15 @@ impl SmoothIntegrator {
         self.kind
     }
 
-    /// The quadrature of floe `i` (shared with formulations that evaluate forces).
-    pub fn quadrature(&self, i: usize) -> &Quadrature {
-        &self.quadrature[i]
+    /// The force model it integrates with (shared with formulations that
+    /// evaluate forces).
+    pub fn model(&self) -> &ForceModel {
+        &self.model
     }
 
     /// The largest step this integrator takes for floe `i`, s.
     pub fn max_step(&self, i: usize) -> f64 {
         self.max_step[i]
-    }
-
-    /// The environment forces on floe `i` in state `b` at time `t`.
-    pub fn forces(&self, scn: &Scenario, i: usize, t: f64, b: &BodyState) -> Forces {
-        environment_forces(&scn.environment, &scn.floes[i], &self.quadrature[i], t, b)
     }
 
     /// Advances every floe from `t0` to `t1` (s) and adds the work of the
@@ -261,13 +258,15 @@ impl SmoothIntegrator {
     fn rhs(&mut self, scn: &Scenario, i: usize, t: f64, y: &Y, extra: &Wrench) -> Y {
         self.stats.force_evaluations += 1;
         let b = unpack(y);
-        let f = self.forces(scn, i, t, &b);
-        let floe = &scn.floes[i];
-        let a = (f.force() + extra.force) / floe.mass;
-        let alpha = (f.torque() + extra.torque) / floe.inertia;
+        let f = self.model.forces(&scn.environment, i, t, &b);
+        let [ax, ay, alpha] = self.model.wrench_acceleration(
+            i,
+            &(f.force() + extra.force),
+            f.torque() + extra.torque,
+        );
         let (pa, pw, pc) = f.powers(&b);
         let pe = extra.force.dot(&b.velocity) + extra.torque * b.angular_velocity;
-        [y[3], y[4], y[5], a.x, a.y, alpha, pa, pw, pc, pe]
+        [y[3], y[4], y[5], ax, ay, alpha, pa, pw, pc, pe]
     }
 
     fn euler(

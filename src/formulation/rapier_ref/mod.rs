@@ -16,7 +16,7 @@
 //! - Each obstacle is a fixed body with one convex polygon collider in world
 //!   coordinates.
 //! - No gravity. The environment forces (physics.md section 2) are computed
-//!   by the project's one force law, [`SmoothIntegrator::forces`] (Dunavant
+//!   by the project's one force law, [`ForceModel::forces`] (Dunavant
 //!   quadrature of the water drag), from the state at the start of each step,
 //!   and given to rapier with `add_force`/`add_torque` after clearing the
 //!   previous step's (rapier keeps user forces until they are reset). They
@@ -135,7 +135,7 @@ mod convert;
 
 use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
-use crate::physics::{Forces, SmoothIntegrator};
+use crate::physics::{ForceModel, Forces};
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
     thread_cpu_seconds, ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings,
@@ -419,8 +419,8 @@ pub struct RapierReference {
     ccd: CCDSolver,
     /// One body per floe, in the scenario's order.
     handles: Vec<RigidBodyHandle>,
-    /// The shared force law (quadratures); never used to integrate.
-    integ: SmoothIntegrator,
+    /// The shared force law (quadratures).
+    model: ForceModel,
     /// The state rapier holds, as last read or written (to detect a caller
     /// that changed the state between calls).
     synced: Vec<BodyState>,
@@ -453,7 +453,7 @@ impl std::fmt::Debug for RapierReference {
 
 impl RapierReference {
     /// Sets up rapier for `scn`. Fails if parry rejects a polygon.
-    pub fn new(scn: &Scenario, opts: &FormulationOptions) -> Result<RapierReference, String> {
+    pub fn new(scn: &Scenario, _opts: &FormulationOptions) -> Result<RapierReference, String> {
         let settings = Resolved::of(scn).map_err(|e| e.to_string())?;
         let params = settings.integration_parameters(settings.step);
         let mut bodies = RigidBodySet::new();
@@ -507,7 +507,7 @@ impl RapierReference {
             soft_bodies: SoftBodySet::new(),
             ccd: CCDSolver::new(),
             handles,
-            integ: SmoothIntegrator::new(scn, opts.integrator),
+            model: ForceModel::new(&scn.floes),
             rapier_angle: vec![0.0; synced.len()],
             synced,
             forces: vec![Forces::default(); scn.floes.len()],
@@ -565,7 +565,7 @@ impl RapierReference {
         // Environment forces from the start state, by the shared force law.
         clock.time(Stage::Integration, || {
             for (i, b) in sys.bodies.iter().enumerate() {
-                let f = self.integ.forces(scn, i, t, b);
+                let f = self.model.forces(&scn.environment, i, t, b);
                 self.forces[i] = f;
                 if let Some(rb) = self.bodies.get_mut(self.handles[i]) {
                     convert::set_wrench(rb, &f.force(), f.torque());
@@ -623,11 +623,7 @@ impl RapierReference {
             }
             let dg = g - b.position;
             let f = &self.forces[i];
-            let (wa, ww, wc) = (
-                f.air.dot(&dg),
-                f.water.dot(&dg) + f.water_torque * da,
-                f.coriolis.dot(&dg),
-            );
+            let (wa, ww, wc) = f.works(&dg, da);
             sys.ledger.work_air += wa;
             sys.ledger.work_water += ww;
             sys.ledger.work_coriolis += wc;
