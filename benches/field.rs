@@ -1,5 +1,5 @@
 //! Generation of `[[field]]` floe fields: the 10,000-floe case must load in a
-//! few seconds (issue: linear cost, no all-pairs loop).
+//! few seconds (requirement: linear cost, no all-pairs loop; docs/case-format.md, [[field]]).
 //!
 //! `cargo bench --bench field`
 

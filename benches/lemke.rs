@@ -1,5 +1,5 @@
 //! Lemke on contact LCPs of 4, 40 and 400 unknowns built from real impacts:
-//! the impact LCP (physics.md 3.1, Stewart–Trinkle friction, size 4m) that
+//! the impact LCP (docs/physics.md §3.1, Stewart–Trinkle friction, size 4m) that
 //! the event-driven formulation assembles when a floe strikes
 //! - a wall with one corner (1 contact, 4 unknowns),
 //! - a row of 5 touching floes (10 contacts, 40 unknowns),

@@ -13,7 +13,7 @@ use std::process::ExitCode;
     name = "floebench",
     version,
     about = "Contact mechanics of sea-ice floes: run the same cases with several contact formulations",
-    long_about = "floebench runs sea-ice floe scenarios (TOML case files, see cases/README.md) \
+    long_about = "floebench runs sea-ice floe scenarios (TOML case files, see docs/case-format.md) \
                   with several contact formulations and writes trajectories, energy ledgers \
                   and counters as CSV/JSON.\n\nStart with:\n  floebench validate cases/free_drift_coriolis.toml\n  floebench run cases/free_drift_coriolis.toml"
 )]
@@ -81,7 +81,7 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
-    /// Run the physical checks (physics.md section 6) on cases and print a table;
+    /// Run the physical checks (docs/physics.md §6) on cases and print a table;
     /// exits non-zero when a formulation fails a check it claims to pass.
     Check {
         /// Case files (.toml) or folders (their *.toml files, not subfolders).

@@ -1,5 +1,5 @@
 //! The frictional contact problem of a group of touching floes, as the
-//! velocity–impulse LCP of physics.md section 3.1 (Rabatel 2015;
+//! velocity–impulse LCP of docs/physics.md §3.1 (Rabatel 2015;
 //! Stewart & Trinkle 1996), shared by the event-driven and the Moreau–Jean
 //! formulations.
 //!

@@ -2,14 +2,14 @@
 //!
 //! # Scheme
 //!
-//! From a state at time `t` (physics.md sections 3, 4; report section 3.2):
+//! From a state at time `t` (docs/physics.md §3, §4; origin report §3.2):
 //!
 //! 1. **Detection.** Contacts are found by sweep and prune and exact convex
 //!    polygon distances ([`crate::contact`]): every vertex–edge point whose
 //!    gap is below the contact distance `δ` is *closed*.
 //! 2. **Impacts.** If a closed contact approaches (`u_N < 0`), the connected
 //!    group of floes it belongs to goes through an impact: the compression
-//!    LCP of physics.md 3.1 with `e = 0` and no external impulse gives `W_c`
+//!    LCP of docs/physics.md §3.1 with `e = 0` and no external impulse gives `W_c`
 //!    and the impulse `P_c`; decompression applies `e P_c` more, i.e. Poisson's
 //!    law in Rabatel's energy-consistent form `W⁺ = (1 + e) W_c − e W⁻`, which
 //!    never increases the kinetic energy for `e ≤ 1` and conserves it for
@@ -17,17 +17,17 @@
 //!    decompression may push another closed contact into approach).
 //! 3. **Smooth step with sustained contacts.** A trial step `h` is bounded by
 //!    the time left to the next output, the drag stability bound `Δt_max` of
-//!    physics.md section 4, and a quarter of the smallest floe radius divided
+//!    docs/physics.md §4.2, and a quarter of the smallest floe radius divided
 //!    by the largest point speed (no floe tunnels through another). Closed
 //!    contacts that persist (resting, sliding) receive a constant contact
 //!    force over the step: the LCP is solved with the velocity–impulse form of
-//!    3.1, `h_free = −M W_free` where `W_free` is the free velocity after `h`
+//!    docs/physics.md §3.1, `h_free = −M W_free` where `W_free` is the free velocity after `h`
 //!    (the external impulse `∫𝓗 dt` included), and its impulse divided by `h`
 //!    is added to the environment forces while the step is integrated by the
 //!    shared smooth integrator. A constant force balance is therefore exact
 //!    (a floe pressed on a wall by a constant wind stays put; a sliding floe
 //!    decelerates at exactly `μ a`). A penetrating sustained contact asks for
-//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini `JᵀW⁺ ≥ c`).
+//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c` with `c = g/h`, docs/physics.md §3.1).
 //! 4. **Event location in time.** After the trial step, every vertex of each
 //!    close pair (floes and obstacles both ways) that was open (`d > δ`) and
 //!    ends below `δ/2` is an event: the first instant its signed distance to

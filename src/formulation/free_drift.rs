@@ -1,7 +1,7 @@
 //! The contact-free formulation: every floe drifts under the environment
 //! forces alone, integrated by the shared [`SmoothIntegrator`]. Floes pass
 //! through each other and through obstacles. It checks free drift
-//! (physics.md section 2) before any contact solver is involved, and is the
+//! (docs/physics.md §2.2) before any contact solver is involved, and is the
 //! smooth part every other formulation must reproduce between impacts.
 
 use super::{Entry, Formulation, FormulationError, FormulationOptions};

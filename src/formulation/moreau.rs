@@ -7,7 +7,7 @@
 //!
 //! A fixed step `h`; impacts are not located in time. From `(q_k, W_k)` at
 //! `t_k` (`q = (G, θ)` per floe, `W = (Ġ, θ̇)`, `M` the block mass matrix,
-//! `H(t, q, W)` the environment forces and torque of physics.md section 2,
+//! `H(t, q, W)` the environment forces and torque of docs/physics.md §2,
 //! from the shared [`ForceModel::forces`]):
 //!
 //! 1. **Smooth impulse, θ-method with one predictor pass.**
@@ -33,7 +33,7 @@
 //!    `u_N⁺ + e u_N⁻ ≥ 0 ⟂ λ ≥ 0`, `u_N⁻ = u_N(W_k)` the normal relative
 //!    velocity at the start of the step (as in Acary & Brogliato 2008,
 //!    ch. 10). The offset `c_j = e u_N⁻_j` enters the
-//!    shared LCP assembly ([`ContactLcp::assemble`], physics.md 3.1) with
+//!    shared LCP assembly ([`ContactLcp::assemble`], docs/physics.md §3.1) with
 //!    `W_free`, so that `W_{k+1} = W_free + M⁻¹ (J λ + D β̃)`. The kinetic
 //!    energy change of the impulses is `½ Σ_j λ_j (u_N⁺ + u_N,free)_j`
 //!    plus the friction work; with complementarity, each pushing contact
@@ -113,7 +113,7 @@
 //! - V. Acary, B. Brogliato (2008), *Numerical Methods for Nonsmooth
 //!   Dynamical Systems*, Springer, ch. 10 (the Moreau–Jean scheme, index sets
 //!   with the predicted gap `g + hγ u_N`).
-//! - D. Stewart, J. Trinkle (1996), IJNME 39 (the LCP of physics.md 3.1).
+//! - D. Stewart, J. Trinkle (1996), IJNME 39 (the LCP of docs/physics.md §3.1).
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 

@@ -197,7 +197,7 @@ impl Fluid {
     }
 }
 
-/// The environment of physics.md section 2.
+/// The environment of docs/physics.md §2.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Environment {
     /// Coriolis parameter `f`, s⁻¹ (default 0).
@@ -260,7 +260,7 @@ pub struct IntegratorSettings {
     /// Relative tolerance of the adaptive method (default 1e-10).
     pub tolerance: f64,
     /// Largest step, s. Default: none for `dopri5`; for `euler` the drag
-    /// stability bound of physics.md section 4 (and the output interval).
+    /// stability bound of docs/physics.md §4.2 (and the output interval).
     pub max_step: Option<f64>,
 }
 
@@ -342,7 +342,7 @@ impl Scenario {
     }
 
     /// The drag stability bound of explicit Euler for floe `i`, s
-    /// (physics.md section 4, report eq. 3.6):
+    /// (docs/physics.md §4.2, origin report eq. 3.6):
     /// `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` with the largest wind
     /// speed of the run. Without wind, the water-drag bound
     /// `ρ_i h / (2 ρ_w C_w V)` with `V` the largest current speed plus the

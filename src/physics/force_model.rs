@@ -1,4 +1,4 @@
-//! The force model: the one force law of the project (physics.md section 2),
+//! The force model: the one force law of the project (docs/physics.md §2),
 //! used by every formulation, and the map from forces to accelerations.
 //!
 //! On a floe with centre of mass `G`, angle `θ`, mass `M` and polar inertia

@@ -1,4 +1,4 @@
-//! The pieces of the force law (physics.md section 2): the split of the
+//! The pieces of the force law (docs/physics.md §2): the split of the
 //! environment forces by origin ([`Forces`]), the quadratic drag traction,
 //! and the quadrature of a surface traction over a floe. The law itself,
 //! which puts them together for every formulation, is

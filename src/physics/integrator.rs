@@ -12,7 +12,7 @@
 //! integrated with the motion, so the energy ledger is as accurate as the
 //! trajectory.
 //!
-//! Two methods (physics.md section 4):
+//! Two methods (docs/physics.md §4.1):
 //!
 //! - [`IntegratorKind::Dopri5`] (default): the embedded Runge–Kutta pair of
 //!   Dormand & Prince (1980), order 5 with a 4th-order error estimate, steps
@@ -23,7 +23,7 @@
 //!   can serve as the exact reference.
 //! - [`IntegratorKind::Euler`]: explicit Euler as in Rabatel's report, with a
 //!   step bounded by the drag stability limit
-//!   `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` (report eq. 3.6, see
+//!   `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` (origin report eq. 3.6, docs/physics.md §4.2, see
 //!   [`Scenario::euler_stability_bound`]) and by `[integrator] max_step`.
 //!   First order: kept for fidelity to the report.
 //!

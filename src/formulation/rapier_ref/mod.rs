@@ -1,4 +1,4 @@
-//! rapier as the regularised reference formulation (issue #5).
+//! rapier as the regularised reference formulation (docs/physics.md §8).
 //!
 //! The widely used Rust physics engine [rapier] (`rapier2d-f64` 0.36.1, on
 //! parry2d-f64 0.31) runs the same case files as the nonsmooth schemes, so
@@ -15,7 +15,7 @@
 //!   and rapier's angular speed cap is lifted (`allow_fast_rotation`).
 //! - Each obstacle is a fixed body with one convex polygon collider in world
 //!   coordinates.
-//! - No gravity. The environment forces (physics.md section 2) are computed
+//! - No gravity. The environment forces (docs/physics.md §2) are computed
 //!   by the project's one force law, [`ForceModel::forces`] (Dunavant
 //!   quadrature of the water drag), from the state at the start of each step,
 //!   and given to rapier with `add_force`/`add_torque` after clearing the
@@ -339,7 +339,7 @@ pub const INTEGRATION_DEFECT: Counter = Counter::value(
 const COUNTERS: &[&Counter] = &[&STEPS, &FORCE_EVALUATIONS, &CONTACT_PAIR_STEPS];
 
 /// Largest speed at which rapier pushes a penetration out, m/s: twice the
-/// fastest sea-ice drift (physics.md: up to 0.5 m/s), instead of rapier's
+/// fastest sea-ice drift (docs/physics.md §2: up to 0.5 m/s), instead of rapier's
 /// game default of 3 length units per second.
 pub const MAX_CORRECTIVE_VELOCITY: f64 = 1.0;
 
