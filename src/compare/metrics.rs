@@ -225,6 +225,8 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     push("cpu_integration", t.stages.integration, "s");
     push("cpu_other", t.cpu_other, "s");
     push("wall", t.wall, "s");
+    push("cpu_timer_overhead", t.timer_overhead, "s");
+    push("cpu_clock_reads", t.clock_reads as f64, "count");
     for (c, v) in s.counters.iter() {
         push(c.name, v, c.unit.symbol());
     }

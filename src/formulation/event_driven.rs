@@ -69,7 +69,7 @@ use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, Wrench};
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    thread_cpu_seconds, ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock,
+    ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock,
     Unit,
 };
 use crate::state::{detect_contacts, normal_velocity, world_polygons, BodyState, Ledger, System};
@@ -513,7 +513,7 @@ impl EventDriven {
         if offsets.iter().any(|&o| o < 0.0) {
             self.counters.add(&POSITION_CORRECTIONS, 1);
         }
-        let solve_start = thread_cpu_seconds();
+        let solve_start = clock.start(Stage::Solve);
         for g in &gs {
             let lcp = ContactLcp::assemble(scn, &centres, contacts, g, &w_free, &offsets);
             let z = self.solver.solve(&lcp, t);
@@ -526,7 +526,7 @@ impl EventDriven {
             }
             self.counters.add(&SUSTAINED_SOLVES, 1);
         }
-        clock.charge(Stage::Solve, thread_cpu_seconds() - solve_start);
+        clock.stop(Stage::Solve, solve_start);
         Ok((wrenches, None))
     }
 
@@ -757,9 +757,9 @@ impl Formulation for EventDriven {
                 let p1 = world_polygons(scn, &trial.bodies);
                 // 4. Event location.
                 let event = {
-                    let t0 = thread_cpu_seconds();
+                    let t0 = clock.start(Stage::Detection);
                     let r = self.locate(scn, sys, &trial, h, &wrenches, &p0, &p1);
-                    clock.charge(Stage::Detection, thread_cpu_seconds() - t0);
+                    clock.stop(Stage::Detection, t0);
                     r?
                 };
                 let next = match event {

@@ -101,14 +101,21 @@ pub struct EnergyTotals {
 /// CPU and wall time of a run.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Timing {
-    /// CPU time of the run's thread (stepping only, not output), s.
+    /// CPU time of the run's thread (stepping and recording, not output
+    /// files), s: read from the thread CPU clock at the start and the end.
     pub cpu_total: f64,
-    /// CPU time per stage, s.
+    /// CPU time per stage, s: `cpu_total` split in the proportions of the
+    /// stages' monotonic times ([`crate::record::clock`]).
     pub stages: StageTimes,
     /// CPU time outside the named stages (recording, bookkeeping), s.
     pub cpu_other: f64,
     /// Wall-clock time, s.
     pub wall: f64,
+    /// Monotonic clock reads of the stage clock.
+    pub clock_reads: u64,
+    /// Estimated CPU time of those reads, s (reads × the measured cost of
+    /// one read): the timer's own cost, included in `cpu_total`.
+    pub timer_overhead: f64,
 }
 
 /// Everything `summary.json` says about a run.
@@ -195,6 +202,8 @@ impl Runner {
     /// the run (the formulation's registry name, see
     /// [`crate::formulation::Instance`]).
     pub fn run(&self, scn: &Scenario, label: &str, form: &mut dyn Formulation) -> RunResult {
+        // Measure the cost of a clock read before the run, not inside it.
+        crate::record::clock::monotonic_read_cost();
         let wall0 = Instant::now();
         let cpu0 = thread_cpu_seconds();
         let mut clock = StageClock::new();
@@ -226,8 +235,9 @@ impl Runner {
         }
         bar.finish();
 
+        let elapsed = clock.monotonic_elapsed();
         let cpu_total = thread_cpu_seconds() - cpu0;
-        let stages = clock.times();
+        let stages = clock.split(cpu_total, elapsed);
         let last = energy.last().copied().unwrap_or(EnergySample {
             t: 0.0,
             kinetic: e0,
@@ -263,9 +273,10 @@ impl Runner {
             timing: Timing {
                 cpu_total,
                 stages,
-                cpu_other: (cpu_total - stages.detection - stages.solve - stages.integration)
-                    .max(0.0),
+                cpu_other: (cpu_total - stages.total()).max(0.0),
                 wall: wall0.elapsed().as_secs_f64(),
+                clock_reads: clock.reads(),
+                timer_overhead: clock.overhead(),
             },
             energy: totals,
             settings: form.settings(),

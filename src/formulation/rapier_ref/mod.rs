@@ -138,7 +138,7 @@ use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{ForceModel, Forces};
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    thread_cpu_seconds, ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings,
+    ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings,
     Stage, StageClock, Unit,
 };
 use crate::state::{BodyState, System};
@@ -491,8 +491,7 @@ impl RapierReference {
             colliders.insert_with_parent(material(collider), h, &mut bodies);
         }
         let synced = System::initial(scn).bodies;
-        let mut pipeline = PhysicsPipeline::new();
-        pipeline.counters.enable();
+        let pipeline = PhysicsPipeline::new();
         Ok(RapierReference {
             settings,
             params,
@@ -576,7 +575,12 @@ impl RapierReference {
             .add(&FORCE_EVALUATIONS, sys.bodies.len() as u64);
 
         self.params.dt = h;
-        let cpu0 = thread_cpu_seconds();
+        // rapier's own stage timers run only in the steps the clock times
+        // (they read the clock a dozen times per step).
+        let timed = clock.start_split();
+        if timed.is_timed() {
+            self.pipeline.counters.enable();
+        }
         self.pipeline.step(
             rapier2d_f64::math::Vector::ZERO,
             &self.params,
@@ -592,7 +596,13 @@ impl RapierReference {
             &(),
             &(),
         );
-        self.charge_step(thread_cpu_seconds() - cpu0, clock);
+        if timed.is_timed() {
+            let split = self.stage_split();
+            clock.stop_split(timed, split);
+            self.pipeline.counters.disable();
+        } else {
+            clock.stop_split(timed, [0.0; 3]);
+        }
         self.counters.add(&STEPS, 1);
 
         // Read back; work of each force along the actual displacement.
@@ -672,7 +682,9 @@ impl RapierReference {
 
     /// Splits the CPU time of one rapier step between the stages, in the
     /// proportions of rapier's own (wall-clock) stage timers.
-    fn charge_step(&mut self, cpu: f64, clock: &mut StageClock) {
+    /// The fractions of the last step spent in detection, solve and the
+    /// rest (integration), from rapier's own stage timers.
+    fn stage_split(&self) -> [f64; 3] {
         let c = &self.pipeline.counters;
         let total = c.step_time.time().as_secs_f64();
         let detection = c.stages.collision_detection_time.time().as_secs_f64();
@@ -683,14 +695,9 @@ impl RapierReference {
                 .time()
                 .as_secs_f64();
         if total > 0.0 && detection + solve <= total {
-            clock.charge(Stage::Detection, cpu * detection / total);
-            clock.charge(Stage::Solve, cpu * solve / total);
-            clock.charge(
-                Stage::Integration,
-                cpu * (total - detection - solve) / total,
-            );
+            [detection, solve, total - detection - solve]
         } else {
-            clock.charge(Stage::Solve, cpu);
+            [0.0, 1.0, 0.0]
         }
     }
 
