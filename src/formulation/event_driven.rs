@@ -69,8 +69,7 @@ use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, Wrench};
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock,
-    Unit,
+    ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock, Unit,
 };
 use crate::state::{detect_contacts, normal_velocity, world_polygons, BodyState, Ledger, System};
 

@@ -138,8 +138,7 @@ use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{ForceModel, Forces};
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings,
-    Stage, StageClock, Unit,
+    ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings, Stage, StageClock, Unit,
 };
 use crate::state::{BodyState, System};
 use rapier2d_f64::prelude::{
