@@ -230,6 +230,19 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     for (c, v) in s.counters.iter() {
         push(c.name, v, c.unit.symbol());
     }
+    if let Some(p) = &s.lcp_profile {
+        for b in &p.buckets {
+            let label = match b.unknowns_max {
+                Some(hi) => format!("n{}_{hi}", b.unknowns_min),
+                None => format!("n{}_up", b.unknowns_min),
+            };
+            push(&format!("lcp_{label}_solves"), b.solves as f64, "count");
+            push(&format!("lcp_{label}_pivots"), b.pivots as f64, "count");
+            push(&format!("lcp_{label}_fallback"), b.fallback as f64, "count");
+            push(&format!("lcp_{label}_failed"), b.failed as f64, "count");
+            push(&format!("cpu_lcp_{label}"), b.seconds, "s");
+        }
+    }
     for st in &s.settings.0 {
         if let SettingValue::Number(v) = st.value {
             push(st.name, v, st.unit.symbol());

@@ -26,8 +26,11 @@
 
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::ContactLcp;
+use crate::lcp::SolveStatus;
 use crate::lcp::{solve, LcpDump, LcpSolution, SolveCounters, SolveOptions};
-use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, Unit};
+use crate::record::clock::Sampler;
+use crate::record::profile::{bucket_of, BUCKET_BOUNDS};
+use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, SolveProfile, Unit};
 use std::path::PathBuf;
 
 /// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
@@ -229,6 +232,8 @@ pub struct ContactSolver {
     counters: Counters,
     max_coulomb_ratio: f64,
     log: ContactLog,
+    profile: SolveProfile,
+    timer: Sampler,
 }
 
 impl ContactSolver {
@@ -250,7 +255,35 @@ impl ContactSolver {
             counters,
             max_coulomb_ratio: 0.0,
             log: ContactLog::recording(),
+            profile: SolveProfile::default(),
+            timer: Sampler::new(BUCKET_BOUNDS.len() + 1),
         }
+    }
+
+    /// The LCP solves so far by size (with the timer's cost).
+    pub fn profile(&self) -> SolveProfile {
+        let mut p = self.profile.clone();
+        p.timer_overhead = self.timer.overhead();
+        p
+    }
+
+    /// Lemke with its fallbacks on `lcp`, timed and profiled by size.
+    fn lemke(&mut self, lcp: &ContactLcp) -> LcpSolution {
+        let k = bucket_of(lcp.lcp.n);
+        let started = self.timer.begin(k);
+        let sol = solve(&lcp.lcp, &self.opts);
+        let seconds = self.timer.end(k, started);
+        if let Some(b) = self.profile.buckets.get_mut(k) {
+            b.solves += 1;
+            b.pivots += sol.pivots as u64;
+            match sol.status {
+                SolveStatus::Solved => b.first_attempt += 1,
+                SolveStatus::SolvedByFallback => b.fallback += 1,
+                SolveStatus::Failed => b.failed += 1,
+            }
+            b.seconds += seconds.unwrap_or(0.0);
+        }
+        sol
     }
 
     /// The method in use.
@@ -308,7 +341,7 @@ impl ContactSolver {
     /// fallbacks and the last resort.
     pub fn solve_lcp(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
         let lcp = &lcp.with_velocity_coulomb_rows();
-        let sol = solve(&lcp.lcp, &self.opts);
+        let sol = self.lemke(lcp);
         self.record_solve(lcp, &sol, t);
         if sol.status.is_solved() {
             return sol.z;
@@ -316,7 +349,7 @@ impl ContactSolver {
         if lcp.friction {
             self.counters.add(&LCP_LAST_RESORT_FRICTIONLESS, 1);
             let fl = lcp.frictionless();
-            let sol2 = solve(&fl.lcp, &self.opts);
+            let sol2 = self.lemke(&fl);
             self.record_solve(&fl, &sol2, t);
             if sol2.status.is_solved() {
                 let mut z = vec![0.0; lcp.lcp.n];

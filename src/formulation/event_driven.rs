@@ -69,7 +69,7 @@ use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, Wrench};
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock, Unit,
+    ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, StageClock, Unit,
 };
 use crate::state::{detect_contacts, normal_velocity, world_polygons, BodyState, Ledger, System};
 
@@ -823,6 +823,10 @@ impl Formulation for EventDriven {
             .number("contact_distance_m", self.distance, Unit::Metre)
             .number("penetration_tolerance_m", self.pen_tol, Unit::Metre)
             .text("solver", self.solver.kind().name())
+    }
+
+    fn solve_profile(&self) -> Option<SolveProfile> {
+        Some(self.solver.profile())
     }
 
     fn take_contact_log(&mut self) -> ContactLog {

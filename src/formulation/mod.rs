@@ -25,7 +25,7 @@ pub mod rapier_ref;
 use crate::model::{
     load_case_with, parse_case_with, CaseError, IntegratorKind, Scenario, TableSpec,
 };
-use crate::record::{ContactLog, Counters, Settings, StageClock};
+use crate::record::{ContactLog, Counters, Settings, SolveProfile, StageClock};
 use crate::state::System;
 use std::path::Path;
 
@@ -60,6 +60,12 @@ pub trait Formulation {
     /// the counters). The default: none.
     fn settings(&self) -> Settings {
         Settings::default()
+    }
+
+    /// The LCP solves so far by size, for formulations that solve LCPs
+    /// (the default: none).
+    fn solve_profile(&self) -> Option<SolveProfile> {
+        None
     }
 
     /// Hands over (and clears) the bounded log of contact impulses and

@@ -126,7 +126,7 @@ use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::ForceModel;
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, Settings, Stage, StageClock, Unit,
+    ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, StageClock, Unit,
 };
 use crate::state::{detect_contacts, normal_velocity, BodyState, System};
 
@@ -605,6 +605,10 @@ impl Formulation for Moreau {
             .number("theta", self.theta, Unit::Dimensionless)
             .number("gamma", self.gamma, Unit::Dimensionless)
             .text("solver", self.solver.kind().name())
+    }
+
+    fn solve_profile(&self) -> Option<SolveProfile> {
+        Some(self.solver.profile())
     }
 
     fn take_contact_log(&mut self) -> ContactLog {

@@ -103,9 +103,14 @@ const ALWAYS_TIMED_READS: f64 = 200.0;
 /// each timed duration weighted by its inverse (an unbiased estimate of the
 /// stage's total), so the timer costs about 1 % of a sub-microsecond step.
 const SAMPLE_PROBABILITY: f64 = 1.0 / 64.0;
-/// A drawn region longer than this many times its kind's mean counts as
-/// this many times the mean (see [`StageClock`]).
+/// A drawn region longer than this many times its kind's mean, and longer
+/// than [`OUTLIER_FLOOR`], counts as the larger of the two (see
+/// [`StageClock`]).
 const OUTLIER_FACTOR: f64 = 20.0;
+/// The cap of a drawn region is never below this, s: a scheduler tick is
+/// about 4 ms, and a cheap kind's genuinely dear calls (an LCP among cheap
+/// calls of the same stage) are mostly shorter.
+const OUTLIER_FLOOR: f64 = 1e-3;
 /// The first regions of each kind are all timed, to learn their mean.
 const WARM_UP: u64 = 8;
 
@@ -126,70 +131,41 @@ struct Kind {
     skip: u64,
 }
 
-/// The clock a formulation charges its stages to: an estimate of the
-/// monotonic time per stage from timed regions (every region while its kind
-/// is dear, a random 1 in 64 while it is cheap, weighted by 64), and the
-/// count of clock reads.
-///
-/// A drawn region is capped at [`OUTLIER_FACTOR`] times its kind's mean: on a
-/// shared machine a region that spans a deschedule would otherwise, weighted
-/// by 64, move the split by a large amount from run to run. The price: a
-/// cheap kind with rare calls far dearer than its mean is underestimated (a
-/// kind whose mean is dear is timed whole, without cap). The split is an
-/// estimate in any case; the total CPU time is exact.
-#[derive(Debug)]
-pub struct StageClock {
-    times: StageTimes,
-    kinds: [Kind; 4],
+/// A timer of regions of several kinds at a cost that stays small: a kind
+/// whose mean is dear is timed every time, a cheap one with probability
+/// 1/64, each timed duration weighted by 64 (see [`StageClock`] for the
+/// rule and its price). Used by the stage clock and by the contact solver's
+/// profile by size.
+#[derive(Debug, Clone)]
+pub struct Sampler {
+    kinds: Vec<Kind>,
     reads: u64,
     untimed: u64,
     rng: u64,
     /// Mean region time from which every region is timed, s.
     dear: f64,
-    born: Instant,
 }
 
-impl Default for StageClock {
-    fn default() -> Self {
-        StageClock {
-            times: StageTimes::default(),
-            kinds: [Kind::default(); 4],
-            reads: 1,
+impl Sampler {
+    /// A sampler of `kinds` kinds of regions.
+    pub fn new(kinds: usize) -> Sampler {
+        Sampler {
+            kinds: vec![Kind::default(); kinds],
+            reads: 0,
             untimed: 0,
             rng: 0x9E37_79B9_7F4A_7C15,
             dear: ALWAYS_TIMED_READS * monotonic_read_cost(),
-            born: Instant::now(),
         }
     }
-}
 
-fn index(stage: Stage) -> usize {
-    match stage {
-        Stage::Detection => 0,
-        Stage::Solve => 1,
-        Stage::Integration => 2,
-    }
-}
-
-/// The kind of the regions a caller splits among the stages itself.
-const MIXED: usize = 3;
-
-impl StageClock {
-    /// A clock at zero.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// Runs `f`, charging its monotonic time to `stage`.
-    pub fn time<R>(&mut self, stage: Stage, f: impl FnOnce() -> R) -> R {
-        let s = self.start(stage);
-        let r = f();
-        self.stop(stage, s);
-        r
-    }
-
-    fn begin(&mut self, kind: usize) -> Started {
-        let k = &mut self.kinds[kind];
+    /// Starts a region of `kind`; whether it is timed is decided here.
+    pub fn begin(&mut self, kind: usize) -> Started {
+        let Some(k) = self.kinds.get_mut(kind) else {
+            return Started {
+                at: None,
+                weight: 0.0,
+            };
+        };
         if k.skip > 0 {
             // Counted in `untimed` when the skip was drawn.
             k.skip -= 1;
@@ -220,31 +196,108 @@ impl StageClock {
         }
     }
 
-    fn end(&mut self, kind: usize, s: Started) -> Option<f64> {
+    /// Ends a region of `kind`: its weighted monotonic time, s, if it was
+    /// timed.
+    pub fn end(&mut self, kind: usize, s: Started) -> Option<f64> {
         let at = s.at?;
         self.reads += 1;
         let mut dt = at.elapsed().as_secs_f64();
-        let k = &mut self.kinds[kind];
+        let k = self.kinds.get_mut(kind)?;
         if s.weight > 1.0 && k.timed > 0 {
             // A drawn (cheap) region far above its kind's mean was most
             // likely descheduled or interrupted: weighted by 64 it would
             // swamp the estimate, so it counts as OUTLIER_FACTOR × the mean.
-            dt = dt.min(OUTLIER_FACTOR * k.mean);
+            dt = dt.min((OUTLIER_FACTOR * k.mean).max(OUTLIER_FLOOR));
         }
         k.timed += 1;
         k.mean += (dt - k.mean) / k.timed as f64;
         Some(dt * s.weight)
     }
 
+    /// Monotonic clock reads so far.
+    pub fn reads(&self) -> u64 {
+        self.reads
+    }
+
+    /// Regions that were not timed.
+    pub fn untimed(&self) -> u64 {
+        // Skips are counted when drawn; those not yet passed are not regions.
+        self.untimed - self.kinds.iter().map(|k| k.skip).sum::<u64>()
+    }
+
+    /// The CPU time the sampler itself cost, s: its reads times the
+    /// measured cost of one read, plus its untimed regions times the
+    /// measured cost of passing one.
+    pub fn overhead(&self) -> f64 {
+        self.reads as f64 * monotonic_read_cost() + self.untimed() as f64 * untimed_region_cost()
+    }
+}
+
+/// The clock a formulation charges its stages to: an estimate of the
+/// monotonic time per stage from timed regions (every region while its kind
+/// is dear, a random 1 in 64 while it is cheap, weighted by 64), and the
+/// count of clock reads.
+///
+/// A drawn region is capped at the larger of [`OUTLIER_FACTOR`] times its
+/// kind's mean and [`OUTLIER_FLOOR`]: on a shared machine a region that
+/// spans a deschedule would otherwise, weighted by 64, move the split by a
+/// large amount from run to run. The price: calls dearer than a millisecond
+/// in a kind whose mean is cheap are underestimated (a kind whose mean is
+/// dear is timed whole, without cap). The split is an estimate in any case;
+/// the total CPU time is exact.
+#[derive(Debug)]
+pub struct StageClock {
+    times: StageTimes,
+    sampler: Sampler,
+    reads: u64,
+    born: Instant,
+}
+
+impl Default for StageClock {
+    fn default() -> Self {
+        StageClock {
+            times: StageTimes::default(),
+            sampler: Sampler::new(4),
+            reads: 1,
+            born: Instant::now(),
+        }
+    }
+}
+
+fn index(stage: Stage) -> usize {
+    match stage {
+        Stage::Detection => 0,
+        Stage::Solve => 1,
+        Stage::Integration => 2,
+    }
+}
+
+/// The kind of the regions a caller splits among the stages itself.
+const MIXED: usize = 3;
+
+impl StageClock {
+    /// A clock at zero.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Runs `f`, charging its monotonic time to `stage`.
+    pub fn time<R>(&mut self, stage: Stage, f: impl FnOnce() -> R) -> R {
+        let s = self.start(stage);
+        let r = f();
+        self.stop(stage, s);
+        r
+    }
+
     /// Starts a region of `stage` that [`StageClock::stop`] ends (for regions
     /// a closure cannot hold). Whether it is timed is decided here.
     pub fn start(&mut self, stage: Stage) -> Started {
-        self.begin(index(stage))
+        self.sampler.begin(index(stage))
     }
 
     /// Ends a region started by [`StageClock::start`] for the same `stage`.
     pub fn stop(&mut self, stage: Stage, s: Started) {
-        if let Some(dt) = self.end(index(stage), s) {
+        if let Some(dt) = self.sampler.end(index(stage), s) {
             *self.times.slot(stage) += dt;
         }
     }
@@ -253,15 +306,14 @@ impl StageClock {
     /// ([`StageClock::stop_split`]), e.g. by a library's own stage timers;
     /// [`Started::is_timed`] says whether to collect them.
     pub fn start_split(&mut self) -> Started {
-        self.begin(MIXED)
+        self.sampler.begin(MIXED)
     }
 
     /// Ends a region of [`StageClock::start_split`], charging it to the
     /// stages in the proportions `fractions` (detection, solve, integration;
-    /// normalised here, all to solve if they are not positive). Called only
-    /// for a timed region it is cheap to skip the caller's split.
+    /// normalised here, all to solve if they are not positive).
     pub fn stop_split(&mut self, s: Started, fractions: [f64; 3]) {
-        if let Some(dt) = self.end(MIXED, s) {
+        if let Some(dt) = self.sampler.end(MIXED, s) {
             let sum: f64 = fractions.iter().sum();
             if sum > 0.0 && fractions.iter().all(|f| *f >= 0.0) {
                 self.times.detection += dt * fractions[0] / sum;
@@ -286,13 +338,12 @@ impl StageClock {
 
     /// Monotonic clock reads so far.
     pub fn reads(&self) -> u64 {
-        self.reads
+        self.reads + self.sampler.reads()
     }
 
     /// Regions that were not timed (counted, not read).
     pub fn untimed(&self) -> u64 {
-        // Skips are counted when drawn; those not yet passed are not regions.
-        self.untimed - self.kinds.iter().map(|k| k.skip).sum::<u64>()
+        self.sampler.untimed()
     }
 
     /// The CPU time of each stage: `cpu_total` (s, thread CPU time over the
@@ -310,11 +361,9 @@ impl StageClock {
         }
     }
 
-    /// The CPU time the stage clock itself cost, s: its reads times the
-    /// measured cost of one read, plus its untimed regions times the
-    /// measured cost of deciding not to time one.
+    /// The CPU time the stage clock itself cost, s.
     pub fn overhead(&self) -> f64 {
-        self.reads as f64 * monotonic_read_cost() + self.untimed() as f64 * untimed_region_cost()
+        self.reads as f64 * monotonic_read_cost() + self.sampler.overhead()
     }
 }
 
@@ -333,7 +382,7 @@ pub fn untimed_region_cost() -> f64 {
         const N: u64 = 100_000;
         let mut c = StageClock::new();
         // Past the warm-up, with a cheap mean: regions are drawn.
-        c.kinds[0] = Kind {
+        c.sampler.kinds[0] = Kind {
             timed: WARM_UP,
             mean: 0.0,
             skip: 0,
@@ -344,7 +393,7 @@ pub fn untimed_region_cost() -> f64 {
         }
         let spent = thread_cpu_seconds() - c0;
         // Remove the timed ones (about 1 in 64) at the cost of their reads.
-        let timed = (c.reads - 1) as f64 * monotonic_read_cost();
+        let timed = c.sampler.reads() as f64 * monotonic_read_cost();
         ((spent - timed) / c.untimed().max(1) as f64).max(0.0)
     })
 }

@@ -6,14 +6,17 @@
 //!   reported apart from the counters;
 //! - [`log`]: the bounded log of contact impulses and contact events
 //!   ([`ContactLog`], [`ImpulseRecord`], [`ContactEvent`]);
-//! - [`clock`]: CPU time per stage ([`StageClock`]).
+//! - [`clock`]: CPU time per stage ([`StageClock`]);
+//! - [`profile`]: LCP solves by size ([`SolveProfile`]).
 
 pub mod clock;
 pub mod counters;
 pub mod log;
+pub mod profile;
 
 pub use clock::{thread_cpu_seconds, Stage, StageClock, StageTimes};
 pub use counters::{
     Counter, CounterKind, Counters, Setting, SettingValue, Settings, Unit, UnknownCounter,
 };
 pub use log::{ContactEvent, ContactLog, ImpulseRecord, Overflow};
+pub use profile::SolveProfile;

@@ -11,7 +11,9 @@ pub mod output;
 
 use crate::formulation::Formulation;
 use crate::model::Scenario;
-use crate::record::{thread_cpu_seconds, ContactLog, Counters, Settings, StageClock, StageTimes};
+use crate::record::{
+    thread_cpu_seconds, ContactLog, Counters, Settings, SolveProfile, StageClock, StageTimes,
+};
 use crate::state::System;
 use serde::Serialize;
 use std::time::{Duration, Instant};
@@ -143,6 +145,10 @@ pub struct RunSummary {
     pub settings: Settings,
     /// The formulation's counters.
     pub counters: Counters,
+    /// The LCP solves by size (formulations that solve LCPs), seconds as
+    /// CPU time (split like the stages).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lcp_profile: Option<SolveProfile>,
 }
 
 /// The recorded result of a run.
@@ -238,6 +244,18 @@ impl Runner {
         let elapsed = clock.monotonic_elapsed();
         let cpu_total = thread_cpu_seconds() - cpu0;
         let stages = clock.split(cpu_total, elapsed);
+        let cpu_per_monotonic = if elapsed > 0.0 {
+            cpu_total / elapsed.max(clock.monotonic_times().total())
+        } else {
+            0.0
+        };
+        let lcp_profile = form.solve_profile().map(|mut p| {
+            p.buckets
+                .iter_mut()
+                .for_each(|b| b.seconds *= cpu_per_monotonic);
+            p
+        });
+        let profile_overhead = lcp_profile.as_ref().map_or(0.0, |p| p.timer_overhead);
         let last = energy.last().copied().unwrap_or(EnergySample {
             t: 0.0,
             kinetic: e0,
@@ -276,11 +294,12 @@ impl Runner {
                 cpu_other: (cpu_total - stages.total()).max(0.0),
                 wall: wall0.elapsed().as_secs_f64(),
                 clock_reads: clock.reads(),
-                timer_overhead: clock.overhead(),
+                timer_overhead: clock.overhead() + profile_overhead,
             },
             energy: totals,
             settings: form.settings(),
             counters: form.counters(),
+            lcp_profile,
         };
         RunResult {
             trajectory,
