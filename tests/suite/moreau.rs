@@ -7,9 +7,7 @@
 //! Measured figures are printed (`cargo test --release --test moreau --
 //! --nocapture`) and pinned where they are findings rather than tolerances.
 
-mod common;
-
-use common::{
+use crate::common::{
     assert_head_on, case_text, counter, final_velocity, head_on, head_on_expected, scenario,
     setting,
 };

@@ -7,9 +7,7 @@
 //! loose tolerance. The README ("The rapier reference") reports the same
 //! figures.
 
-mod common;
-
-use common::{case_text, counter, head_on_expected, rest_time, scenario};
+use crate::common::{case_text, counter, head_on_expected, rest_time, scenario};
 use floebench::analysis::check;
 use floebench::formulation::free_drift::FreeDrift;
 use floebench::formulation::rapier_ref::RapierReference;
@@ -183,7 +181,7 @@ fn free_drift_reaches_the_analytic_drift_velocity() {
 /// The head-on case with restitution `e`: final velocities of both floes,
 /// the closed form, the run.
 fn rapier_head_on(e: f64) -> (f64, f64, f64, f64, RunResult, Scenario) {
-    let scn = common::head_on(e);
+    let scn = crate::common::head_on(e);
     let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
     let (v1, v2) = (0.5, -0.1);
     let (v1p, v2p) = head_on_expected(&scn, e);

@@ -2,9 +2,7 @@
 //! section 6. Every test also checks Coulomb on every contact impulse, the
 //! penetration tolerance, and that no impact gained energy.
 
-mod common;
-
-use common::{
+use crate::common::{
     assert_head_on, case_text, counter, final_velocity, head_on, rest_time, scenario, setting,
 };
 use floebench::analysis::check;
