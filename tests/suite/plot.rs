@@ -4,6 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::common::tempdir;
 use floebench::report::plot::{
     bar_chart, line_chart, plan_view, snapshot_grid, LineChart, Panel, PlanView, PlotError, Scale,
     Series, StackedBars,
@@ -62,7 +63,7 @@ fn line(dir: &Path, name: &str, s: &[Series], y_scale: Scale) -> Result<[PathBuf
 
 #[test]
 fn line_charts_including_degenerate_ones() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let d = dir.path();
     let ramp: Vec<_> = (0..100).map(|i| (i as f64, (i * i) as f64)).collect();
     let s = [series("a", 0, ramp.clone()), series("b", 1, ramp)];
@@ -102,7 +103,7 @@ fn line_charts_including_degenerate_ones() {
 
 #[test]
 fn bar_charts_including_degenerate_ones() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let d = dir.path();
     let cats: Vec<String> = ["event-driven", "moreau", "rapier"]
         .map(String::from)
@@ -156,7 +157,7 @@ fn bar_charts_including_degenerate_ones() {
 
 #[test]
 fn plan_views_and_grids_including_degenerate_ones() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let d = dir.path();
     let coast = vec![vec![(0.0, 0.0), (100.0, 0.0), (100.0, 20.0), (0.0, 10.0)]];
     let paths = [
@@ -219,7 +220,7 @@ fn plan_views_and_grids_including_degenerate_ones() {
 
 #[test]
 fn bad_path_is_an_error() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let file = dir.path().join("file");
     std::fs::write(&file, b"x").unwrap();
     let s = [series("a", 0, vec![(0.0, 1.0), (1.0, 2.0)])];
