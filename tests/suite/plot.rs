@@ -1,6 +1,6 @@
 //! The plotting module: every chart kind writes a PNG and an SVG, degenerate
 //! inputs still give files, bad paths give errors. `demo_images` (ignored)
-//! writes realistic demo charts to `/tmp/plotdemo` for looking at.
+//! writes realistic demo charts to `target/tmp/plotdemo/` for looking at.
 
 use std::path::{Path, PathBuf};
 
@@ -228,11 +228,13 @@ fn bad_path_is_an_error() {
     assert!(matches!(err, PlotError::Io { .. }), "{err}");
 }
 
-/// Writes realistic demo charts to /tmp/plotdemo (run with `--ignored`, then look at them).
+/// Writes realistic demo charts to `target/tmp/plotdemo/` (cargo's
+/// `CARGO_TARGET_TMPDIR`, not the shared temp dir; run with `--ignored`,
+/// then look at them).
 #[test]
 #[ignore]
 fn demo_images() {
-    let out = Path::new("/tmp/plotdemo");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plotdemo");
     let mut rng = 12345u64;
     let mut rand = move || {
         rng ^= rng << 13;
