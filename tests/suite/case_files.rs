@@ -3,12 +3,12 @@
 //! (`# expect: …`) and, where the rule points at a line, which (`# line: N`).
 //! Good files (all of `cases/`) must load.
 
+use crate::common::{bad_cases_dir, cases_dir};
 use floebench::formulation::load_case;
-use std::path::Path;
 
 #[test]
 fn every_bad_case_is_rejected_with_a_message_naming_the_fault() {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad");
+    let dir = bad_cases_dir();
     let mut seen = 0;
     let mut entries: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -62,7 +62,7 @@ fn every_bad_case_is_rejected_with_a_message_naming_the_fault() {
 
 #[test]
 fn every_bundled_case_loads() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let root = cases_dir();
     let mut n = 0;
     let paths = std::fs::read_dir(&root)
         .unwrap()

@@ -1,29 +1,17 @@
 //! The command line: `validate`, `run` (outputs, dumps), `lcp`.
 
-use std::path::Path;
-use std::process::Command;
-
-fn floebench() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_floebench"))
-}
-
-fn case(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
+use crate::common::{bad_case, case_path, floebench, tempdir};
 
 #[test]
 fn validate_accepts_good_cases_and_names_the_fault_in_bad_ones() {
     let ok = floebench()
-        .args(["validate", &case("head_on.toml")])
+        .arg("validate")
+        .arg(case_path("head_on"))
         .output()
         .unwrap();
     assert!(ok.status.success());
     assert!(String::from_utf8_lossy(&ok.stdout).contains("head_on: 2 floes"));
-    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/clockwise.toml");
+    let bad = bad_case("clockwise");
     let out = floebench().arg("validate").arg(&bad).output().unwrap();
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
@@ -35,11 +23,13 @@ fn validate_accepts_good_cases_and_names_the_fault_in_bad_ones() {
 
 #[test]
 fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let out = dir.path().join("out");
     let dumps = dir.path().join("lcp");
     let st = floebench()
-        .args(["run", &case("head_on.toml"), "--quiet", "-o"])
+        .arg("run")
+        .arg(case_path("head_on"))
+        .args(["--quiet", "-o"])
         .arg(&out)
         .arg("--dump-lcp")
         .arg(&dumps)
@@ -79,9 +69,9 @@ fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
 
 #[test]
 fn a_bad_case_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let out = dir.path().join("out");
-    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/floes_overlap.toml");
+    let bad = bad_case("floes_overlap");
     let st = floebench()
         .arg("run")
         .arg(&bad)
@@ -101,11 +91,13 @@ fn run_accepts_both_moreau_formulations() {
         text.contains("moreau ") && text.contains("moreau-cone"),
         "{text}"
     );
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     for name in ["moreau", "moreau-cone"] {
         let out = dir.path().join(name);
         let run = floebench()
-            .args(["run", &case("head_on.toml"), "-f", name, "--quiet", "-o"])
+            .arg("run")
+            .arg(case_path("head_on"))
+            .args(["-f", name, "--quiet", "-o"])
             .arg(&out)
             .output()
             .unwrap();
@@ -127,12 +119,9 @@ fn run_accepts_both_moreau_formulations() {
 fn check_prints_the_table_and_exits_non_zero_only_on_claimed_failures() {
     // rapier fails head-on only as known findings: exit 0, `fail (known)` shown.
     let out = floebench()
-        .args([
-            "check",
-            &case("head_on.toml"),
-            "--formulations",
-            "event-driven,rapier",
-        ])
+        .arg("check")
+        .arg(case_path("head_on"))
+        .args(["--formulations", "event-driven,rapier"])
         .output()
         .unwrap();
     assert!(
@@ -148,12 +137,14 @@ fn check_prints_the_table_and_exits_non_zero_only_on_claimed_failures() {
     assert!(table.contains("0 FAIL (claimed)"), "{table}");
     // An unknown formulation or a bad case file is an error naming it.
     let out = floebench()
-        .args(["check", &case("head_on.toml"), "--formulations", "nope"])
+        .arg("check")
+        .arg(case_path("head_on"))
+        .args(["--formulations", "nope"])
         .output()
         .unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("nope"));
-    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/clockwise.toml");
+    let bad = bad_case("clockwise");
     let out = floebench().arg("check").arg(&bad).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("clockwise.toml:14"));

@@ -4,16 +4,15 @@
 //! unresolved contact problem, and a penetration within the scheme's
 //! `O(h × approach speed)` (Moreau–Jean does not project positions).
 //!
-//! Measured figures are printed (`cargo test --release --test moreau --
-//! --nocapture`) and pinned where they are findings rather than tolerances.
+//! Measured figures are printed (`cargo test --release --test suite
+//! moreau:: -- --nocapture`) and pinned where they are findings rather
+//! than tolerances.
 
-mod common;
-
-use common::{
-    assert_head_on, case_text, counter, final_velocity, head_on, head_on_expected, scenario,
-    setting,
+use crate::common::{
+    assert_head_on, bouncing_expected, case_text, counter, drift_velocity, final_velocity, head_on,
+    head_on_expected, rest_time_below, run, scenario, setting, sliding_expected, tempdir,
+    with_formulation_table, Bouncing, Sliding,
 };
-use floebench::analysis::check;
 use floebench::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
 use floebench::contact::{detect, BroadPhase};
@@ -31,7 +30,7 @@ const SOLVERS: [SolverKind; 2] = [SolverKind::Lcp, SolverKind::Cone];
 
 /// The case text with a `[formulation.moreau]` table (step `h`, s).
 fn with_step(text: &str, h: f64) -> String {
-    format!("{text}\n[formulation.moreau]\nstep = {h:?}\n")
+    with_formulation_table(text, "moreau", &format!("step = {h:?}"))
 }
 
 /// Runs `scn` with the given solver; `v_approach` bounds the normal approach
@@ -120,29 +119,10 @@ fn head_on_impact_matches_the_closed_form_in_one_step_of_contact() {
     }
 }
 
-/// The first output time from which floe 0's speed stays below `v` (m/s).
-fn rest_time(r: &RunResult, v: f64) -> f64 {
-    let last_move = r
-        .trajectory
-        .iter()
-        .filter(|row| row.vx.hypot(row.vy) > v)
-        .map(|row| row.t)
-        .fold(0.0, f64::max);
-    r.trajectory
-        .iter()
-        .map(|row| row.t)
-        .find(|&t| t > last_move)
-        .unwrap()
-}
-
 #[test]
 fn bouncing_floe_passes_the_accumulation_point_and_rests_at_the_wall() {
     let scn = scenario(&case_text("bouncing_floe"));
-    let e = scn.contact.restitution;
-    let a = check::wind_acceleration(&scn, 0);
-    let t1 = (2.0 / a).sqrt();
-    let v1 = a * t1;
-    let t_inf = t1 * (1.0 + e) / (1.0 - e);
+    let Bouncing { a, t1, v1, t_inf } = bouncing_expected(&scn);
     let h = MoreauSettings::of(&scn).unwrap().step;
     for solver in SOLVERS {
         let (r, mj) = run_checked(&scn, solver, v1);
@@ -152,10 +132,10 @@ fn bouncing_floe_passes_the_accumulation_point_and_rests_at_the_wall() {
         // penetrated contact alternates u⁺ = −e u⁻ with a factor e per
         // step: the speed reaches 1e-12 m/s only at 294 s (lcp), a
         // sub-micrometre motion.
-        let rest = rest_time(&r, 1e-3 * a * h);
+        let rest = rest_time_below(&r, 1e-3 * a * h);
         eprintln!(
             "bouncing {solver:?}: rest (|v| <= 1e-3 a h) at {rest} s, (|v| <= 1e-12 m/s) at {} s, t_inf {t_inf:.2} s, {} contact steps",
-            rest_time(&r, 1e-12),
+            rest_time_below(&r, 1e-12),
             mj.contact_steps().len()
         );
         assert!(
@@ -193,7 +173,7 @@ fn sliding(h: f64, solver: SolverKind) -> (f64, f64, RunResult) {
         .replace("output_interval = 1.0", &format!("output_interval = {h:?}"));
     let scn = scenario(&text);
     let (r, _) = run_checked(&scn, solver, 0.05);
-    let stop = rest_time(&r, 1e-12);
+    let stop = rest_time_below(&r, 1e-12);
     let y = r.final_state.bodies[0].position.y - 5.0;
     (stop, y, r)
 }
@@ -201,10 +181,13 @@ fn sliding(h: f64, solver: SolverKind) -> (f64, f64, RunResult) {
 #[test]
 fn sliding_floe_stops_within_o_h_and_converges_at_second_order() {
     let scn = scenario(&case_text("sliding_floe"));
-    let a = check::wind_acceleration(&scn, 0);
-    let (mu, v0) = (scn.contact.friction, 0.05);
-    let t_stop = v0 / (mu * a);
-    let dist = v0 * v0 / (2.0 * mu * a);
+    let Sliding {
+        a,
+        mu,
+        t_stop,
+        dist,
+        ..
+    } = sliding_expected(&scn);
     let mut errors = Vec::new();
     for h in [1.0, 0.5, 0.25, 0.125] {
         let (stop, y, r) = sliding(h, SolverKind::Lcp);
@@ -425,9 +408,7 @@ fn sliding_floe_with_the_cone_flies_off_the_wall_and_still_stops() {
     // leaves again; it stops at the same step as the LCP (692 s) within
     // 1.1e-5 m of the exact distance.
     let scn = scenario(&case_text("sliding_floe"));
-    let a = check::wind_acceleration(&scn, 0);
-    let (mu, v0) = (scn.contact.friction, 0.05);
-    let dist = v0 * v0 / (2.0 * mu * a);
+    let Sliding { dist, .. } = sliding_expected(&scn);
     let (r, mj) = run_checked(&scn, SolverKind::Cone, 0.05);
     let x_min = r
         .trajectory
@@ -435,7 +416,7 @@ fn sliding_floe_with_the_cone_flies_off_the_wall_and_still_stops() {
         .map(|row| row.x)
         .fold(f64::INFINITY, f64::min);
     let y = r.final_state.bodies[0].position.y - 5.0;
-    let stop = rest_time(&r, 1e-12);
+    let stop = rest_time_below(&r, 1e-12);
     eprintln!(
         "sliding cone: lifts off by {:.3} m, {} contact steps of 1000, stops at {stop} s after {y:.6} m (exact {dist:.6} m)",
         5.0 - x_min,
@@ -448,7 +429,7 @@ fn sliding_floe_with_the_cone_flies_off_the_wall_and_still_stops() {
 
 #[test]
 fn every_lcp_of_a_moreau_run_can_be_dumped_and_re_solved() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let scn = scenario(&case_text("sliding_floe").replace("duration = 1000.0", "duration = 5.0"));
     let (r, _) = run_with(
         &scn,
@@ -483,8 +464,10 @@ fn names_and_the_case_solver_key_choose_the_solver() {
         build("moreau-cone", &scn, &opts).unwrap().name(),
         "moreau-cone"
     );
-    let cone_case = scenario(&format!(
-        "{text}\n[formulation.moreau]\nstep = 0.25\nsolver = \"cone\"\n"
+    let cone_case = scenario(&with_formulation_table(
+        &text,
+        "moreau",
+        "step = 0.25\nsolver = \"cone\"",
     ));
     let s = MoreauSettings::of(&cone_case).unwrap();
     assert_eq!(s.solver, SolverKind::Cone);
@@ -492,9 +475,8 @@ fn names_and_the_case_solver_key_choose_the_solver() {
     // The label comes from the registry entry, not from the solver in use:
     // `-f moreau` on a cone case is labelled `moreau` (its `solver` setting
     // says cone), so `-f moreau,moreau-cone` gives two labels.
-    let mut f = build("moreau", &cone_case, &opts).unwrap();
-    assert_eq!(f.name(), "moreau");
-    let r = Runner::new(RunOptions::default()).run(&cone_case, f.name(), f.formulation.as_mut());
+    assert_eq!(build("moreau", &cone_case, &opts).unwrap().name(), "moreau");
+    let r = run(&cone_case, "moreau");
     assert_eq!(r.summary.formulation, "moreau");
     assert!(counter(&r, "cone_solves") > 0.0);
 }
@@ -514,10 +496,16 @@ fn field_against_the_coast_runs_with_both_solvers_and_balances_its_ledger() {
         let e = &r.summary.energy;
         let groups = counter(&r, "contact_groups");
         let failed = counter(&r, "lcp_failed");
+        // Kept by the cone solver only; none without it.
+        let cone_fallbacks = if solver == SolverKind::Cone {
+            counter(&r, "cone_fallback_lcp")
+        } else {
+            0.0
+        };
         eprintln!(
             "field 75 min {solver:?}: {} contact steps, {groups} contact problems, {failed} Lemke failures (frictionless last resort), {} cone fallbacks, residual {:.3e} J of {:.3e} J exchanged, penetration {:.3} m",
             mj.contact_steps().len(),
-            r.summary.counters.by_name("cone_fallback_lcp").ok().flatten().unwrap_or(0.0),
+            cone_fallbacks,
             e.max_abs_residual,
             e.exchanged,
             mj.max_penetration()
@@ -547,9 +535,7 @@ fn free_drift_reaches_the_analytic_velocity_and_the_ledger_error_falls_with_h() 
     // for h = 4, 2, 1 s (order 3.0).
     let text = case_text("free_drift");
     let scn = scenario(&text);
-    let env = &scn.environment;
-    let u = env.water.velocity.at(0.0)
-        + env.air.velocity.at(0.0) * (env.air.drag_factor() / env.water.drag_factor()).sqrt();
+    let u = drift_velocity(&scn);
     let mut residuals = Vec::new();
     for h in [4.0, 2.0, 1.0] {
         let scn = scenario(&with_step(&text, h));

@@ -2,18 +2,9 @@
 //! promises, and the divergence metric is zero for identical runs and not
 //! for runs that must differ.
 
+use crate::common::{bad_case, case_path, floebench, load, run, tempdir};
 use floebench::compare::{self, metrics, CompareOptions};
-use floebench::formulation::load_case;
-use floebench::formulation::{self, FormulationOptions};
-use floebench::run::{RunOptions, Runner};
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn case(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(format!("{name}.toml"))
-}
+use std::path::Path;
 
 /// The header of a CSV file and its rows, each checked to have as many fields.
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -47,13 +38,13 @@ fn json(path: &Path) -> serde_json::Value {
 
 #[test]
 fn compare_writes_every_promised_file_and_each_parses() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let out = dir.path().join("reports");
     let forms = ["event-driven", "moreau", "rapier"];
-    let status = Command::new(env!("CARGO_BIN_EXE_floebench"))
+    let status = floebench()
         .arg("compare")
-        .arg(case("head_on"))
-        .arg(case("cradle_touching"))
+        .arg(case_path("head_on"))
+        .arg(case_path("cradle_touching"))
         .args(["--formulations", &forms.join(","), "--quiet", "-o"])
         .arg(&out)
         .output()
@@ -178,12 +169,12 @@ fn compare_writes_every_promised_file_and_each_parses() {
 
 #[test]
 fn a_bad_case_or_formulation_writes_nothing() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let out = dir.path().join("reports");
-    let bad = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad/clockwise.toml");
-    let r = Command::new(env!("CARGO_BIN_EXE_floebench"))
+    let bad = bad_case("clockwise");
+    let r = floebench()
         .arg("compare")
-        .arg(case("head_on"))
+        .arg(case_path("head_on"))
         .arg(&bad)
         .args(["--quiet", "-o"])
         .arg(&out)
@@ -191,9 +182,9 @@ fn a_bad_case_or_formulation_writes_nothing() {
         .unwrap();
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stderr).contains("clockwise.toml:14"));
-    let r = Command::new(env!("CARGO_BIN_EXE_floebench"))
+    let r = floebench()
         .arg("compare")
-        .arg(case("head_on"))
+        .arg(case_path("head_on"))
         .args(["-f", "event-driven,nonsense", "--quiet", "-o"])
         .arg(&out)
         .output()
@@ -205,13 +196,9 @@ fn a_bad_case_or_formulation_writes_nothing() {
 
 #[test]
 fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations() {
-    let scn = load_case(&case("cradle_touching")).unwrap();
-    let run = |name: &str| {
-        let mut f = formulation::build(name, &scn, &FormulationOptions::default()).unwrap();
-        Runner::new(RunOptions::default()).run(&scn, f.name(), f.formulation.as_mut())
-    };
-    let a = run("event-driven");
-    let b = run("event-driven");
+    let scn = load("cradle_touching");
+    let a = run(&scn, "event-driven");
+    let b = run(&scn, "event-driven");
     let same = metrics::divergence(&scn, &a, &b, 0.1).unwrap();
     assert_eq!(same.samples.len(), a.energy.len());
     assert_eq!(same.max_rms_position_rel, 0.0);
@@ -221,7 +208,7 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
     // The touching cradle: the simultaneous LCP sends the first floe back at
     // (2 − n)/n v0 while rapier's sequential soft contacts do not: the
     // trajectories must differ, and the metric must say so.
-    let r = run("rapier");
+    let r = run(&scn, "rapier");
     let d = metrics::divergence(&scn, &a, &r, 0.1).unwrap();
     assert!(d.max_rms_position_rel > 0.1, "{d:?}");
     assert!(d.diverged_at.is_some());
@@ -237,7 +224,7 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
         formulations: vec!["event-driven".into(), "rapier".into()],
         ..CompareOptions::default()
     };
-    let comps = compare::compare(vec![(case("cradle_touching"), scn.clone())], &opts).unwrap();
+    let comps = compare::compare(vec![(case_path("cradle_touching"), scn.clone())], &opts).unwrap();
     let diverged = comps[0]
         .metrics
         .iter()

@@ -2,12 +2,10 @@
 //! section 6. Every test also checks Coulomb on every contact impulse, the
 //! penetration tolerance, and that no impact gained energy.
 
-mod common;
-
-use common::{
-    assert_head_on, case_text, counter, final_velocity, head_on, rest_time, scenario, setting,
+use crate::common::{
+    assert_head_on, bouncing_expected, case_text, counter, final_velocity, head_on, rest_time,
+    rest_time_by, scenario, setting, sliding_expected, tempdir, Bouncing, Sliding,
 };
-use floebench::analysis::check;
 use floebench::formulation::event_driven::EventDriven;
 use floebench::formulation::FormulationOptions;
 use floebench::lcp::{residual, LcpDump};
@@ -104,10 +102,7 @@ fn bouncing_floe_impact_times_match_t_k() {
         .replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9")
         .replace("duration = 400.0", "duration = 1000.0");
     let scn = scenario(&text);
-    let a = check::wind_acceleration(&scn, 0);
-    let d = 1.0;
-    let t1 = (2.0 * d / a).sqrt();
-    let v1 = a * t1;
+    let Bouncing { a, t1, v1, .. } = bouncing_expected(&scn);
     let (_, ed) = run(&scn);
     let times: Vec<f64> = ed.impacts().iter().map(|i| i.t).collect();
     assert!(times.len() >= 10, "{} impacts", times.len());
@@ -131,10 +126,7 @@ fn bouncing_floe_comes_to_rest_at_the_accumulation_time_without_stalling() {
     let scn = scenario(
         &case_text("bouncing_floe").replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9"),
     );
-    let e = scn.contact.restitution;
-    let a = check::wind_acceleration(&scn, 0);
-    let t1 = (2.0 / a).sqrt();
-    let t_inf = t1 * (1.0 + e) / (1.0 - e);
+    let Bouncing { t_inf, .. } = bouncing_expected(&scn);
     let (r, ed) = run(&scn);
     let rest = rest_time(&r);
     assert!(
@@ -165,9 +157,7 @@ fn with_the_default_contact_distance_the_floe_rests_slightly_before_t_inf() {
     // located in time, and the accumulation ends early: measured rest at
     // 267 s against t∞ = 273.3 s (2.3 % early). Pinned to [0.95, 1.0] t∞.
     let scn = scenario(&case_text("bouncing_floe"));
-    let e = scn.contact.restitution;
-    let a = check::wind_acceleration(&scn, 0);
-    let t_inf = (2.0 / a).sqrt() * (1.0 + e) / (1.0 - e);
+    let Bouncing { t_inf, .. } = bouncing_expected(&scn);
     let (r, ed) = run(&scn);
     let rest = rest_time(&r);
     assert!(
@@ -180,23 +170,9 @@ fn with_the_default_contact_distance_the_floe_rests_slightly_before_t_inf() {
 #[test]
 fn sliding_floe_stops_at_the_exact_time_and_distance() {
     let scn = scenario(&case_text("sliding_floe"));
-    let a = check::wind_acceleration(&scn, 0);
-    let (mu, v0) = (scn.contact.friction, 0.05);
-    let t_stop = v0 / (mu * a);
-    let dist = v0 * v0 / (2.0 * mu * a);
+    let Sliding { t_stop, dist, .. } = sliding_expected(&scn);
     let (r, _) = run(&scn);
-    let moving: Vec<_> = r
-        .trajectory
-        .iter()
-        .filter(|row| row.vy.abs() > 1e-12)
-        .collect();
-    let last = moving.last().unwrap().t;
-    let stop = r
-        .trajectory
-        .iter()
-        .map(|row| row.t)
-        .find(|&t| t > last)
-        .unwrap();
+    let stop = rest_time_by(&r, |row| row.vy.abs() > 1e-12);
     assert!(
         (stop - t_stop).abs() <= 0.01 * t_stop,
         "stops at {stop} vs {t_stop}"
@@ -255,7 +231,7 @@ fn newtons_cradle_touching_gives_the_simultaneous_lcp_answer() {
 
 #[test]
 fn every_lcp_can_be_dumped_and_re_solved() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let scn = scenario(&case_text("sliding_floe").replace("duration = 1000.0", "duration = 20.0"));
     let (r, _) = run_with(
         &scn,

@@ -7,24 +7,22 @@
 //! loose tolerance. The README ("The rapier reference") reports the same
 //! figures.
 
-mod common;
-
-use common::{case_text, counter, head_on_expected, rest_time, scenario};
-use floebench::analysis::check;
-use floebench::formulation::free_drift::FreeDrift;
+use crate::common::{
+    bouncing_expected, case_text, counter, drift_velocity, head_on, head_on_expected, rest_time,
+    run, scenario, sliding_expected, with_formulation_table, Bouncing, Sliding,
+};
 use floebench::formulation::rapier_ref::RapierReference;
 use floebench::formulation::{build, FormulationOptions, REGISTRY};
 use floebench::model::Scenario;
-use floebench::run::{EndReason, RunOptions, RunResult, Runner};
+use floebench::run::{EndReason, RunResult};
 
 /// Appends a `[formulation.rapier]` table with `settings` (TOML lines).
 fn with_rapier(text: &str, settings: &str) -> String {
-    format!("{text}\n[formulation.rapier]\n{settings}\n")
+    with_formulation_table(text, "rapier", settings)
 }
 
 fn run_rapier(scn: &Scenario) -> RunResult {
-    let mut f = RapierReference::new(scn, &FormulationOptions::default()).unwrap();
-    let r = Runner::new(RunOptions::default()).run(scn, "rapier", &mut f);
+    let r = run(scn, "rapier");
     assert_eq!(r.summary.end, EndReason::Completed, "{}", scn.name);
     ledger_checks(&r);
     r
@@ -128,11 +126,7 @@ fn free_drift_matches_the_project_integrator_to_first_order_in_h() {
             "thickness = 1.0",
             "thickness = 1.0\nangular_velocity = 1e-3",
         );
-    let reference = {
-        let scn = scenario(&text);
-        let mut f = FreeDrift::new(&scn, &FormulationOptions::default());
-        Runner::new(RunOptions::default()).run(&scn, "free-drift", &mut f)
-    };
+    let reference = run(&scenario(&text), "free-drift");
     let mut gaps = Vec::new();
     for h in [1.0, 0.5, 0.1] {
         let scn = scenario(&with_rapier(&text, &format!("step = {h:?}")));
@@ -172,9 +166,7 @@ fn free_drift_reaches_the_analytic_drift_velocity() {
     // Forces held constant over a step change the path, not the fixed point
     // F(u) = 0: the steady velocity is the analytic one to rounding.
     let scn = scenario(&with_rapier(&case_text("free_drift"), "step = 1.0"));
-    let env = &scn.environment;
-    let u = env.water.velocity.at(0.0)
-        + env.air.velocity.at(0.0) * (env.air.drag_factor() / env.water.drag_factor()).sqrt();
+    let u = drift_velocity(&scn);
     let r = run_rapier(&scn);
     let v = r.final_state.bodies[0].velocity;
     assert!((v - u).norm() <= 1e-9 * u.norm(), "{v:?} vs {u:?}");
@@ -183,7 +175,7 @@ fn free_drift_reaches_the_analytic_drift_velocity() {
 /// The head-on case with restitution `e`: final velocities of both floes,
 /// the closed form, the run.
 fn rapier_head_on(e: f64) -> (f64, f64, f64, f64, RunResult, Scenario) {
-    let scn = common::head_on(e);
+    let scn = head_on(e);
     let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
     let (v1, v2) = (0.5, -0.1);
     let (v1p, v2p) = head_on_expected(&scn, e);
@@ -252,10 +244,9 @@ fn sliding_floe_stop_time_and_distance_errors_are_pinned() {
     let scn = scenario(
         &case_text("sliding_floe").replace("output_interval = 1.0", "output_interval = 0.1"),
     );
-    let a = check::wind_acceleration(&scn, 0);
-    let (mu, v0) = (scn.contact.friction, 0.05);
-    let t_stop = v0 / (mu * a);
-    let dist = v0 * v0 / (2.0 * mu * a);
+    let Sliding {
+        v0, t_stop, dist, ..
+    } = sliding_expected(&scn);
     let s = *RapierReference::new(&scn, &FormulationOptions::default())
         .unwrap()
         .resolved();
@@ -323,10 +314,7 @@ fn bouncing(polygon: Option<&str>) -> (RunResult, f64, f64) {
         );
     }
     let scn = scenario(&text);
-    let e = scn.contact.restitution;
-    let a = check::wind_acceleration(&scn, 0);
-    let t1 = (2.0 / a).sqrt();
-    let t_inf = t1 * (1.0 + e) / (1.0 - e);
+    let Bouncing { t1, t_inf, .. } = bouncing_expected(&scn);
     let r = run_rapier(&scn);
     for b in bounces(&r) {
         eprintln!(

@@ -4,6 +4,7 @@
 //! every run sees the same problems. Figures (pivots, time) are printed with
 //! `cargo test --release -- --nocapture`.
 
+use crate::common::tempdir;
 use floebench::lcp::{
     compute_w, lemke, residual, solve, DumpError, Lcp, LcpDump, LemkeOptions, PivotRule,
     SolveCounters, SolveOptions, SolveStatus, Strategy, Termination,
@@ -925,16 +926,10 @@ fn lcp_constructors_validate_sizes() {
 // Dumps
 // ---------------------------------------------------------------------------
 
-fn temp_dir(tag: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("floebench_lcp_test_{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    dir
-}
-
 #[test]
 fn dump_round_trip_is_bit_exact() {
-    let dir = temp_dir("roundtrip");
+    let tmp = tempdir();
+    let dir = tmp.path();
     let mut rng = SplitMix64::new(0x5EED_F10E_0007);
     for k in 0..20 {
         let n = 1 + ((rng.next_u64() % 12) as usize);
@@ -980,7 +975,7 @@ fn dump_round_trip_is_bit_exact() {
         back.q[0].is_nan() && back.m[0][1] == f64::INFINITY && back.m[1][0] == f64::NEG_INFINITY
     );
     // Atomic write leaves no temporary file behind.
-    let names: Vec<String> = std::fs::read_dir(&dir)
+    let names: Vec<String> = std::fs::read_dir(dir)
         .expect("dir")
         .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
         .collect();
@@ -993,12 +988,12 @@ fn dump_round_trip_is_bit_exact() {
         assert!(v.get(key).is_some(), "missing key {key}");
     }
     assert!(v["M"][0].is_array() && v["contacts"].is_u64() && v["status"].is_string());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn malformed_dumps_give_errors_naming_the_problem() {
-    let dir = temp_dir("malformed");
+    let tmp = tempdir();
+    let dir = tmp.path();
     let case = |name: &str, text: &str| -> DumpError {
         let path = dir.join(name);
         std::fs::write(&path, text).expect("write");
@@ -1082,5 +1077,4 @@ fn malformed_dumps_give_errors_naming_the_problem() {
         .expect_err("not square");
     assert!(matches!(e, DumpError::NotSquare { .. }), "{e}");
     assert!(!dir.join("bad_write.json").exists());
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,8 +1,8 @@
 //! The floe model, the environment forces and the smooth integrator against
 //! closed forms (physics.md sections 1, 2 and 4).
 
-use floebench::formulation::parse_case;
-use floebench::formulation::{build, FormulationOptions};
+use crate::common::{counter, load, run, run_with, scenario};
+use floebench::formulation::FormulationOptions;
 use floebench::geometry::{area_properties, cross, perp, Vec2};
 use floebench::model::{
     Environment, Floe, FloeOrigin, Fluid, IntegratorKind, Scenario, VelocitySeries,
@@ -10,34 +10,9 @@ use floebench::model::{
 use floebench::physics::{
     air_drag_quadrature, air_velocity, ForceModel, Forces, Quadrature, SmoothIntegrator,
 };
-use floebench::run::{RunOptions, RunResult, Runner};
+use floebench::run::RunResult;
 use floebench::state::{BodyState, Ledger, System};
 use std::f64::consts::PI;
-use std::path::Path;
-
-fn case(text: &str) -> Scenario {
-    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(scn: &Scenario, name: &str, integrator: Option<IntegratorKind>) -> RunResult {
-    let mut f = build(
-        name,
-        scn,
-        &FormulationOptions {
-            integrator,
-            ..Default::default()
-        },
-    )
-    .unwrap();
-    Runner::new(RunOptions::default()).run(scn, f.name(), f.formulation.as_mut())
-}
-
-fn bundled(name: &str) -> Scenario {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("cases")
-        .join(format!("{name}.toml"));
-    floebench::formulation::load_case(&path).unwrap_or_else(|e| panic!("{e}"))
-}
 
 /// The energy ledger `E(t) − E(0) − W_ext + D` stays below 1e-6 of the work
 /// of the wind at every sample.
@@ -118,7 +93,7 @@ fn mass_properties_of_a_regular_heptagon_and_the_floe_built_on_it() {
         "[case]\nversion = 1\nname = \"t\"\nduration = 1.0\noutput_interval = 1.0\n{HEADER}[[floe]]\npolygon = {:?}\nthickness = 1.5\ndensity = 900.0\n",
         poly.iter().map(|v| [v.x, v.y]).collect::<Vec<_>>()
     );
-    let scn = case(&text);
+    let scn = scenario(&text);
     let f = &scn.floes[0];
     assert!(rel(f.mass, 900.0 * 1.5 * area) < 1e-12);
     assert!(rel(f.inertia, 900.0 * 1.5 * polar) < 1e-12);
@@ -129,7 +104,7 @@ fn mass_properties_of_a_regular_heptagon_and_the_floe_built_on_it() {
 // Forces.
 
 fn one_floe(env: &str, extra: &str, floe: &str) -> Scenario {
-    case(&format!(
+    scenario(&format!(
         r#"# test
 [case]
 version = 1
@@ -193,7 +168,7 @@ fn a_spinning_floe_in_still_water_loses_angular_momentum() {
     };
     let forces = model.forces(&scn.environment, 0, 0.0, &b);
     assert!(forces.water_torque < 0.0, "drag torque opposes the spin");
-    let r = run(&scn, "free-drift", None);
+    let r = run(&scn, "free-drift");
     let omegas: Vec<f64> = r.trajectory.iter().map(|row| row.omega).collect();
     for w in omegas.windows(2) {
         assert!(
@@ -400,7 +375,7 @@ fn the_air_torque_enters_the_torque_the_power_and_the_work() {
 #[test]
 fn the_acceleration_is_force_over_mass_and_torque_over_inertia() {
     // Two floes of different mass and inertia: each gets its own.
-    let scn = case(&format!(
+    let scn = scenario(&format!(
         "[case]\nversion = 1\nname = \"t\"\nduration = 1.0\noutput_interval = 1.0\n{HEADER}\
          [[floe]]\n{PENTAGON}\n\
          [[floe]]\npolygon = [[1000.0, 0.0], [1010.0, 0.0], [1010.0, 20.0], [1000.0, 20.0]]\nthickness = 2.0\n"
@@ -437,8 +412,8 @@ fn the_acceleration_is_force_over_mass_and_torque_over_inertia() {
 
 #[test]
 fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
-    let scn = bundled("free_drift");
-    let r = run(&scn, "free-drift", None);
+    let scn = load("free_drift");
+    let r = run(&scn, "free-drift");
     let env = &scn.environment;
     let expected = Vec2::new(0.1, 0.0)
         + Vec2::new(10.0, 0.0) * (env.air.drag_factor() / env.water.drag_factor()).sqrt();
@@ -453,8 +428,8 @@ fn free_drift_reaches_the_analytic_velocity_without_coriolis() {
 
 #[test]
 fn free_drift_reaches_the_analytic_velocity_with_coriolis() {
-    let scn = bundled("free_drift_coriolis");
-    let r = run(&scn, "free-drift", None);
+    let scn = load("free_drift_coriolis");
+    let r = run(&scn, "free-drift");
     let mut angles = Vec::new();
     for i in 0..scn.floes.len() {
         // The one steady-drift solver, the one `floebench check` uses.
@@ -474,8 +449,8 @@ fn free_drift_reaches_the_analytic_velocity_with_coriolis() {
 
 #[test]
 fn after_the_wind_stops_the_floe_makes_inertial_circles_of_period_two_pi_over_f() {
-    let scn = bundled("inertial_oscillation");
-    let r = run(&scn, "free-drift", None);
+    let scn = load("inertial_oscillation");
+    let r = run(&scn, "free-drift");
     // Direction of the velocity after the wind has stopped, unwrapped.
     let rows: Vec<_> = r.trajectory.iter().filter(|row| row.t >= 20200.0).collect();
     let mut phase = Vec::new();
@@ -553,7 +528,7 @@ fn explicit_euler_shows_its_first_order_error() {
     let mut errors = Vec::new();
     for h in [10.0, 5.0, 2.5] {
         let scn = constant_wind(&format!("method = \"euler\"\nmax_step = {h}"));
-        let r = run(&scn, "free-drift", None);
+        let r = run(&scn, "free-drift");
         let f = &scn.floes[0];
         let exact = f.position + f.velocity * t + a * (0.5 * t * t);
         let err = (r.final_state.bodies[0].position - exact).norm();
@@ -567,9 +542,13 @@ fn explicit_euler_shows_its_first_order_error() {
     }
     // And it is selectable from the command line's option too.
     let scn = constant_wind("max_step = 5.0");
-    let r = run(&scn, "free-drift", Some(IntegratorKind::Euler));
-    assert_eq!(
-        r.summary.counters.by_name("integrator_steps"),
-        Ok(Some(200.0))
+    let r = run_with(
+        &scn,
+        "free-drift",
+        &FormulationOptions {
+            integrator: Some(IntegratorKind::Euler),
+            ..Default::default()
+        },
     );
+    assert_eq!(counter(&r, "integrator_steps"), 200.0);
 }

@@ -2,28 +2,14 @@
 //! claimed failure, and every check fails on a deliberately wrong input and
 //! passes on the unmodified one.
 
+use crate::common::{case_text, cases_dir, load, run, scenario};
 use floebench::analysis::check::{self, check_run, claimed_failures, CheckOutcome};
 use floebench::compare::{self, CompareOptions};
-use floebench::formulation::load_case;
-use floebench::formulation::{self, FormulationOptions};
+use floebench::formulation;
 use floebench::model::Scenario;
 use floebench::record::{ContactEvent, ImpulseRecord};
-use floebench::run::{EndReason, RunOptions, RunResult, Runner};
-use std::path::{Path, PathBuf};
+use floebench::run::{EndReason, RunResult};
 use std::time::Instant;
-
-fn cases_dir() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("cases")
-}
-
-fn case(name: &str) -> Scenario {
-    load_case(&cases_dir().join(format!("{name}.toml"))).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn run(scn: &Scenario, name: &str) -> RunResult {
-    let mut f = formulation::build(name, scn, &FormulationOptions::default()).unwrap();
-    Runner::new(RunOptions::default()).run(scn, f.name(), f.formulation.as_mut())
-}
 
 fn find<'a>(rows: &'a [CheckOutcome], id: &str) -> &'a CheckOutcome {
     rows.iter()
@@ -122,20 +108,20 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
 #[test]
 fn structure_decides_applicability() {
     // Symmetry: found on the mirror case (pairing 1 <-> 2), not on the pool.
-    let (axis, pairing) = check::find_symmetry(&case("mirror_collision")).unwrap();
+    let (axis, pairing) = check::find_symmetry(&load("mirror_collision")).unwrap();
     assert_eq!(pairing, vec![0, 2, 1]);
     assert!(axis.d.y.abs() < 1e-12 && axis.c.y.abs() < 1e-12);
-    assert!(check::find_symmetry(&case("elastic_pool")).is_none());
+    assert!(check::find_symmetry(&load("elastic_pool")).is_none());
     // A Coriolis force breaks the mirror symmetry.
-    let mut scn = case("mirror_collision");
+    let mut scn = load("mirror_collision");
     scn.environment.coriolis = 1e-4;
     assert!(check::find_symmetry(&scn).is_none());
     // Contact-free cases only for free-drift.
-    assert!(case("free_drift_coriolis").contact_free());
-    assert!(!case("head_on").contact_free());
-    assert!(!check::default_formulations(&case("head_on")).contains(&"free-drift"));
+    assert!(load("free_drift_coriolis").contact_free());
+    assert!(!load("head_on").contact_free());
+    assert!(!check::default_formulations(&load("head_on")).contains(&"free-drift"));
     // The bouncing floe's gap along the wind is 1 m, face on.
-    let scn = case("bouncing_floe");
+    let scn = load("bouncing_floe");
     let (gap, rays) =
         check::translation_gap(&scn, 0, &floebench::geometry::Vec2::new(1.0, 0.0)).unwrap();
     assert!((gap - 1.0).abs() < 1e-12 && rays >= 2);
@@ -143,7 +129,7 @@ fn structure_decides_applicability() {
 
 #[test]
 fn momentum_head_on_and_penetration_fail_on_wrong_input() {
-    let scn = case("head_on");
+    let scn = load("head_on");
     let r = run(&scn, "event-driven");
     // A momentum change: floe 0 a little faster at one output.
     fails_when_spoiled(&scn, &r, "momentum", |b| {
@@ -179,7 +165,7 @@ fn momentum_head_on_and_penetration_fail_on_wrong_input() {
 
 #[test]
 fn energy_checks_fail_on_an_energy_gain() {
-    let scn = case("elastic_pool");
+    let scn = load("elastic_pool");
     let r = run(&scn, "event-driven");
     fails_when_spoiled(&scn, &r, "energy_conserved", |b| {
         let k = b.energy.len() / 2;
@@ -201,7 +187,7 @@ fn energy_checks_fail_on_an_energy_gain() {
 
 #[test]
 fn coulomb_and_sliding_fail_on_wrong_input() {
-    let scn = case("sliding_floe");
+    let scn = load("sliding_floe");
     let r = run(&scn, "event-driven");
     // A friction impulse just outside the cone.
     fails_when_spoiled(&scn, &r, "coulomb", |b| {
@@ -230,29 +216,29 @@ fn coulomb_and_sliding_fail_on_wrong_input() {
 
 #[test]
 fn bouncing_cradle_cannon_and_drift_fail_on_wrong_input() {
-    let scn = case("bouncing_floe");
+    let scn = load("bouncing_floe");
     let r = run(&scn, "event-driven");
     fails_when_spoiled(&scn, &r, "bouncing_first_impact", |b| {
         b.contacts.events[0].t += 2.0;
     });
     // bouncing_rest is not claimed by event-driven (default contact
     // distance); moreau-cone is checked on first impact too.
-    let scn = case("cradle_gaps");
+    let scn = load("cradle_gaps");
     let r = run(&scn, "event-driven");
     fails_when_spoiled(&scn, &r, "cradle_outcome", |b| {
         b.final_state.bodies[4].velocity.x *= 1.0 - 1e-6;
     });
-    let scn = case("cradle_touching");
+    let scn = load("cradle_touching");
     let r = run(&scn, "moreau");
     fails_when_spoiled(&scn, &r, "cradle_outcome", |b| {
         b.final_state.bodies[0].velocity.x += 1e-6;
     });
-    let scn = case("newtons_cannon");
+    let scn = load("newtons_cannon");
     let r = run(&scn, "event-driven");
     fails_when_spoiled(&scn, &r, "cannon_velocities", |b| {
         b.final_state.bodies[1].velocity.x += 1e-6;
     });
-    let scn = case("free_drift");
+    let scn = load("free_drift");
     let r = run(&scn, "free-drift");
     fails_when_spoiled(&scn, &r, "free_drift_velocity", |b| {
         b.final_state.bodies[0].velocity *= 1.0 + 1e-5;
@@ -264,11 +250,9 @@ fn bouncing_rest_passes_at_the_accumulation_time_and_fails_when_late() {
     // The rest check on a trajectory that reaches t_inf exactly: the
     // event-driven run with a tiny contact distance (impacts located at the
     // root of the gap), then spoiled by a late motion.
-    let path = cases_dir().join("bouncing_floe.toml");
-    let text = std::fs::read_to_string(&path)
-        .unwrap()
-        .replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9");
-    let scn = floebench::formulation::parse_case(&text, &path).unwrap();
+    let scn = scenario(
+        &case_text("bouncing_floe").replace("friction = 0.0", "friction = 0.0\ndistance = 1e-9"),
+    );
     let r = run(&scn, "event-driven");
     fails_when_spoiled(&scn, &r, "bouncing_rest", |b| {
         for row in b
@@ -283,7 +267,7 @@ fn bouncing_rest_passes_at_the_accumulation_time_and_fails_when_late() {
 
 #[test]
 fn mirror_symmetry_fails_when_one_image_moves() {
-    let scn = case("mirror_collision");
+    let scn = load("mirror_collision");
     let r = run(&scn, "event-driven");
     let good = check_run(&scn, &r);
     assert!(find(&good, "symmetry").pass);

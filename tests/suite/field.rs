@@ -1,10 +1,9 @@
 //! The `[[field]]` generator: deterministic, non-overlapping, at the target
 //! concentration, within the radius and sides ranges.
 
-use floebench::formulation::parse_case;
+use crate::common::scenario;
 use floebench::geometry::{check_convex_ccw, convex_overlap, Vec2};
 use floebench::model::Scenario;
-use std::path::Path;
 
 fn field(seed: u64, count: usize, concentration: f64) -> Scenario {
     let text = format!(
@@ -26,7 +25,7 @@ thickness = [0.8, 1.2]
 seed = {seed}
 "#
     );
-    parse_case(&text, Path::new("field.toml")).unwrap_or_else(|e| panic!("{e}"))
+    scenario(&text)
 }
 
 fn world(scn: &Scenario) -> Vec<Vec<Vec2>> {

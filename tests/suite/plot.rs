@@ -1,9 +1,10 @@
 //! The plotting module: every chart kind writes a PNG and an SVG, degenerate
 //! inputs still give files, bad paths give errors. `demo_images` (ignored)
-//! writes realistic demo charts to `/tmp/plotdemo` for looking at.
+//! writes realistic demo charts to `target/tmp/plotdemo/` for looking at.
 
 use std::path::{Path, PathBuf};
 
+use crate::common::tempdir;
 use floebench::report::plot::{
     bar_chart, line_chart, plan_view, snapshot_grid, LineChart, Panel, PlanView, PlotError, Scale,
     Series, StackedBars,
@@ -62,7 +63,7 @@ fn line(dir: &Path, name: &str, s: &[Series], y_scale: Scale) -> Result<[PathBuf
 
 #[test]
 fn line_charts_including_degenerate_ones() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let d = dir.path();
     let ramp: Vec<_> = (0..100).map(|i| (i as f64, (i * i) as f64)).collect();
     let s = [series("a", 0, ramp.clone()), series("b", 1, ramp)];
@@ -102,7 +103,7 @@ fn line_charts_including_degenerate_ones() {
 
 #[test]
 fn bar_charts_including_degenerate_ones() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let d = dir.path();
     let cats: Vec<String> = ["event-driven", "moreau", "rapier"]
         .map(String::from)
@@ -156,7 +157,7 @@ fn bar_charts_including_degenerate_ones() {
 
 #[test]
 fn plan_views_and_grids_including_degenerate_ones() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let d = dir.path();
     let coast = vec![vec![(0.0, 0.0), (100.0, 0.0), (100.0, 20.0), (0.0, 10.0)]];
     let paths = [
@@ -219,7 +220,7 @@ fn plan_views_and_grids_including_degenerate_ones() {
 
 #[test]
 fn bad_path_is_an_error() {
-    let dir = tempfile::tempdir().unwrap();
+    let dir = tempdir();
     let file = dir.path().join("file");
     std::fs::write(&file, b"x").unwrap();
     let s = [series("a", 0, vec![(0.0, 1.0), (1.0, 2.0)])];
@@ -227,11 +228,13 @@ fn bad_path_is_an_error() {
     assert!(matches!(err, PlotError::Io { .. }), "{err}");
 }
 
-/// Writes realistic demo charts to /tmp/plotdemo (run with `--ignored`, then look at them).
+/// Writes realistic demo charts to `target/tmp/plotdemo/` (cargo's
+/// `CARGO_TARGET_TMPDIR`, not the shared temp dir; run with `--ignored`,
+/// then look at them).
 #[test]
 #[ignore]
 fn demo_images() {
-    let out = Path::new("/tmp/plotdemo");
+    let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("plotdemo");
     let mut rng = 12345u64;
     let mut rand = move || {
         rng ^= rng << 13;

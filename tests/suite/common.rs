@@ -1,0 +1,241 @@
+//! Helpers shared by the test modules: bundled and bad case files, case
+//! text, scenarios, runs of a formulation by name, the command-line binary,
+//! reads of a run (final velocities, rest time, counters, settings), the
+//! closed forms of physics.md section 6 that several formulations are held
+//! to, and a temporary folder.
+
+use floebench::analysis::check;
+use floebench::formulation::{build, load_case, parse_case, FormulationOptions};
+use floebench::geometry::Vec2;
+use floebench::model::Scenario;
+use floebench::run::{RunOptions, RunResult, Runner, TrajectoryRow};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+// ---------------------------------------------------------------------------
+// Case files and scenarios
+
+/// The bundled cases, `cases/`.
+pub fn cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("cases")
+}
+
+/// The path of `cases/<name>.toml` (`name` may hold a folder:
+/// `fields/field_200_coast`).
+pub fn case_path(name: &str) -> PathBuf {
+    cases_dir().join(format!("{name}.toml"))
+}
+
+/// The text of `cases/<name>.toml`.
+pub fn case_text(name: &str) -> String {
+    std::fs::read_to_string(case_path(name)).unwrap()
+}
+
+/// The bundled case `cases/<name>.toml`, loaded (panics with the error).
+pub fn load(name: &str) -> Scenario {
+    load_case(&case_path(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The bad case files, `tests/cases/bad/`.
+pub fn bad_cases_dir() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/cases/bad")
+}
+
+/// The path of `tests/cases/bad/<name>.toml`.
+pub fn bad_case(name: &str) -> PathBuf {
+    bad_cases_dir().join(format!("{name}.toml"))
+}
+
+/// A scenario from case text (panics with the parse error).
+pub fn scenario(text: &str) -> Scenario {
+    parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Case text with a `[formulation.<formulation>]` table of `settings` (TOML
+/// lines) appended.
+pub fn with_formulation_table(text: &str, formulation: &str, settings: &str) -> String {
+    format!("{text}\n[formulation.{formulation}]\n{settings}\n")
+}
+
+// ---------------------------------------------------------------------------
+// Runs
+
+/// Runs the formulation `name` of the registry on `scn` with the default
+/// options; the run is labelled with the registry name.
+pub fn run(scn: &Scenario, name: &str) -> RunResult {
+    run_with(scn, name, &FormulationOptions::default())
+}
+
+/// [`run`] with formulation options `opts`.
+pub fn run_with(scn: &Scenario, name: &str, opts: &FormulationOptions) -> RunResult {
+    let mut f = build(name, scn, opts).unwrap_or_else(|e| panic!("{name}: {e}"));
+    Runner::new(RunOptions::default()).run(scn, f.name(), f.formulation.as_mut())
+}
+
+/// The `floebench` binary of this build, as a command to give arguments.
+pub fn floebench() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_floebench"))
+}
+
+/// A temporary folder, removed when the value is dropped: keep it alive for
+/// as long as the test uses its files.
+pub fn tempdir() -> tempfile::TempDir {
+    tempfile::tempdir().expect("a temporary folder")
+}
+
+// ---------------------------------------------------------------------------
+// Reading a run
+
+/// The velocity of `floe` at the end of the run, m/s.
+pub fn final_velocity(r: &RunResult, floe: usize) -> Vec2 {
+    r.final_state.bodies[floe].velocity
+}
+
+/// The first output time after the last row (of any floe) for which
+/// `moving` holds.
+pub fn rest_time_by(r: &RunResult, moving: impl Fn(&TrajectoryRow) -> bool) -> f64 {
+    let last_move = r
+        .trajectory
+        .iter()
+        .filter(|row| moving(row))
+        .map(|row| row.t)
+        .fold(0.0, f64::max);
+    r.trajectory
+        .iter()
+        .map(|row| row.t)
+        .find(|&t| t > last_move)
+        .unwrap()
+}
+
+/// The first output time after which no floe moves along x
+/// (|vx| ≤ 1e-12 m/s).
+pub fn rest_time(r: &RunResult) -> f64 {
+    rest_time_by(r, |row| row.vx.abs() > 1e-12)
+}
+
+/// The first output time from which every floe's speed stays below `v`
+/// (m/s).
+pub fn rest_time_below(r: &RunResult, v: f64) -> f64 {
+    rest_time_by(r, |row| row.vx.hypot(row.vy) > v)
+}
+
+/// The counter `name` of a run as a real number; panics if the run does not
+/// keep it (a misspelt name fails the test instead of reading 0).
+pub fn counter(r: &RunResult, name: &str) -> f64 {
+    match r.summary.counters.by_name(name) {
+        Ok(Some(v)) => v,
+        Ok(None) => panic!("{}: counter `{name}` kept but never set", r.summary.case),
+        Err(e) => panic!("{}: {e}", r.summary.case),
+    }
+}
+
+/// The numeric setting `name` of a run; panics if the run has none.
+pub fn setting(r: &RunResult, name: &str) -> f64 {
+    r.summary
+        .settings
+        .get(name)
+        .unwrap_or_else(|| panic!("{}: no numeric setting `{name}`", r.summary.case))
+}
+
+// ---------------------------------------------------------------------------
+// Closed forms (physics.md section 6)
+
+/// The head-on case (`cases/head_on.toml`) with restitution `e`.
+pub fn head_on(e: f64) -> Scenario {
+    scenario(&case_text("head_on").replace("restitution = 0.4", &format!("restitution = {e:?}")))
+}
+
+/// The head-on closed form (physics.md §6) for the head-on case's speeds
+/// (0.5 and −0.1 m/s): `(v1', v2')`, m/s.
+pub fn head_on_expected(scn: &Scenario, e: f64) -> (f64, f64) {
+    let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
+    let (v1, v2) = (0.5, -0.1);
+    let v1p = (m1 * v1 + m2 * v2 - m2 * e * (v1 - v2)) / (m1 + m2);
+    let v2p = (m1 * v1 + m2 * v2 + m1 * e * (v1 - v2)) / (m1 + m2);
+    (v1p, v2p)
+}
+
+/// Asserts the head-on closed form to 1e-9 (relative), no transverse
+/// velocity, and momentum to 1e-12; `label` names the run in messages.
+pub fn assert_head_on(r: &RunResult, scn: &Scenario, e: f64, label: &str) {
+    let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
+    let (v1, v2) = (0.5, -0.1);
+    let (v1p, v2p) = head_on_expected(scn, e);
+    let (a, b) = (final_velocity(r, 0), final_velocity(r, 1));
+    assert!(
+        (a.x - v1p).abs() <= 1e-9 * v1p.abs().max(1e-3),
+        "{label}: v1' {} vs {v1p}",
+        a.x
+    );
+    assert!(
+        (b.x - v2p).abs() <= 1e-9 * v2p.abs().max(1e-3),
+        "{label}: v2' {} vs {v2p}",
+        b.x
+    );
+    assert!(a.y.abs() < 1e-12 && b.y.abs() < 1e-12);
+    let p0 = m1 * v1 + m2 * v2;
+    let p1 = r.final_state.momentum(scn);
+    assert!(
+        (p1.x - p0).abs() <= 1e-12 * p0.abs(),
+        "{label}: momentum {} vs {p0}",
+        p1.x
+    );
+}
+
+/// The bouncing floe (physics.md §6): pushed by the wind at `a` (m/s²)
+/// across a gap of 1 m, it first hits the wall at `t1` (s) with speed `v1`
+/// (m/s), and with restitution `e` the bounces accumulate at `t_inf` (s).
+#[derive(Debug, Clone, Copy)]
+pub struct Bouncing {
+    pub a: f64,
+    pub t1: f64,
+    pub v1: f64,
+    pub t_inf: f64,
+}
+
+/// The bouncing-floe closed form for floe 0 of `scn` (a 1 m gap along the
+/// wind), with the case's restitution.
+pub fn bouncing_expected(scn: &Scenario) -> Bouncing {
+    let e = scn.contact.restitution;
+    let a = check::wind_acceleration(scn, 0);
+    let d = 1.0;
+    let t1 = (2.0 * d / a).sqrt();
+    let v1 = a * t1;
+    let t_inf = t1 * (1.0 + e) / (1.0 - e);
+    Bouncing { a, t1, v1, t_inf }
+}
+
+/// The sliding floe (physics.md §6): pressed on the wall by the wind at `a`
+/// (m/s²), sliding along it at `v0` = 0.05 m/s with friction `mu`, it stops
+/// after `t_stop` (s) and `dist` (m).
+#[derive(Debug, Clone, Copy)]
+pub struct Sliding {
+    pub a: f64,
+    pub mu: f64,
+    pub v0: f64,
+    pub t_stop: f64,
+    pub dist: f64,
+}
+
+/// The sliding-floe closed form for floe 0 of `scn`.
+pub fn sliding_expected(scn: &Scenario) -> Sliding {
+    let a = check::wind_acceleration(scn, 0);
+    let (mu, v0) = (scn.contact.friction, 0.05);
+    let t_stop = v0 / (mu * a);
+    let dist = v0 * v0 / (2.0 * mu * a);
+    Sliding {
+        a,
+        mu,
+        v0,
+        t_stop,
+        dist,
+    }
+}
+
+/// The steady free-drift velocity without Coriolis (physics.md §6),
+/// `U_w + sqrt(ρ_a C_a / (ρ_w C_w)) U_a` at t = 0, m/s.
+pub fn drift_velocity(scn: &Scenario) -> Vec2 {
+    let env = &scn.environment;
+    env.water.velocity.at(0.0)
+        + env.air.velocity.at(0.0) * (env.air.drag_factor() / env.water.drag_factor()).sqrt()
+}

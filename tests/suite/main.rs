@@ -1,0 +1,20 @@
+//! The integration tests, one binary (one link of the whole stack): one
+//! module per area, and `common` for the helpers they share.
+//!
+//! `cargo test --release` runs them all; `cargo test --release --test suite
+//! moreau::` runs one module.
+
+mod common;
+
+mod case_files;
+mod check;
+mod cli;
+mod compare;
+mod contact;
+mod event_driven;
+mod field;
+mod lemke;
+mod moreau;
+mod physics;
+mod plot;
+mod rapier;
