@@ -18,3 +18,5 @@ mod moreau;
 mod physics;
 mod plot;
 mod rapier;
+mod registry;
+mod sample_report;

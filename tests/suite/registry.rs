@@ -3,6 +3,7 @@
 //! [`Formulation`] with its [`Entry`], and runs it through the same runner
 //! and the same physical checks as the registered ones.
 
+use crate::common::{case_text, counter, load, run as run_named, scenario};
 use floebench::analysis::check;
 use floebench::formulation::event_driven::EventDriven;
 use floebench::formulation::{
@@ -12,7 +13,6 @@ use floebench::model::Scenario;
 use floebench::record::{ContactLog, Counters, Settings, StageClock};
 use floebench::run::{RunOptions, RunResult, Runner};
 use floebench::state::System;
-use std::path::Path;
 
 /// The example: the event-driven scheme on the same case without friction
 /// (`μ = 0` for every contact). Everything else is shared.
@@ -71,15 +71,6 @@ const ENTRY: Entry = Entry {
     }],
 };
 
-fn case(name: &str) -> Scenario {
-    formulation::load_case(
-        &Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("cases")
-            .join(format!("{name}.toml")),
-    )
-    .unwrap_or_else(|e| panic!("{e}"))
-}
-
 fn run(entry: &Entry, scn: &Scenario) -> RunResult {
     let mut f = (entry.build)(scn, &FormulationOptions::default()).unwrap();
     Runner::new(RunOptions::default()).run(scn, entry.name, f.as_mut())
@@ -101,9 +92,8 @@ fn a_formulation_written_outside_the_library_runs_through_the_shared_machinery()
     assert!(REGISTRY.iter().all(|e| e.name != ENTRY.name));
     // head_on has μ = 0.3 but a central impact without spin: friction does
     // nothing, so the example gives exactly the event-driven answer.
-    let scn = case("head_on");
-    let ed = formulation::entry("event-driven").unwrap();
-    let (a, b) = (run(&ENTRY, &scn), run(ed, &scn));
+    let scn = load("head_on");
+    let (a, b) = (run(&ENTRY, &scn), run_named(&scn, "event-driven"));
     assert_eq!(a.summary.formulation, "event-driven-frictionless");
     assert_eq!(a.final_state.bodies, b.final_state.bodies);
     for (check, pass, claimed) in checks(&ENTRY, &scn, &a) {
@@ -111,8 +101,8 @@ fn a_formulation_written_outside_the_library_runs_through_the_shared_machinery()
     }
     // On the sliding floe it does not stop (an unclaimed, known failure),
     // where the registered scheme does.
-    let scn = case("sliding_floe");
-    let (a, b) = (run(&ENTRY, &scn), run(ed, &scn));
+    let scn = load("sliding_floe");
+    let (a, b) = (run(&ENTRY, &scn), run_named(&scn, "event-driven"));
     let stop = |r: &RunResult| {
         checks(&ENTRY, &scn, r)
             .into_iter()
@@ -131,19 +121,14 @@ fn the_event_driven_scheme_can_solve_its_sustained_contacts_by_the_cone() {
     // relaxation the floe still stops (Coulomb holds on the cone), but it
     // separates from the wall at μ |u_T| (the relaxation's artefact), so the
     // sustained solve differs from Lemke's.
-    let text = std::fs::read_to_string(
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/sliding_floe.toml"),
-    )
-    .unwrap();
-    let cone = formulation::parse_case(
-        &format!("{text}\n[formulation.event_driven]\nsolver = \"cone\"\n"),
-        Path::new("sliding_cone.toml"),
-    )
-    .unwrap();
+    let cone = scenario(&format!(
+        "{}\n[formulation.event_driven]\nsolver = \"cone\"\n",
+        case_text("sliding_floe")
+    ));
     let ed = formulation::entry("event-driven").unwrap();
-    let r = run(ed, &cone);
+    let r = run_named(&cone, "event-driven");
     assert_eq!(r.summary.formulation, "event-driven");
-    assert!(r.summary.counters.by_name("cone_solves").unwrap().unwrap() > 0.0);
+    assert!(counter(&r, "cone_solves") > 0.0);
     let solver = r
         .summary
         .settings
@@ -155,7 +140,7 @@ fn the_event_driven_scheme_can_solve_its_sustained_contacts_by_the_cone() {
         solver.value,
         floebench::record::SettingValue::Text("cone".into())
     );
-    let lemke = run(ed, &case("sliding_floe"));
+    let lemke = run_named(&load("sliding_floe"), "event-driven");
     assert_eq!(
         lemke.summary.counters.by_name("cone_solves").ok(),
         None,

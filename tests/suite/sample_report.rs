@@ -5,6 +5,7 @@
 //! except CPU and wall times. A change of behaviour must come with a
 //! regenerated sample report (and a word in the commit saying why).
 
+use crate::common::case_path;
 use floebench::compare::{self, CompareOptions};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -49,14 +50,7 @@ fn committed(case: &str) -> BTreeMap<Key, f64> {
 
 #[test]
 fn metrics_equal_the_committed_sample_report() {
-    let inputs: Vec<PathBuf> = CASES
-        .iter()
-        .map(|c| {
-            Path::new(env!("CARGO_MANIFEST_DIR"))
-                .join("cases")
-                .join(format!("{c}.toml"))
-        })
-        .collect();
+    let inputs: Vec<PathBuf> = CASES.iter().map(|c| case_path(c)).collect();
     let loaded = compare::load_cases(&inputs).unwrap_or_else(|e| panic!("{e}"));
     let opts = CompareOptions {
         progress: false,
