@@ -11,11 +11,11 @@
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
-use floebench::contact::{detect, BroadPhase};
+use floebench::contact::BroadPhase;
 use floebench::formulation::parse_case;
-use floebench::geometry::Vec2;
 use floebench::lcp::{solve, Lcp, SolveOptions};
 use floebench::model::Scenario;
+use floebench::state::{detect_contacts, System};
 use std::hint::black_box;
 use std::path::Path;
 
@@ -48,27 +48,18 @@ fn row(n: usize) -> Scenario {
 
 /// The impact LCP of the first (only) contact group of a scenario at t = 0.
 fn impact_lcp(scn: &Scenario) -> Lcp {
-    let mut polys: Vec<Vec<Vec2>> = scn
-        .floes
-        .iter()
-        .map(|f| {
-            let mut p = Vec::new();
-            f.world_polygon(&f.position, 0.0, &mut p);
-            p
-        })
-        .collect();
-    polys.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
-    let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
-    let fixed: Vec<bool> = (0..refs.len()).map(|i| i >= scn.floes.len()).collect();
+    let sys = System::initial(scn);
     let mut contacts = Vec::new();
-    detect(&refs, &fixed, 1e-3, &mut BroadPhase::new(), &mut contacts);
+    detect_contacts(
+        scn,
+        &sys.bodies,
+        1e-3,
+        &mut BroadPhase::new(),
+        &mut contacts,
+    );
     let g = groups(&contacts, scn.floes.len()).remove(0);
-    let centres: Vec<Vec2> = scn.floes.iter().map(|f| f.position).collect();
-    let w: Vec<Gen> = scn
-        .floes
-        .iter()
-        .map(|f| [f.velocity.x, f.velocity.y, f.angular_velocity])
-        .collect();
+    let centres = sys.centres();
+    let w: Vec<Gen> = sys.velocities();
     let zeros = vec![0.0; contacts.len()];
     ContactLcp::assemble(scn, &centres, &contacts, &g, &w, &zeros).lcp
 }

@@ -115,6 +115,20 @@ impl System {
             .fold(0.0, f64::max)
     }
 
+    /// The centre of mass of every floe, m.
+    pub fn centres(&self) -> Vec<Vec2> {
+        self.bodies.iter().map(|b| b.position).collect()
+    }
+
+    /// The generalised velocity `(Ġx, Ġy, θ̇)` of every floe (m/s, m/s,
+    /// rad/s), as the contact problems take it.
+    pub fn velocities(&self) -> Vec<[f64; 3]> {
+        self.bodies
+            .iter()
+            .map(|b| [b.velocity.x, b.velocity.y, b.angular_velocity])
+            .collect()
+    }
+
     /// The world polygons of every body: the floes at their states, then the
     /// obstacles (body ids as in [`Scenario::body`]).
     pub fn world_polygons(&self, scn: &Scenario) -> Vec<Vec<Vec2>> {

@@ -339,12 +339,8 @@ impl EventDriven {
         if !approaching.iter().any(|&a| a) {
             return false;
         }
-        let centres: Vec<Vec2> = sys.bodies.iter().map(|b| b.position).collect();
-        let w: Vec<Gen> = sys
-            .bodies
-            .iter()
-            .map(|b| [b.velocity.x, b.velocity.y, b.angular_velocity])
-            .collect();
+        let centres = sys.centres();
+        let w: Vec<Gen> = sys.velocities();
         let zeros = vec![0.0; contacts.len()];
         let e = scn.contact.restitution;
         for g in groups(contacts, n) {
@@ -498,7 +494,7 @@ impl EventDriven {
         if cut < h {
             return Ok((wrenches, Some(cut)));
         }
-        let centres: Vec<Vec2> = sys.bodies.iter().map(|b| b.position).collect();
+        let centres = sys.centres();
         let offsets: Vec<f64> = contacts
             .iter()
             .map(|c| {

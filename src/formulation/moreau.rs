@@ -497,7 +497,7 @@ impl Moreau {
             .collect();
         // Newton's law on every active contact (module doc).
         let offsets: Vec<f64> = u_minus.iter().map(|&u| e * u).collect();
-        let centres: Vec<Vec2> = sys.bodies.iter().map(|b| b.position).collect();
+        let centres = sys.centres();
         let gs = groups(active, n);
         self.counters.add(&ACTIVE_CONTACTS, active.len() as u64);
         self.counters.max(&ACTIVE_CONTACTS_MAX, active.len() as f64);

@@ -15,16 +15,16 @@ use crate::common::{
 };
 use floebench::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
-use floebench::contact::{detect, BroadPhase};
+use floebench::contact::BroadPhase;
 use floebench::formulation::contact_solver::SolverKind;
 use floebench::formulation::moreau::Moreau;
 use floebench::formulation::moreau::MoreauSettings;
 use floebench::formulation::{build, FormulationOptions};
-use floebench::geometry::Vec2;
 use floebench::lcp::{residual, solve, LcpDump, SolveOptions};
 use floebench::model::Scenario;
 use floebench::record::SettingValue;
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
+use floebench::state::{detect_contacts, normal_velocity, System};
 
 const SOLVERS: [SolverKind; 2] = [SolverKind::Lcp, SolverKind::Cone];
 
@@ -266,40 +266,15 @@ fn elastic_frictionless_pool_keeps_its_kinetic_energy_at_every_step() {
 /// (gaps ignored), with the case velocities as free velocities.
 fn problems_at_start(scn: &Scenario, distance: f64) -> (Vec<ContactLcp>, Vec<Gen>) {
     let n = scn.floes.len();
-    let mut polys: Vec<Vec<Vec2>> = scn
-        .floes
-        .iter()
-        .map(|f| {
-            let mut p = Vec::new();
-            f.world_polygon(&f.position, 0.0, &mut p);
-            p
-        })
-        .collect();
-    polys.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
-    let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
-    let fixed: Vec<bool> = (0..refs.len()).map(|i| i >= n).collect();
+    let sys = System::initial(scn);
     let mut cs = Vec::new();
-    detect(&refs, &fixed, distance, &mut BroadPhase::new(), &mut cs);
-    let centres: Vec<Vec2> = scn.floes.iter().map(|f| f.position).collect();
-    let w: Vec<Gen> = scn
-        .floes
-        .iter()
-        .map(|f| [f.velocity.x, f.velocity.y, f.angular_velocity])
-        .collect();
+    detect_contacts(scn, &sys.bodies, distance, &mut BroadPhase::new(), &mut cs);
+    let centres = sys.centres();
+    let w: Vec<Gen> = sys.velocities();
     // A Newton offset e u_N on every contact, as in the formulation.
     let offsets: Vec<f64> = cs
         .iter()
-        .map(|c| {
-            let v = |i: usize| {
-                if i >= n {
-                    Vec2::zeros()
-                } else {
-                    let r = c.geom.point - centres[i];
-                    Vec2::new(w[i][0], w[i][1]) + Vec2::new(-r.y, r.x) * w[i][2]
-                }
-            };
-            0.5 * (v(c.b) - v(c.a)).dot(&c.geom.normal)
-        })
+        .map(|c| 0.5 * normal_velocity(scn, &sys.bodies, c))
         .collect();
     let lcps = groups(&cs, n)
         .iter()
