@@ -267,7 +267,7 @@ fn run(
     match &s.end {
         EndReason::Completed => ExitCode::SUCCESS,
         other => {
-            eprintln!("run did not complete: {other:?}");
+            eprintln!("run did not complete: {other}");
             ExitCode::FAILURE
         }
     }

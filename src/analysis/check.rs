@@ -532,7 +532,7 @@ pub fn check_run(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
         "1",
         match &run.summary.end {
             EndReason::Completed => String::new(),
-            other => format!("{other:?} at t = {} s", run.summary.t_reached),
+            other => format!("{other}; reached t = {} s", run.summary.t_reached),
         },
     );
     momentum(&mut r);

@@ -156,7 +156,7 @@ fn end_text(e: &EndReason) -> String {
     match e {
         EndReason::Completed => "completed".into(),
         EndReason::Failed { message } => format!("failed: {message}"),
-        EndReason::NonFinite { floe } => format!("non-finite state (floe {floe})"),
+        e @ EndReason::NonFinite { .. } => e.to_string(),
     }
 }
 

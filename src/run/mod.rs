@@ -69,11 +69,69 @@ pub enum EndReason {
         /// What failed.
         message: String,
     },
-    /// The state became non-finite.
+    /// A quantity of the state or of the energy ledger became non-finite;
+    /// the run stops at the last output where everything was finite, and no
+    /// output file holds a non-finite number.
     NonFinite {
-        /// Which floe.
+        /// Which floe (the first one at fault; 0 for a ledger total).
         floe: usize,
+        /// When it was found: the output time whose state is not finite, s.
+        t: f64,
+        /// What is not finite (`position`, `kinetic energy`, `work of the air drag`, …).
+        quantity: String,
     },
+}
+
+impl std::fmt::Display for EndReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EndReason::Completed => write!(f, "completed"),
+            EndReason::Failed { message } => write!(f, "failed: {message}"),
+            EndReason::NonFinite { floe, t, quantity } => {
+                write!(f, "non-finite {quantity} of floe {floe} at t = {t} s")
+            }
+        }
+    }
+}
+
+/// The first quantity of `sys` (or of its energy `sample`) that is not
+/// finite: (floe, what).
+fn first_non_finite(
+    sys: &System,
+    scn: &Scenario,
+    sample: &EnergySample,
+) -> Option<(usize, String)> {
+    for (i, b) in sys.bodies.iter().enumerate() {
+        let what = if !(b.position.x.is_finite() && b.position.y.is_finite()) {
+            "position"
+        } else if !b.angle.is_finite() {
+            "angle"
+        } else if !(b.velocity.x.is_finite() && b.velocity.y.is_finite()) {
+            "velocity"
+        } else if !b.angular_velocity.is_finite() {
+            "angular velocity"
+        } else if !scn.floes[i]
+            .kinetic_energy(&b.velocity, b.angular_velocity)
+            .is_finite()
+        {
+            "kinetic energy"
+        } else {
+            continue;
+        };
+        return Some((i, what.to_string()));
+    }
+    let ledger = [
+        (sample.kinetic, "kinetic energy"),
+        (sample.work_air, "work of the air drag"),
+        (sample.work_water, "work of the water drag"),
+        (sample.work_coriolis, "work of the Coriolis force"),
+        (sample.dissipated, "dissipated energy"),
+        (sample.residual, "energy residual"),
+    ];
+    ledger
+        .iter()
+        .find(|(v, _)| !v.is_finite())
+        .map(|(_, what)| (0, what.to_string()))
 }
 
 /// Energy totals of a run, J.
@@ -217,12 +275,22 @@ impl Runner {
         let e0 = sys.kinetic_energy(scn);
         let mut trajectory = Vec::new();
         let mut energy = Vec::new();
-        record(scn, &sys, e0, &mut trajectory, &mut energy);
+        let mut end = EndReason::Completed;
+        match first_non_finite(&sys, scn, &sample(scn, &sys, e0)) {
+            None => record(scn, &sys, e0, &mut trajectory, &mut energy),
+            Some((floe, quantity)) => {
+                end = EndReason::NonFinite {
+                    floe,
+                    t: 0.0,
+                    quantity,
+                }
+            }
+        }
 
         let times = output_times(scn.duration, scn.output_interval);
         let bar = Progress::new(&self.options, times.len() as u64, scn, label);
-        let mut end = EndReason::Completed;
-        for (k, &t) in times.iter().enumerate() {
+        let started = end == EndReason::Completed;
+        for (k, &t) in times.iter().enumerate().filter(|_| started) {
             let mut next = sys.clone();
             if let Err(e) = form.advance(scn, &mut next, t, &mut clock) {
                 end = EndReason::Failed {
@@ -230,12 +298,12 @@ impl Runner {
                 };
                 break;
             }
-            if let Some(i) = next.bodies.iter().position(|b| !b.is_finite()) {
-                end = EndReason::NonFinite { floe: i };
+            next.t = t;
+            if let Some((floe, quantity)) = first_non_finite(&next, scn, &sample(scn, &next, e0)) {
+                end = EndReason::NonFinite { floe, t, quantity };
                 break;
             }
             sys = next;
-            sys.t = t;
             record(scn, &sys, e0, &mut trajectory, &mut energy);
             bar.tick(k as u64 + 1, t);
         }
@@ -256,6 +324,9 @@ impl Runner {
             p
         });
         let profile_overhead = lcp_profile.as_ref().map_or(0.0, |p| p.timer_overhead);
+        // Without a finite sample (a state not finite at t = 0) the totals
+        // are zero, not the non-finite initial energy.
+        let e0 = energy.first().map_or(0.0, |s| s.kinetic);
         let last = energy.last().copied().unwrap_or(EnergySample {
             t: 0.0,
             kinetic: e0,
@@ -330,9 +401,14 @@ fn record(
             omega: b.angular_velocity,
         });
     }
+    energy.push(sample(scn, sys, e0));
+}
+
+/// The energy ledger of `sys` (kinetic energy at t = 0: `e0`, J).
+fn sample(scn: &Scenario, sys: &System, e0: f64) -> EnergySample {
     let e = sys.kinetic_energy(scn);
     let l = &sys.ledger;
-    energy.push(EnergySample {
+    EnergySample {
         t: sys.t,
         kinetic: e,
         work_air: l.work_air,
@@ -340,7 +416,7 @@ fn record(
         work_coriolis: l.work_coriolis,
         dissipated: l.dissipated,
         residual: e - e0 - l.external_work() + l.dissipated,
-    });
+    }
 }
 
 /// A progress bar that appears only once a run has lasted a second.

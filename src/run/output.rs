@@ -50,8 +50,51 @@ pub fn energy_csv(result: &RunResult) -> String {
     s
 }
 
-/// Writes the three output files into `dir`; returns their paths.
+/// The first non-finite number of the trajectory or the energy ledger, as
+/// a message naming the file, time and column.
+fn non_finite(result: &RunResult) -> Option<String> {
+    for r in &result.trajectory {
+        let cols = [
+            ("x", r.x),
+            ("y", r.y),
+            ("theta", r.theta),
+            ("vx", r.vx),
+            ("vy", r.vy),
+            ("omega", r.omega),
+            ("t", r.t),
+        ];
+        if let Some((c, _)) = cols.iter().find(|(_, v)| !v.is_finite()) {
+            return Some(format!(
+                "trajectory.csv: non-finite {c} of floe {} at t = {} s",
+                r.floe, r.t
+            ));
+        }
+    }
+    for e in &result.energy {
+        let cols = [
+            ("kinetic", e.kinetic),
+            ("work_air", e.work_air),
+            ("work_water", e.work_water),
+            ("work_coriolis", e.work_coriolis),
+            ("dissipated", e.dissipated),
+            ("residual", e.residual),
+            ("t", e.t),
+        ];
+        if let Some((c, _)) = cols.iter().find(|(_, v)| !v.is_finite()) {
+            return Some(format!("energy.csv: non-finite {c} at t = {} s", e.t));
+        }
+    }
+    None
+}
+
+/// Writes the three output files into `dir`; returns their paths. Refuses
+/// (before writing anything) a result with a non-finite number in its
+/// trajectory or ledger: the runner ends a run at the last finite output,
+/// so this is a safety net that names the number.
 pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
+    if let Some(m) = non_finite(result) {
+        return Err(io::Error::new(io::ErrorKind::InvalidData, m));
+    }
     let files = [
         ("trajectory.csv", trajectory_csv(result).into_bytes()),
         ("energy.csv", energy_csv(result).into_bytes()),

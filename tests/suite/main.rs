@@ -19,4 +19,5 @@ mod physics;
 mod plot;
 mod rapier;
 mod registry;
+mod runner;
 mod sample_report;
