@@ -59,6 +59,7 @@ mod json_f64;
 pub mod lemke;
 pub(crate) mod polish;
 pub mod solve;
+pub mod timing;
 
 pub use dump::{DumpError, LcpDump};
 pub use lemke::{lemke, LemkeOptions, LemkeResult, PivotRule, Termination};
