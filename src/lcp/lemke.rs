@@ -306,6 +306,12 @@ pub(crate) struct Scratch {
 
 const NONE: usize = usize::MAX;
 
+/// Largest infeasibility (scaled units) that the negligible-`z0` exit may
+/// leave in a basic variable: about 500 ulps of the initial `z0`, so that
+/// the exit does not trade a pivot or two for a residual near the driver's
+/// tolerance.
+const Z0_EXIT_VIOLATION: f64 = 1e-13;
+
 /// Result of the ratio test.
 enum Step {
     Pivot(usize),
@@ -553,8 +559,9 @@ impl Workspace {
         if opts.prefer_z0 && r0 != NONE && opts.z0_tol > 0.0 {
             let c0 = self.t[r0 * cols + s];
             if c0 > thresh {
-                let after = self.t[r0 * cols + rhs] - c0 * min;
-                if after <= opts.z0_tol * c0 / scale {
+                let b0 = self.t[r0 * cols + rhs];
+                let after = b0 - c0 * min;
+                if after <= opts.z0_tol * c0 / scale && self.z0_exit_feasible(s, b0 / c0) {
                     return Step::Pivot(r0);
                 }
             }
@@ -571,6 +578,17 @@ impl Workspace {
             Some(r) => Step::Pivot(r),
             None => Step::TooSmall,
         }
+    }
+
+    /// Whether the step `theta` on column `s` (the one that makes `z0`
+    /// leave) keeps every basic variable above `−Z0_EXIT_VIOLATION`, so that
+    /// the complementary basis it reaches is feasible up to rounding.
+    fn z0_exit_feasible(&self, s: usize, theta: f64) -> bool {
+        let (cols, rhs) = (self.cols, self.rhs());
+        (0..self.n).all(|i| {
+            let c = self.t[i * cols + s];
+            c <= 0.0 || self.t[i * cols + rhs] - c * theta >= -Z0_EXIT_VIOLATION
+        })
     }
 
     /// Chooses the leaving row among all rows of `cand` by the minimum ratio

@@ -17,17 +17,23 @@
 //! [`lemke::lemke`] is our own implementation of **Lemke's complementary
 //! pivoting method** with a covering vector `d > 0` (default all ones) and an
 //! artificial variable `z0`, as stated in Cottle, Pang & Stone (1992),
-//! Algorithm 4.4.5, on a dense tableau `[I | −M | −d | q]`. Degeneracy is
+//! Algorithm 4.4.5, on a dense tableau `[I | −M | −d | q]` kept in condensed
+//! form (only the non-basic columns, see [`lemke`]). Degeneracy is
 //! resolved by the **lexicographic minimum-ratio rule** (CPS §4.9): among rows
 //! tied in the ratio test, the leaving row is the lexicographic minimum of
 //! `(b_i, (B⁻¹)_{i·}) / c_i` (right-hand side followed by the row of the
 //! current basis inverse, divided by the entering-column entry). Because the
 //! rows of `B⁻¹` are linearly independent the minimum is unique, every
 //! almost-complementary basis stays lexicographically feasible and no basis can
-//! repeat, so the method cannot cycle. A plain minimum-ratio test with a
+//! repeat, so the method cannot cycle. Ties in the ratio test are exact up to
+//! a relative 1e-14 (a looser, absolute tolerance let non-minimal rows leave
+//! and lost the path). A plain minimum-ratio test with a
 //! documented tie-break ([`lemke::PivotRule`]) is offered as an alternative.
 //! If `z0` is among the rows tied in the ratio test it is always chosen (the
-//! method then stops on a complementary solution).
+//! method then stops on a complementary solution), and so it is when the
+//! step would leave it negligible ([`LemkeOptions::z0_tol`]). A
+//! [`Workspace`] holds the tableau and scratch vectors; [`solve`] and
+//! [`lemke()`] use one per thread, so a solve allocates only its result.
 //!
 //! For a P-matrix `M` the LCP has a unique solution for every `q` and Lemke's
 //! method finds it; for a copositive-plus `M` (e.g. positive semidefinite)
@@ -36,9 +42,13 @@
 //! [`solve`] is the robust driver used by the simulation: it runs a sequence of
 //! attempts (lexicographic rule; alternative rule with another covering
 //! vector; lexicographic rule on `M + εI` for a few relative `ε`), re-checks every candidate against the
-//! **original** data with [`residual`], optionally polishes it by re-solving
-//! the linear system of its support on the original data, and reports every
+//! **original** data with [`residual`], optionally polishes it (iterative
+//! refinement of the final basis on the original data, else re-solving the
+//! linear system of its support), and reports every
 //! attempt. It never panics and never returns a non-finite `z`.
+//!
+//! [`timing`] times the driver on a folder of dumps (`floebench lcp DIR
+//! --time`).
 //!
 //! [`dump`] writes and reads JSON LCP dumps for reproducing a solve.
 //!

@@ -20,9 +20,15 @@
 //!
 //! Attempts 1 and 3 use [`SolveOptions::covering`] (default all ones).
 //! After **every** attempt, whatever Lemke reported, its `z` is projected
-//! onto `z >= 0`, optionally polished (re-solving `M_αα z_α = −q_α` on the
-//! support `α` of `z` with the **original** M and q, kept only if better) and
-//! its [`residual`] on the original `(M, q)` is computed. The attempt is
+//! onto `z >= 0`, its [`residual`] on the original `(M, q)` is computed
+//! (compensated `M z + q`) and, if it is not 0 and polishing is on, it is
+//! polished, each step kept only if it lowers the residual: when Lemke
+//! solved, by up to three steps of iterative refinement of the final basis
+//! (`x_B += B⁻¹ (q − B x_B)` with the residual of the **original** M and q,
+//! and the tableau's `B⁻¹`: O(n²) a step, valid when `M_αα` is singular, and
+//! turning a solution of `M + εI` into one of `M`); then, if the residual
+//! is still above the tolerance or Lemke did not solve, by re-solving
+//! `M_αα z_α = −q_α` on the support `α` of `z`. The attempt is
 //! accepted iff that residual is `<= tolerance`. A perturbed attempt is thus
 //! accepted only on the merit of its residual for the original problem.
 //!
@@ -149,7 +155,8 @@ pub struct SolveOptions {
     /// Relative diagonal shifts `ε_rel` of the perturbed attempts, tried in
     /// order; non-finite or non-positive entries are skipped.
     pub perturbations: Vec<f64>,
-    /// Polish every candidate on its support (see module doc).
+    /// Polish every candidate: refinement of the final basis, then the
+    /// support re-solve (see module doc).
     pub polish: bool,
     /// See [`LemkeOptions::z0_tol`].
     pub z0_tol: f64,
