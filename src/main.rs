@@ -98,10 +98,23 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
-    /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual.
+    /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual;
+    /// with `--time`, re-solve and time every dump of a folder.
     Lcp {
-        /// A dump file `<seq>.json`.
-        file: PathBuf,
+        /// A dump file `<seq>.json`, or with `--time` a folder of dumps
+        /// (its `*.json` files, sorted, not recursive).
+        path: PathBuf,
+        /// Time every dump of the folder: thread CPU time per solve (median of
+        /// `--repeat` batches of at least 1 ms), a summary per size bucket.
+        #[arg(long)]
+        time: bool,
+        /// Timed batches per dump (the median is reported).
+        #[arg(long, default_value_t = 5, requires = "time", value_parser = clap::value_parser!(u64).range(1..))]
+        repeat: u64,
+        /// Also write one CSV row per dump:
+        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us.
+        #[arg(long, value_name = "FILE", requires = "time")]
+        csv: Option<PathBuf>,
     },
     /// List the formulations.
     Formulations,
@@ -144,7 +157,24 @@ fn main() -> ExitCode {
             }
             compare(&cases, &opts, &out)
         }
-        Command::Lcp { file } => resolve_lcp(&file),
+        Command::Lcp {
+            path,
+            time,
+            repeat,
+            csv,
+        } => {
+            if time {
+                time_lcps(&path, repeat as usize, csv.as_deref())
+            } else if path.is_dir() {
+                eprintln!(
+                    "error: {} is a folder: give one dump file, or --time to time every dump of it",
+                    path.display()
+                );
+                ExitCode::FAILURE
+            } else {
+                resolve_lcp(&path)
+            }
+        }
         Command::Check {
             cases,
             formulations,
@@ -405,4 +435,50 @@ fn resolve_lcp(file: &Path) -> ExitCode {
     } else {
         ExitCode::FAILURE
     }
+}
+
+fn time_lcps(path: &Path, repeats: usize, csv: Option<&Path>) -> ExitCode {
+    use floebench::lcp::timing::{self, TimingOptions};
+    let files = if path.is_dir() {
+        match timing::dump_files(path) {
+            Ok(f) => f,
+            Err(e) => {
+                eprintln!("error: cannot read {}: {e}", path.display());
+                return ExitCode::FAILURE;
+            }
+        }
+    } else {
+        vec![path.to_path_buf()]
+    };
+    if files.is_empty() {
+        eprintln!("error: no *.json dump in {}", path.display());
+        return ExitCode::FAILURE;
+    }
+    let opts = TimingOptions {
+        repeats,
+        ..TimingOptions::default()
+    };
+    let mut rows = Vec::with_capacity(files.len());
+    for f in &files {
+        match timing::time_file(f, &opts) {
+            Ok(r) => rows.push(r),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+    if let Some(file) = csv {
+        if let Err(e) = output::write_atomic(file, timing::csv(&rows).as_bytes()) {
+            eprintln!("error: cannot write {}: {e}", file.display());
+            return ExitCode::FAILURE;
+        }
+    }
+    println!(
+        "{}: {} dumps, thread CPU per solve (median of {repeats} batches of >= 1 ms)",
+        path.display(),
+        rows.len()
+    );
+    print!("{}", timing::format_summary(&timing::summarize(&rows)));
+    ExitCode::SUCCESS
 }

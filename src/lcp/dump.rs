@@ -18,6 +18,18 @@
 //! those strings, the bare tokens `NaN`/`Infinity`/`-Infinity` (as written by
 //! Python's `json`) and `null` (read as NaN) are accepted.
 //!
+//! Reading is strict, and every error names the file and the key:
+//!
+//! * exactly the keys above, each once (an unknown, missing or repeated key
+//!   is an error);
+//! * `M` is n×n and `q`, `z`, `w` have n entries;
+//! * `contacts` = m is consistent with the unknowns of the contact layer
+//!   (README "LCP dumps"): n = 4m with friction, n = m without;
+//! * `status` is one of [`super::SolveStatus::as_str`]; a solved status
+//!   requires finite `M`, `q` and a finite `z >= 0`;
+//! * numbers are JSON numbers; the only strings accepted for a number are
+//!   `"NaN"`, `"Infinity"` and `"-Infinity"` (counts: integers only).
+//!
 //! Files are written atomically: to a temporary file in the same directory,
 //! flushed to disk, then renamed over the target.
 
@@ -31,6 +43,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 /// One LCP with its solution and context, as stored in a dump file.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LcpDump {
     /// Matrix M as rows (JSON key `"M"`).
     #[serde(rename = "M", with = "json_f64::matrix")]
@@ -97,6 +110,61 @@ pub enum DumpError {
         rows: usize,
         /// Common row length.
         cols: usize,
+    },
+    /// A key that is not one of the documented ones.
+    #[error("{}: invalid LCP dump: unknown key {key:?} (expected M, q, z, w, t, contacts, pivots, status)", path.display())]
+    UnknownKey {
+        /// File concerned.
+        path: PathBuf,
+        /// The key.
+        key: String,
+    },
+    /// A documented key is missing.
+    #[error("{}: invalid LCP dump: missing field `{key}`", path.display())]
+    MissingKey {
+        /// File concerned.
+        path: PathBuf,
+        /// The key.
+        key: &'static str,
+    },
+    /// A key appears twice.
+    #[error("{}: invalid LCP dump: key {key:?} appears more than once", path.display())]
+    DuplicateKey {
+        /// File concerned.
+        path: PathBuf,
+        /// The key.
+        key: String,
+    },
+    /// The value of a key has the wrong type, or a number is written as a
+    /// string, or is not a valid number.
+    #[error("{}: invalid LCP dump: key {key:?}: {source}", path.display())]
+    Value {
+        /// File concerned.
+        path: PathBuf,
+        /// The key.
+        key: &'static str,
+        /// Underlying error.
+        source: serde_json::Error,
+    },
+    /// `contacts` does not match the number of unknowns.
+    #[error("{}: key \"contacts\" = {contacts} does not match n = {n} unknowns (expected n = 4 × contacts with friction, n = contacts without)", path.display())]
+    Contacts {
+        /// File concerned.
+        path: PathBuf,
+        /// Value of `contacts`.
+        contacts: usize,
+        /// Number of unknowns (rows of M).
+        n: usize,
+    },
+    /// `status` is not a status name, or contradicts the data.
+    #[error("{}: key \"status\" = {status:?}: {reason}", path.display())]
+    Status {
+        /// File concerned.
+        path: PathBuf,
+        /// Value of `status`.
+        status: String,
+        /// What is wrong.
+        reason: &'static str,
     },
     /// `q`, `z` or `w` does not have n entries.
     #[error("{}: vector {name} has {len} entries, expected n = {expected}", path.display())]
@@ -178,6 +246,38 @@ impl LcpDump {
                 });
             }
         }
+        let m = self.contacts;
+        if n != m && Some(n) != m.checked_mul(4) {
+            return Err(DumpError::Contacts {
+                path: path_buf(),
+                contacts: m,
+                n,
+            });
+        }
+        let status_error = |reason| DumpError::Status {
+            path: path_buf(),
+            status: self.status.clone(),
+            reason,
+        };
+        let solved = match self.status.as_str() {
+            "Solved" | "SolvedByFallback" => true,
+            "Failed" => false,
+            _ => return Err(status_error("not one of Solved, SolvedByFallback, Failed")),
+        };
+        if solved {
+            if !self
+                .m
+                .iter()
+                .flatten()
+                .chain(&self.q)
+                .all(|x| x.is_finite())
+            {
+                return Err(status_error("a solved LCP needs finite M and q"));
+            }
+            if !self.z.iter().all(|x| x.is_finite() && *x >= 0.0) {
+                return Err(status_error("a solved LCP needs a finite z >= 0"));
+            }
+        }
         Ok(())
     }
 
@@ -218,10 +318,51 @@ impl LcpDump {
     /// doc) and validates the shapes; `path` only names the source in errors.
     pub fn from_json(text: &str, path: &Path) -> Result<Self, DumpError> {
         let quoted = quote_numbers(text);
-        let dump: Self = serde_json::from_str(&quoted).map_err(|source| DumpError::Parse {
-            path: path.to_path_buf(),
-            source,
-        })?;
+        let entries: Entries =
+            serde_json::from_str(&quoted).map_err(|source| DumpError::Parse {
+                path: path.to_path_buf(),
+                source,
+            })?;
+        const KEYS: [&str; 8] = ["M", "q", "z", "w", "t", "contacts", "pivots", "status"];
+        let mut values: [Option<serde_json::Value>; 8] = Default::default();
+        for (key, value) in entries.0 {
+            let Some(k) = KEYS.iter().position(|&x| x == key) else {
+                return Err(DumpError::UnknownKey {
+                    path: path.to_path_buf(),
+                    key,
+                });
+            };
+            if values[k].is_some() {
+                return Err(DumpError::DuplicateKey {
+                    path: path.to_path_buf(),
+                    key,
+                });
+            }
+            values[k] = Some(value);
+        }
+        let mut take = |k: usize| -> Result<serde_json::Value, DumpError> {
+            values[k].take().ok_or(DumpError::MissingKey {
+                path: path.to_path_buf(),
+                key: KEYS[k],
+            })
+        };
+        let err = |k: usize| {
+            move |source| DumpError::Value {
+                path: path.to_path_buf(),
+                key: KEYS[k],
+                source,
+            }
+        };
+        let dump = Self {
+            m: json_f64::matrix::deserialize(take(0)?).map_err(err(0))?,
+            q: json_f64::vector::deserialize(take(1)?).map_err(err(1))?,
+            z: json_f64::vector::deserialize(take(2)?).map_err(err(2))?,
+            w: json_f64::vector::deserialize(take(3)?).map_err(err(3))?,
+            t: json_f64::scalar::deserialize(take(4)?).map_err(err(4))?,
+            contacts: json_f64::count::deserialize(take(5)?).map_err(err(5))?,
+            pivots: json_f64::count::deserialize(take(6)?).map_err(err(6))?,
+            status: String::deserialize(take(7)?).map_err(err(7))?,
+        };
         dump.validate(path)?;
         Ok(dump)
     }
@@ -279,11 +420,42 @@ impl LcpDump {
     }
 }
 
+/// The top-level object of a dump as (key, value) pairs in file order, so
+/// that repeated keys can be detected.
+struct Entries(Vec<(String, serde_json::Value)>);
+
+impl<'de> Deserialize<'de> for Entries {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl<'de> serde::de::Visitor<'de> for V {
+            type Value = Entries;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a JSON object with the keys M, q, z, w, t, contacts, pivots, status")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut a: A,
+            ) -> Result<Entries, A::Error> {
+                let mut v = Vec::new();
+                while let Some(e) = a.next_entry::<String, serde_json::Value>()? {
+                    v.push(e);
+                }
+                Ok(Entries(v))
+            }
+        }
+        d.deserialize_map(V)
+    }
+}
+
 /// Rewrites every JSON number token outside string literals (and the bare
 /// tokens `NaN`, `Infinity`, `-Infinity`) as a JSON string holding the same
-/// text, so that the number is parsed by Rust's correctly rounded `f64`
-/// parser rather than serde_json's. Other text, including string literals,
-/// is copied unchanged. Line numbers of parse errors are preserved.
+/// text behind the tag [`json_f64::NUMBER_TAG`] (written as the escape
+/// `\u0001`), so that the number is parsed by Rust's correctly rounded `f64`
+/// parser rather than serde_json's, and can be told from a number written
+/// as a string in the file. A string literal of the file that itself starts
+/// with the escape `\u0001` gets `\u0002` instead, so that it cannot pass
+/// for a number. Other text is copied unchanged. Line numbers of parse
+/// errors are preserved.
 fn quote_numbers(text: &str) -> String {
     let b = text.as_bytes();
     let mut out = String::with_capacity(text.len() + text.len() / 4);
@@ -293,6 +465,12 @@ fn quote_numbers(text: &str) -> String {
         let c = b[i];
         if c == b'"' {
             // Skip a string literal, honouring backslash escapes.
+            if b.len() >= i + 7 && b[i + 1..i + 7].eq_ignore_ascii_case(b"\\u0001") {
+                out.push_str(&text[plain_start..=i]);
+                out.push_str("\\u0002");
+                plain_start = i + 7;
+                i += 6;
+            }
             i += 1;
             while i < b.len() {
                 match b[i] {
@@ -329,7 +507,7 @@ fn quote_numbers(text: &str) -> String {
             continue;
         }
         out.push_str(&text[plain_start..i]);
-        out.push('"');
+        out.push_str("\"\\u0001");
         out.push_str(&text[i..i + token_len]);
         out.push('"');
         i += token_len;

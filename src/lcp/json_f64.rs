@@ -4,14 +4,24 @@
 //! Writing: finite values are JSON numbers (shortest round-trip form);
 //! non-finite ones are the strings `"NaN"`, `"Infinity"`, `"-Infinity"`
 //! (plain serde_json would write `null` and lose them).
-//! Reading: a JSON number, a string accepted by Rust's correctly rounded
-//! `f64` parser (so `"NaN"`, `"Infinity"`, `"1e-3"`), or `null` (read as NaN,
-//! as written by JavaScript for non-finite numbers).
+//! Reading: a JSON number, one of the strings `"NaN"`, `"Infinity"`,
+//! `"-Infinity"`, or `null` (read as NaN, as written by JavaScript for
+//! non-finite numbers). Any other string is refused: a number written as a
+//! string (`"1e-3"`) is an error. The dump reader hands numbers over as
+//! strings tagged with [`NUMBER_TAG`] (see `dump::quote_numbers`), which
+//! are parsed by Rust's correctly rounded `f64` parser.
 
 use serde::de::{self, Deserializer, Visitor};
 use serde::ser::Serializer;
 use serde::{Deserialize, Serialize};
 use std::fmt;
+
+/// Prefix of a string that holds a JSON number token of a dump file (added
+/// by the dump reader, never present in a valid file's strings).
+pub(crate) const NUMBER_TAG: char = '\u{1}';
+
+/// The strings that may stand for a number.
+const NON_FINITE: [&str; 3] = ["NaN", "Infinity", "-Infinity"];
 
 /// An `f64` with the JSON encoding described in the module doc.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -54,10 +64,21 @@ impl<'de> Visitor<'de> for NumVisitor {
     }
 
     fn visit_str<E: de::Error>(self, v: &str) -> Result<Num, E> {
-        v.trim()
-            .parse::<f64>()
-            .map(Num)
-            .map_err(|_| E::custom(format!("invalid number {v:?}")))
+        if let Some(token) = v.strip_prefix(NUMBER_TAG) {
+            return token
+                .parse::<f64>()
+                .map(Num)
+                .map_err(|_| E::custom(format!("invalid number {token:?}")));
+        }
+        if NON_FINITE.contains(&v) {
+            return v
+                .parse::<f64>()
+                .map(Num)
+                .map_err(|_| E::custom(format!("invalid number {v:?}")));
+        }
+        Err(E::custom(format!(
+            "number written as a string: {v:?} (only \"NaN\", \"Infinity\" and \"-Infinity\" may be strings)"
+        )))
     }
 
     fn visit_unit<E: de::Error>(self) -> Result<Num, E> {
@@ -124,8 +145,8 @@ pub(crate) mod matrix {
     }
 }
 
-/// `#[serde(with = "json_f64::count")]` for a `usize` that may arrive as a
-/// JSON integer or as a string holding one.
+/// `#[serde(with = "json_f64::count")]` for a `usize` written as a JSON
+/// integer (a string holding one is refused).
 pub(crate) mod count {
     use serde::de::{self, Deserializer, Visitor};
     use serde::Serializer;
@@ -154,9 +175,14 @@ pub(crate) mod count {
         }
 
         fn visit_str<E: de::Error>(self, v: &str) -> Result<usize, E> {
-            v.trim()
-                .parse::<usize>()
-                .map_err(|_| E::custom(format!("expected a non-negative integer, got {v:?}")))
+            match v.strip_prefix(super::NUMBER_TAG) {
+                Some(token) => token.parse::<usize>().map_err(|_| {
+                    E::custom(format!("expected a non-negative integer, got {token:?}"))
+                }),
+                None => Err(E::custom(format!(
+                    "expected a non-negative integer, got the string {v:?}"
+                ))),
+            }
         }
     }
 

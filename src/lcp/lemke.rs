@@ -3,16 +3,49 @@
 //!
 //! The augmented system is `w − M z − d z0 = q` with basic variables `w` at
 //! the start. Variables are numbered `0..n` for `w`, `n..2n` for `z` and `2n`
-//! for `z0`; the tableau `B⁻¹ [I | −M | −d | q]` is stored row-major with one
-//! extra column for the right-hand side, so its first n columns are `B⁻¹`
-//! itself, which the lexicographic rule reads.
+//! for `z0`. The tableau is kept in **condensed** (dictionary) form: only the
+//! `n + 1` non-basic columns of `B⁻¹ [I | −M | −d]` and the right-hand side
+//! `b = B⁻¹ q` are stored (n × (n + 2), row-major); a pivot exchanges the
+//! entering variable's column for the leaving variable's (the classical
+//! exchange step, Dantzig 1963 §8; Murty 1988 §2.2), which halves the work
+//! of a pivot against the full n × (2n + 2) tableau. The columns of `B⁻¹`
+//! that the lexicographic rule reads are those of the `w` variables: a
+//! stored column when `w_k` is non-basic, the unit vector of its row when
+//! `w_k` is basic.
 //!
-//! Before pivoting, M and q are scaled by powers of two (exact in binary
-//! floating point) so that `max|M_ij| ≈ 1` and `max|q_i| ≈ 1`; this makes the
-//! absolute tolerances below meaningful and leaves the solution unchanged
-//! (`z = (β/α) z'` for `M' = M/α`, `q' = q/β`).
+//! Before pivoting, M, q and the covering vector d are scaled by powers of
+//! two (exact in binary floating point, over the whole exponent range, see
+//! [`pow2_exponent`]) so that `max|M_ij|`, `max|q_i|` and `max d_i` are within
+//! a factor √2 of 1; this makes the absolute tolerances below meaningful and
+//! leaves the solution unchanged (`z = (β/α) z'` for `M' = M/α`, `q' = q/β`).
+//!
+//! # Termination
+//!
+//! Besides the textbook stop (`z0` leaves the basis), the method stops with
+//! [`Termination::Solved`] as soon as `z0` is *negligible* (see
+//! [`LemkeOptions::z0_tol`]): every almost-complementary basic feasible
+//! solution with `z0 = 0` is a solution of the LCP (CPS §4.4, the remark
+//! after Alg. 4.4.5), so
+//!
+//! * if the minimum-ratio step would leave `z0` at or below `z0_tol`, `z0`
+//!   is made the leaving variable (a generalisation of "z0 leaves when it is
+//!   tied", which is exact when the step brings `z0` to 0);
+//! * if the entering column has no blocking entry (a secondary ray) while
+//!   the basic `z0` is already at or below `z0_tol`, the current point is
+//!   returned as the solution instead of a ray termination.
+//!
+//! Without this, on the degenerate Stewart–Trinkle LCPs of the contact layer
+//! the path reached points with `z0 ≈ 1e-17` (a solution up to rounding)
+//! and kept pivoting through degenerate bases until a secondary ray.
+//!
+//! # Work space
+//!
+//! [`Workspace`] holds the tableau and every scratch vector, so that a solve
+//! allocates nothing but its result once the buffers have grown to the
+//! largest problem seen; [`lemke`] uses one per thread.
 
-use super::{residual_with_w, w_unchecked};
+use super::residual_with_w;
+use std::cell::RefCell;
 
 /// Default iteration cap per unit of dimension: `max_pivots` defaults to
 /// `DEFAULT_PIVOTS_PER_DIM * (n + 1)`. Lemke's method needs O(n) pivots on
@@ -42,7 +75,8 @@ pub enum PivotRule {
 /// Why Lemke's method stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub enum Termination {
-    /// `z0` left the basis (or `q >= 0`): complementary solution found.
+    /// `z0` left the basis, became negligible (see
+    /// [`LemkeOptions::z0_tol`]), or `q >= 0`: complementary solution found.
     Solved,
     /// Secondary ray: the entering column has no positive entry, so no
     /// solution was found with this covering vector. For copositive-plus M
@@ -71,11 +105,24 @@ pub struct LemkeOptions {
     /// column blocks only if `c_i > pivot_tol · max(1, ‖c‖∞)`. If no entry
     /// passes but some exceed `pivot_tol · 1e-3 · max(1, ‖c‖∞)`, the step is
     /// undecidable and the run ends with [`Termination::NumericalFailure`]
-    /// ("pivot too small"); otherwise it is a secondary ray. Default `1e-11`.
+    /// ("pivot too small"); otherwise it is a secondary ray. Default `1e-9`
+    /// (was `1e-11`: pivots on entries of 1e-11 amplify the rounding of the
+    /// tableau by as much, measured as a source of ray terminations).
     pub pivot_tol: f64,
-    /// Tolerance for ties in the (lexicographic) ratio test, relative to
-    /// `max(1, |minimum|)` on the scaled tableau. Default `1e-11`.
+    /// Relative tolerance for ties in the minimum-ratio test: rows whose
+    /// ratio is at most `min + tie_tol · |min|` are tied. Purely relative, so
+    /// that a zero minimum (a degenerate step) ties only with exact zeros; it
+    /// absorbs the last-bit differences of ratios that are equal in exact
+    /// arithmetic. Default `1e-14`. (Until this version the tolerance was
+    /// `1e-11 · max(1, |min|)`, which tied ratios up to 1e-11 apart: the
+    /// leaving row was then often not a minimiser, a basic variable went
+    /// negative and the path was lost; see the module doc.)
     pub tie_tol: f64,
+    /// Tolerance of the lexicographic comparisons among tied rows: entries
+    /// `(B⁻¹)_ik / c_i` within `lex_tol · (1 + |min|)` of the minimum are
+    /// tied (the rows of `B⁻¹` are O(1) on the scaled tableau). Default
+    /// `1e-12`.
+    pub lex_tol: f64,
     /// Maximum number of pivots (including the first one, on `z0`); `None`
     /// means `DEFAULT_PIVOTS_PER_DIM * (n + 1)`.
     pub max_pivots: Option<usize>,
@@ -86,6 +133,17 @@ pub struct LemkeOptions {
     /// (CPS Alg. 4.4.5: the method then stops on a solution). Default `true`;
     /// `false` applies the tie-break rule to `z0`'s row like any other.
     pub prefer_z0: bool,
+    /// Negligible `z0`, on the scaled tableau (where the initial `z0` is
+    /// `max(−q'_i / d'_i)`, between about 0.5 and 2). `z0` is made the
+    /// leaving variable when the minimum-ratio step would leave it at or
+    /// below `z0_tol · c_z0 / max(1, ‖c‖∞)` (then no other basic variable
+    /// ends below `−z0_tol`, which the clamp of [`LemkeOptions::clamp_tol`]
+    /// absorbs), and a secondary ray met while the basic `z0` is at most
+    /// `z0_tol` is reported as [`Termination::Solved`]. Active only with
+    /// [`LemkeOptions::prefer_z0`]; `0` keeps only the exact rule. The
+    /// driver checks every such solution on the original data. Default
+    /// `1e-9`.
+    pub z0_tol: f64,
 }
 
 impl Default for LemkeOptions {
@@ -93,11 +151,13 @@ impl Default for LemkeOptions {
         Self {
             rule: PivotRule::Lexicographic,
             covering: None,
-            pivot_tol: 1e-11,
-            tie_tol: 1e-11,
+            pivot_tol: 1e-9,
+            tie_tol: 1e-14,
+            lex_tol: 1e-12,
             max_pivots: None,
             clamp_tol: 1e-9,
             prefer_z0: true,
+            z0_tol: 1e-9,
         }
     }
 }
@@ -123,6 +183,19 @@ pub struct LemkeResult {
     pub detail: Option<&'static str>,
 }
 
+thread_local! {
+    static WORKSPACE: RefCell<Workspace> = RefCell::new(Workspace::default());
+}
+
+/// Runs `f` with this thread's [`Workspace`] (a fresh one if it is already
+/// borrowed, e.g. by a re-entrant call).
+pub(crate) fn with_thread_workspace<R>(f: impl FnOnce(&mut Workspace) -> R) -> R {
+    WORKSPACE.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut ws) => f(&mut ws),
+        Err(_) => f(&mut Workspace::default()),
+    })
+}
+
 /// Runs Lemke's method on `w = M z + q` (M row-major, n = `q.len()`).
 ///
 /// Never panics: inconsistent sizes or bad options give
@@ -131,185 +204,113 @@ pub struct LemkeResult {
 /// result is `z = 0` with 0 pivots. After termination `z` is read from the
 /// tableau, tiny negative entries are clamped to 0 (see
 /// [`LemkeOptions::clamp_tol`]), and `w` and the residual are recomputed from
-/// the original `M`, `q`.
+/// the original `M`, `q`. Uses this thread's [`Workspace`]; see
+/// [`lemke_with`].
 pub fn lemke(m: &[f64], q: &[f64], opts: &LemkeOptions) -> LemkeResult {
+    with_thread_workspace(|ws| lemke_with(ws, m, q, opts))
+}
+
+/// [`lemke`] with an explicit work space (no allocation but the result once
+/// `ws` has grown to the problem size).
+pub fn lemke_with(ws: &mut Workspace, m: &[f64], q: &[f64], opts: &LemkeOptions) -> LemkeResult {
     let n = q.len();
-    if n.checked_mul(n) != Some(m.len()) {
-        return early(
-            n,
-            q,
-            Termination::InvalidInput,
-            "M is not n×n with n = q.len()",
-        );
-    }
-    if !options_valid(opts) {
-        return early(
-            n,
-            q,
-            Termination::InvalidInput,
-            "invalid tolerance in LemkeOptions",
-        );
-    }
-    if !m.iter().chain(q.iter()).all(|x| x.is_finite()) {
-        return early(
-            n,
-            q,
-            Termination::NumericalFailure,
-            "non-finite entry in M or q",
-        );
-    }
-    let d: Vec<f64> = match &opts.covering {
-        None => vec![1.0; n],
-        Some(d) => {
-            if d.len() != n || !d.iter().all(|&x| x.is_finite() && x > 0.0) {
-                return early(
-                    n,
-                    q,
-                    Termination::InvalidInput,
-                    "covering vector must have n finite positive entries",
-                );
-            }
-            d.clone()
-        }
+    let run = ws.run(m, q, opts);
+    let mut z = vec![0.0; n];
+    let (termination, detail) = if run.tableau {
+        ws.read_z(&mut z, run.termination, run.detail, opts.clamp_tol)
+    } else {
+        (run.termination, run.detail)
     };
-    if q.iter().all(|&x| x >= 0.0) {
-        return finish(m, q, vec![0.0; n], 0, Termination::Solved, None);
-    }
-
-    let alpha = pow2_scale(max_abs(m));
-    let beta = pow2_scale(max_abs(q));
-    let gamma = pow2_scale(max_abs(&d));
-    let mut tab = Tableau::new(n, m, q, &d, alpha, beta, gamma);
-    let max_pivots = opts
-        .max_pivots
-        .unwrap_or_else(|| DEFAULT_PIVOTS_PER_DIM.saturating_mul(n.saturating_add(1)));
-
-    let (termination, detail) = tab.run(opts, max_pivots);
-    let zs = tab.z_scaled();
-    let (z, termination, detail) =
-        post_process(zs, termination, detail, opts.clamp_tol, beta / alpha);
-    finish(m, q, z, tab.pivots, termination, detail)
-}
-
-/// Reads back, clamps and unscales `z`; downgrades to a numerical failure if
-/// `z` is non-finite or significantly negative.
-fn post_process(
-    zs: Vec<f64>,
-    termination: Termination,
-    detail: Option<&'static str>,
-    clamp_tol: f64,
-    unscale: f64,
-) -> (Vec<f64>, Termination, Option<&'static str>) {
-    let n = zs.len();
-    if !zs.iter().all(|x| x.is_finite()) {
-        return (
-            vec![0.0; n],
-            Termination::NumericalFailure,
-            Some("non-finite z read from the tableau"),
-        );
-    }
-    let zmax = max_abs(&zs).max(1.0);
-    let mut significant_negative = false;
-    let mut z: Vec<f64> = zs
-        .into_iter()
-        .map(|x| {
-            if x >= 0.0 {
-                x
-            } else if x >= -clamp_tol * zmax {
-                0.0
-            } else {
-                significant_negative = true;
-                x
-            }
-        })
-        .collect();
-    for x in &mut z {
-        *x *= unscale;
-    }
-    if !z.iter().all(|x| x.is_finite()) {
-        return (
-            vec![0.0; n],
-            Termination::NumericalFailure,
-            Some("z overflowed when undoing the scaling"),
-        );
-    }
-    if significant_negative && termination == Termination::Solved {
-        return (
-            z,
-            Termination::NumericalFailure,
-            Some("significantly negative z after pivoting (numerical drift)"),
-        );
-    }
-    (z, termination, detail)
-}
-
-fn options_valid(o: &LemkeOptions) -> bool {
-    let ok = |x: f64| x.is_finite() && x >= 0.0;
-    ok(o.pivot_tol) && ok(o.tie_tol) && ok(o.clamp_tol)
-}
-
-fn early(n: usize, q: &[f64], termination: Termination, detail: &'static str) -> LemkeResult {
-    let z = vec![0.0; n];
-    let w = q.to_vec();
-    LemkeResult {
-        residual: if termination == Termination::InvalidInput {
-            f64::INFINITY
-        } else {
-            residual_with_w(q, &z, &w)
-        },
-        z,
-        w,
-        pivots: 0,
-        termination,
-        detail: Some(detail),
-    }
-}
-
-fn finish(
-    m: &[f64],
-    q: &[f64],
-    z: Vec<f64>,
-    pivots: usize,
-    termination: Termination,
-    detail: Option<&'static str>,
-) -> LemkeResult {
-    let w = w_unchecked(m, q, &z);
-    let residual = residual_with_w(q, &z, &w);
+    let mut w = vec![0.0; n];
+    let residual = if termination == Termination::InvalidInput || n.checked_mul(n) != Some(m.len())
+    {
+        w.copy_from_slice(q);
+        f64::INFINITY
+    } else {
+        super::w_into(m, q, &z, &mut w);
+        residual_with_w(q, &z, &w)
+    };
     LemkeResult {
         z,
         w,
-        pivots,
+        pivots: run.pivots,
         termination,
         residual,
         detail,
     }
 }
 
-pub(crate) fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
+/// What [`Workspace::run`] reports.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Run {
+    pub(crate) termination: Termination,
+    pub(crate) detail: Option<&'static str>,
+    pub(crate) pivots: usize,
+    /// Whether the work space holds a tableau of this problem (false for an
+    /// early exit: invalid input, non-finite data, `q >= 0`).
+    pub(crate) tableau: bool,
 }
 
-/// Power of two closest (in log scale) to `x`; 1 for zero or non-finite `x`.
-fn pow2_scale(x: f64) -> f64 {
-    if !(x > 0.0 && x.is_finite()) {
-        return 1.0;
-    }
-    let e = x.log2().round().clamp(-1000.0, 1000.0) as i32;
-    2.0_f64.powi(e)
-}
-
-/// Dense Lemke tableau `B⁻¹ [I | −M | −d | q]` with its basis.
-struct Tableau {
+/// Reusable buffers of Lemke's method: the condensed tableau, the basis and
+/// the scratch vectors of the ratio test and of the pivot. Create one with
+/// `Workspace::default()` and pass it to [`lemke_with`] or
+/// [`super::solve_with`] as often as needed; the buffers grow to the largest
+/// problem seen and are then reused without allocation.
+#[derive(Debug, Clone, Default)]
+pub struct Workspace {
     n: usize,
-    /// Number of columns: 2n + 2.
+    /// Row length of the tableau: n + 2 (n + 1 non-basic columns, rhs).
     cols: usize,
+    /// Condensed tableau, n × cols, row-major.
     t: Vec<f64>,
-    /// `basis[row]` = index of the basic variable of that row.
+    /// `basis[row]`: variable basic in that row.
     basis: Vec<usize>,
-    pivots: usize,
-    /// Scratch copy of the pivot row.
+    /// `nonbasic[col]`: variable of that column (col < n + 1).
+    nonbasic: Vec<usize>,
+    /// Row of a basic variable (`NONE` if non-basic), per variable (2n + 1).
+    row_of: Vec<usize>,
+    /// Column of a non-basic variable (`NONE` if basic), per variable.
+    col_of: Vec<usize>,
+    /// Copy of the pivot row.
     prow: Vec<f64>,
+    /// Non-zero positions of the pivot row.
+    nz: Vec<usize>,
+    /// Candidate rows of the ratio test.
+    cand: Vec<usize>,
+    /// Scaled covering vector.
+    d: Vec<f64>,
+    /// Binary exponents of the scalings of M, q, d.
+    ea: i32,
+    eb: i32,
+    eg: i32,
+    pivots: usize,
+    /// Scratch vectors of the driver (candidate and best points, a copy of
+    /// M + εI, refinement vectors).
+    pub(crate) scratch: Scratch,
 }
+
+/// Scratch vectors used by the driver, kept with the tableau so that one
+/// work space serves a whole solve.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Scratch {
+    pub(crate) z: Vec<f64>,
+    pub(crate) w: Vec<f64>,
+    pub(crate) best_z: Vec<f64>,
+    pub(crate) best_w: Vec<f64>,
+    pub(crate) m_shift: Vec<f64>,
+    pub(crate) x: Vec<f64>,
+    pub(crate) rho: Vec<f64>,
+    pub(crate) z2: Vec<f64>,
+    pub(crate) w2: Vec<f64>,
+}
+
+const NONE: usize = usize::MAX;
+
+/// Largest infeasibility (scaled units) that the negligible-`z0` exit may
+/// leave in a basic variable: about 500 ulps of the initial `z0`, so that
+/// the exit does not trade a pivot or two for a residual near the driver's
+/// tolerance.
+const Z0_EXIT_VIOLATION: f64 = 1e-13;
 
 /// Result of the ratio test.
 enum Step {
@@ -318,27 +319,114 @@ enum Step {
     TooSmall,
 }
 
-impl Tableau {
-    fn new(n: usize, m: &[f64], q: &[f64], d: &[f64], alpha: f64, beta: f64, gamma: f64) -> Self {
-        let cols = 2 * n + 2;
-        let mut t = vec![0.0; n * cols];
-        for i in 0..n {
-            let row = &mut t[i * cols..(i + 1) * cols];
-            row[i] = 1.0;
-            for j in 0..n {
-                row[n + j] = -(m[i * n + j] / alpha);
-            }
-            row[2 * n] = -(d[i] / gamma);
-            row[2 * n + 1] = q[i] / beta;
-        }
-        Self {
-            n,
-            cols,
-            t,
-            basis: (0..n).collect(),
+impl Workspace {
+    /// Sets up the tableau for `(m, q, d)` and runs the method.
+    pub(crate) fn run(&mut self, m: &[f64], q: &[f64], opts: &LemkeOptions) -> Run {
+        let n = q.len();
+        let early = |termination, detail| Run {
+            termination,
+            detail: Some(detail),
             pivots: 0,
-            prow: vec![0.0; cols],
+            tableau: false,
+        };
+        self.pivots = 0;
+        if n.checked_mul(n) != Some(m.len()) {
+            return early(Termination::InvalidInput, "M is not n×n with n = q.len()");
         }
+        if !options_valid(opts) {
+            return early(
+                Termination::InvalidInput,
+                "invalid tolerance in LemkeOptions",
+            );
+        }
+        let (mmax, mfinite) = max_abs_finite(m);
+        let (qmax, qfinite) = max_abs_finite(q);
+        if !(mfinite && qfinite) {
+            return early(Termination::NumericalFailure, "non-finite entry in M or q");
+        }
+        if let Some(d) = &opts.covering {
+            if d.len() != n || !d.iter().all(|&x| x.is_finite() && x > 0.0) {
+                return early(
+                    Termination::InvalidInput,
+                    "covering vector must have n finite positive entries",
+                );
+            }
+        }
+        if q.iter().all(|&x| x >= 0.0) {
+            return Run {
+                termination: Termination::Solved,
+                detail: None,
+                pivots: 0,
+                tableau: false,
+            };
+        }
+        self.setup(m, q, opts.covering.as_deref(), mmax, qmax);
+        let max_pivots = opts
+            .max_pivots
+            .unwrap_or_else(|| DEFAULT_PIVOTS_PER_DIM.saturating_mul(n.saturating_add(1)));
+        let (termination, detail) = self.pivot_loop(opts, max_pivots);
+        Run {
+            termination,
+            detail,
+            pivots: self.pivots,
+            tableau: true,
+        }
+    }
+
+    fn setup(&mut self, m: &[f64], q: &[f64], covering: Option<&[f64]>, mmax: f64, qmax: f64) {
+        let n = q.len();
+        let cols = n + 2;
+        self.n = n;
+        self.cols = cols;
+        self.ea = pow2_exponent(mmax);
+        self.eb = pow2_exponent(qmax);
+        self.d.clear();
+        match covering {
+            None => {
+                self.eg = 0;
+                self.d.resize(n, 1.0);
+            }
+            Some(d) => {
+                self.eg = pow2_exponent(max_abs(d));
+                self.d.extend(d.iter().map(|&x| ldexp(x, -self.eg)));
+            }
+        }
+        resize(&mut self.t, n * cols);
+        let (fa, fb) = (exp2_factor(-self.ea), exp2_factor(-self.eb));
+        for i in 0..n {
+            let row = &mut self.t[i * cols..(i + 1) * cols];
+            let mrow = &m[i * n..(i + 1) * n];
+            match fa {
+                Some(f) => {
+                    for (x, &a) in row[..n].iter_mut().zip(mrow) {
+                        *x = -(a * f);
+                    }
+                }
+                None => {
+                    for (x, &a) in row[..n].iter_mut().zip(mrow) {
+                        *x = -ldexp(a, -self.ea);
+                    }
+                }
+            }
+            row[n] = -self.d[i];
+            row[n + 1] = match fb {
+                Some(f) => q[i] * f,
+                None => ldexp(q[i], -self.eb),
+            };
+        }
+        self.basis.clear();
+        self.basis.extend(0..n);
+        self.nonbasic.clear();
+        self.nonbasic.extend(n..=2 * n);
+        self.row_of.clear();
+        self.row_of.extend(0..n);
+        self.row_of.resize(2 * n + 1, NONE);
+        self.col_of.clear();
+        self.col_of.resize(n, NONE);
+        self.col_of.extend(0..=n);
+        resize(&mut self.prow, cols);
+        self.nz.clear();
+        self.cand.clear();
     }
 
     fn z0(&self) -> usize {
@@ -346,7 +434,7 @@ impl Tableau {
     }
 
     fn rhs(&self) -> usize {
-        2 * self.n + 1
+        self.n + 1
     }
 
     fn at(&self, i: usize, j: usize) -> f64 {
@@ -364,7 +452,7 @@ impl Tableau {
     }
 
     /// Main loop; returns the termination and a failure detail.
-    fn run(
+    fn pivot_loop(
         &mut self,
         opts: &LemkeOptions,
         max_pivots: usize,
@@ -372,16 +460,18 @@ impl Tableau {
         if max_pivots == 0 {
             return (Termination::MaxPivots, Some("pivot cap is 0"));
         }
-        // First pivot: z0 enters; the leaving row minimises q_i / d_i
-        // (lexicographically for the lexicographic rule), which makes every
-        // right-hand side non-negative.
+        let n = self.n;
         let z0 = self.z0();
-        let rows: Vec<(usize, f64)> = (0..self.n).map(|i| (i, -self.at(i, z0))).collect();
-        let Some(r) = self.select(&rows, opts, false) else {
+        // First pivot: z0 enters (column n); the leaving row minimises
+        // q_i / d_i (lexicographically for the lexicographic rule), which
+        // makes every right-hand side non-negative.
+        self.cand.clear();
+        self.cand.extend(0..n);
+        let Some(r) = self.select(n, -1.0, opts, false) else {
             return (Termination::NumericalFailure, Some("no initial pivot row"));
         };
         let mut leaving = self.basis[r];
-        if !self.pivot(r, z0) {
+        if !self.pivot(r, n) {
             return (
                 Termination::NumericalFailure,
                 Some("non-finite tableau entry"),
@@ -400,23 +490,30 @@ impl Tableau {
             if self.pivots >= max_pivots {
                 return (Termination::MaxPivots, Some("pivot cap reached"));
             }
-            let r = match self.ratio_test(entering, opts) {
+            let s = self.col_of[entering];
+            let r = match self.ratio_test(s, opts) {
                 Step::Pivot(r) => r,
                 Step::Ray => {
+                    if self.z0_negligible(opts) {
+                        return (Termination::Solved, None);
+                    }
                     return (
                         Termination::RayTermination,
                         Some("secondary ray: entering column has no positive entry"),
-                    )
+                    );
                 }
                 Step::TooSmall => {
+                    if self.z0_negligible(opts) {
+                        return (Termination::Solved, None);
+                    }
                     return (
                         Termination::NumericalFailure,
                         Some("pivot too small: blocking entries below the pivot tolerance"),
-                    )
+                    );
                 }
             };
             leaving = self.basis[r];
-            if !self.pivot(r, entering) {
+            if !self.pivot(r, s) {
                 return (
                     Termination::NumericalFailure,
                     Some("non-finite tableau entry"),
@@ -425,137 +522,456 @@ impl Tableau {
         }
     }
 
-    /// Minimum-ratio test on the entering column.
-    fn ratio_test(&self, entering: usize, opts: &LemkeOptions) -> Step {
-        let col: Vec<f64> = (0..self.n).map(|i| self.at(i, entering)).collect();
-        let scale = max_abs(&col).max(1.0);
-        let thresh = opts.pivot_tol * scale;
-        let rows: Vec<(usize, f64)> = col
-            .iter()
-            .enumerate()
-            .filter(|(_, &c)| c > thresh)
-            .map(|(i, &c)| (i, c))
-            .collect();
-        if rows.is_empty() {
-            let noise = opts.pivot_tol * 1e-3 * scale;
-            return if col.iter().any(|&c| c > noise) {
-                Step::TooSmall
-            } else {
-                Step::Ray
-            };
+    /// `true` if `z0` is basic with a value at or below `z0_tol`.
+    fn z0_negligible(&self, opts: &LemkeOptions) -> bool {
+        let r0 = self.row_of[self.z0()];
+        opts.prefer_z0 && r0 != NONE && self.at(r0, self.rhs()) <= opts.z0_tol
+    }
+
+    /// Minimum-ratio test on the entering column `s`.
+    fn ratio_test(&mut self, s: usize, opts: &LemkeOptions) -> Step {
+        let (n, cols, rhs) = (self.n, self.cols, self.rhs());
+        let mut cmax = 0.0_f64;
+        for i in 0..n {
+            cmax = cmax.max(self.t[i * cols + s].abs());
         }
-        match self.select(&rows, opts, opts.prefer_z0) {
+        let scale = cmax.max(1.0);
+        let thresh = opts.pivot_tol * scale;
+        let noise = opts.pivot_tol * 1e-3 * scale;
+        let mut min = f64::INFINITY;
+        let mut small = false;
+        for i in 0..n {
+            let c = self.t[i * cols + s];
+            if c > thresh {
+                let r = self.t[i * cols + rhs] / c;
+                if r < min {
+                    min = r;
+                }
+            } else if c > noise {
+                small = true;
+            }
+        }
+        if min == f64::INFINITY {
+            return if small { Step::TooSmall } else { Step::Ray };
+        }
+        // z0 would become negligible with this step: let it leave.
+        let r0 = self.row_of[self.z0()];
+        if opts.prefer_z0 && r0 != NONE && opts.z0_tol > 0.0 {
+            let c0 = self.t[r0 * cols + s];
+            if c0 > thresh {
+                let b0 = self.t[r0 * cols + rhs];
+                let after = b0 - c0 * min;
+                if after <= opts.z0_tol * c0 / scale && self.z0_exit_feasible(s, b0 / c0) {
+                    return Step::Pivot(r0);
+                }
+            }
+        }
+        self.cand.clear();
+        let tol = opts.tie_tol * min.abs();
+        for i in 0..n {
+            let c = self.t[i * cols + s];
+            if c > thresh && self.t[i * cols + rhs] / c <= min + tol {
+                self.cand.push(i);
+            }
+        }
+        match self.select_among_ties(s, 1.0, opts, opts.prefer_z0) {
             Some(r) => Step::Pivot(r),
             None => Step::TooSmall,
         }
     }
 
-    /// Chooses the leaving row among `rows` = (row, divisor > 0) by the
-    /// minimum ratio `b_i / divisor_i` and the rule's tie-break.
-    fn select(&self, rows: &[(usize, f64)], opts: &LemkeOptions, prefer_z0: bool) -> Option<usize> {
+    /// Whether the step `theta` on column `s` (the one that makes `z0`
+    /// leave) keeps every basic variable above `−Z0_EXIT_VIOLATION`, so that
+    /// the complementary basis it reaches is feasible up to rounding.
+    fn z0_exit_feasible(&self, s: usize, theta: f64) -> bool {
+        let (cols, rhs) = (self.cols, self.rhs());
+        (0..self.n).all(|i| {
+            let c = self.t[i * cols + s];
+            c <= 0.0 || self.t[i * cols + rhs] - c * theta >= -Z0_EXIT_VIOLATION
+        })
+    }
+
+    /// Chooses the leaving row among all rows of `cand` by the minimum ratio
+    /// `b_i / (sign · t_is)` (every divisor positive) and the tie-break.
+    fn select(
+        &mut self,
+        s: usize,
+        sign: f64,
+        opts: &LemkeOptions,
+        prefer_z0: bool,
+    ) -> Option<usize> {
         let rhs = self.rhs();
-        let mut ties = min_ties(rows, |i| self.at(i, rhs), opts.tie_tol);
-        if ties.len() <= 1 {
-            return ties.first().map(|&(i, _)| i);
+        let tie_tol = opts.tie_tol;
+        let mut cand = std::mem::take(&mut self.cand);
+        filter_min(
+            &mut cand,
+            |i| self.at(i, rhs) / (sign * self.at(i, s)),
+            tie_tol,
+            0.0,
+        );
+        self.cand = cand;
+        self.select_among_ties(s, sign, opts, prefer_z0)
+    }
+
+    /// The leaving row among the tied rows in `cand` (divisors `sign · t_is`).
+    fn select_among_ties(
+        &mut self,
+        s: usize,
+        sign: f64,
+        opts: &LemkeOptions,
+        prefer_z0: bool,
+    ) -> Option<usize> {
+        if self.cand.len() <= 1 {
+            return self.cand.first().copied();
         }
         if prefer_z0 {
-            let z0 = self.z0();
-            if let Some(&(i, _)) = ties.iter().find(|&&(i, _)| self.basis[i] == z0) {
-                return Some(i);
+            let r0 = self.row_of[self.z0()];
+            if r0 != NONE && self.cand.contains(&r0) {
+                return Some(r0);
             }
         }
+        let cols = self.cols;
         match opts.rule {
             PivotRule::Lexicographic => {
+                let mut cand = std::mem::take(&mut self.cand);
                 for k in 0..self.n {
-                    ties = min_ties(&ties, |i| self.at(i, k), opts.tie_tol);
-                    if ties.len() <= 1 {
-                        return ties.first().map(|&(i, _)| i);
+                    if cand.len() <= 1 {
+                        break;
+                    }
+                    let p = self.col_of[k];
+                    if p == NONE {
+                        // w_k basic in row rk: that row's entry is 1/c > 0,
+                        // every other candidate's is 0.
+                        let rk = self.row_of[k];
+                        cand.retain(|&i| i != rk);
+                    } else {
+                        let t = &self.t;
+                        filter_min(
+                            &mut cand,
+                            |i| t[i * cols + p] / (sign * t[i * cols + s]),
+                            opts.lex_tol,
+                            opts.lex_tol,
+                        );
                     }
                 }
-                // Only reachable through rounding (rows of B⁻¹ are
-                // independent): take the most stable pivot.
-                largest_pivot(&ties)
+                let r = if cand.len() == 1 {
+                    cand.first().copied()
+                } else {
+                    // Only reachable through rounding (rows of B⁻¹ are
+                    // independent): take the most stable pivot.
+                    largest_pivot(&cand, |i| sign * self.at(i, s))
+                };
+                self.cand = cand;
+                r
             }
-            PivotRule::MinRatioSmallestIndex => ties
-                .iter()
-                .min_by_key(|&&(i, _)| self.basis[i])
-                .map(|&(i, _)| i),
-            PivotRule::MinRatioLargestPivot => largest_pivot(&ties),
+            PivotRule::MinRatioSmallestIndex => {
+                self.cand.iter().copied().min_by_key(|&i| self.basis[i])
+            }
+            PivotRule::MinRatioLargestPivot => largest_pivot(&self.cand, |i| sign * self.at(i, s)),
         }
     }
 
-    /// Pivots on (r, j); returns `false` if a non-finite entry appeared.
-    fn pivot(&mut self, r: usize, j: usize) -> bool {
-        let cols = self.cols;
-        let p = self.t[r * cols + j];
+    /// Exchange step on row `r`, column `s`; returns `false` if a non-finite
+    /// entry appeared.
+    fn pivot(&mut self, r: usize, s: usize) -> bool {
+        let (n, cols) = (self.n, self.cols);
+        let p = self.t[r * cols + s];
         if !(p.is_finite() && p != 0.0) {
             return false;
         }
-        for k in 0..cols {
-            self.prow[k] = self.t[r * cols + k] / p;
+        let mut finite = true;
+        {
+            let row = &mut self.t[r * cols..(r + 1) * cols];
+            for x in row.iter_mut() {
+                *x /= p;
+            }
+            row[s] = 1.0 / p;
+            self.prow.copy_from_slice(row);
         }
-        self.prow[j] = 1.0;
-        self.t[r * cols..(r + 1) * cols].copy_from_slice(&self.prow);
-        let mut finite = self.prow.iter().all(|x| x.is_finite());
-        for i in 0..self.n {
+        for &x in &self.prow {
+            finite &= x.is_finite();
+        }
+        self.nz.clear();
+        for (k, &x) in self.prow.iter().enumerate() {
+            if x != 0.0 {
+                self.nz.push(k);
+            }
+        }
+        let sparse = 4 * self.nz.len() < cols;
+        for i in 0..n {
             if i == r {
                 continue;
             }
             let row = &mut self.t[i * cols..(i + 1) * cols];
-            let f = row[j];
-            if f != 0.0 {
-                for (x, &pr) in row.iter_mut().zip(self.prow.iter()) {
-                    *x -= f * pr;
-                }
-                row[j] = 0.0;
-                // Only updated rows can become non-finite.
-                finite &= row.iter().fold(true, |ok, x| ok & x.is_finite());
+            let f = row[s];
+            if f == 0.0 {
+                continue;
             }
+            row[s] = 0.0;
+            let mut ok = true;
+            if sparse {
+                for &k in &self.nz {
+                    let v = row[k] - f * self.prow[k];
+                    row[k] = v;
+                    ok &= v.is_finite();
+                }
+            } else {
+                for (x, &pr) in row.iter_mut().zip(self.prow.iter()) {
+                    let v = *x - f * pr;
+                    *x = v;
+                    ok &= v.is_finite();
+                }
+            }
+            finite &= ok;
         }
-        self.basis[r] = j;
+        let entering = self.nonbasic[s];
+        let leaving = self.basis[r];
+        self.basis[r] = entering;
+        self.nonbasic[s] = leaving;
+        self.row_of[entering] = r;
+        self.col_of[entering] = NONE;
+        self.row_of[leaving] = NONE;
+        self.col_of[leaving] = s;
         self.pivots += 1;
         finite
     }
 
-    /// Current values of `z` in scaled units (non-basic entries are 0).
-    fn z_scaled(&self) -> Vec<f64> {
-        let mut z = vec![0.0; self.n];
+    /// Reads `z` (original units) from the tableau into `z` (length n),
+    /// clamping tiny negative entries; downgrades the termination to a
+    /// numerical failure if `z` is non-finite or significantly negative.
+    pub(crate) fn read_z(
+        &self,
+        z: &mut [f64],
+        termination: Termination,
+        detail: Option<&'static str>,
+        clamp_tol: f64,
+    ) -> (Termination, Option<&'static str>) {
+        let n = self.n;
+        z.iter_mut().for_each(|x| *x = 0.0);
+        if z.len() != n {
+            return (termination, detail);
+        }
         let rhs = self.rhs();
+        let mut zmax = 1.0_f64;
+        let mut finite = true;
         for (i, &v) in self.basis.iter().enumerate() {
-            if v >= self.n && v < 2 * self.n {
-                z[v - self.n] = self.at(i, rhs);
+            if v >= n && v < 2 * n {
+                let x = self.at(i, rhs);
+                z[v - n] = x;
+                finite &= x.is_finite();
+                zmax = zmax.max(x.abs());
             }
         }
-        z
+        if !finite {
+            z.iter_mut().for_each(|x| *x = 0.0);
+            return (
+                Termination::NumericalFailure,
+                Some("non-finite z read from the tableau"),
+            );
+        }
+        let mut significant_negative = false;
+        let e = self.eb - self.ea;
+        let f = exp2_factor(e);
+        let mut finite = true;
+        for x in z.iter_mut() {
+            if *x < 0.0 {
+                if *x >= -clamp_tol * zmax {
+                    *x = 0.0;
+                } else {
+                    significant_negative = true;
+                }
+            }
+            *x = match f {
+                Some(f) => *x * f,
+                None => ldexp(*x, e),
+            };
+            finite &= x.is_finite();
+        }
+        if !finite {
+            z.iter_mut().for_each(|x| *x = 0.0);
+            return (
+                Termination::NumericalFailure,
+                Some("z overflowed when undoing the scaling"),
+            );
+        }
+        if significant_negative && termination == Termination::Solved {
+            return (
+                Termination::NumericalFailure,
+                Some("significantly negative z after pivoting (numerical drift)"),
+            );
+        }
+        (termination, detail)
+    }
+
+    /// One step of iterative refinement of the basic solution on the original
+    /// data, with the tableau's `B⁻¹` as approximate inverse.
+    ///
+    /// `z` (original units, length n) is the current point and `w = M z + q`
+    /// its (compensated) image; `x` holds the basic values of the rows
+    /// (scaled units), initialised by [`Workspace::basic_values`]. The
+    /// equations of the basis are `w_B − M z − d z0 = q` with non-basic
+    /// variables at 0; their residual `ρ = (M z + q) − w_B + d z0` is mapped
+    /// through `B⁻¹` and added to `x`, and `z` is updated from `x`. Requires
+    /// a tableau of this problem (same n).
+    pub(crate) fn refine_step(&self, x: &mut [f64], w: &[f64], rho: &mut Vec<f64>, z: &mut [f64]) {
+        let n = self.n;
+        let cols = self.cols;
+        rho.clear();
+        rho.resize(n, 0.0);
+        // ρ in scaled units: (w − w_B) / β + d' z0.
+        let inv_b = |v: f64| ldexp(v, -self.eb);
+        for (i, r) in rho.iter_mut().enumerate() {
+            *r = inv_b(w[i]);
+        }
+        for (row, &v) in self.basis.iter().enumerate() {
+            if v < n {
+                rho[v] -= x[row];
+            } else if v == 2 * n {
+                for (r, &d) in rho.iter_mut().zip(self.d.iter()) {
+                    *r += d * x[row];
+                }
+            }
+        }
+        // Δx = B⁻¹ ρ: basic w_k contribute ρ_k to their row, non-basic w_k
+        // through their stored column.
+        for (row, xr) in x.iter_mut().enumerate() {
+            let trow = &self.t[row * cols..row * cols + n + 1];
+            let mut acc = 0.0;
+            for (p, &v) in self.nonbasic.iter().enumerate() {
+                if v < n {
+                    acc += trow[p] * rho[v];
+                }
+            }
+            let v = self.basis[row];
+            if v < n {
+                acc += rho[v];
+            }
+            *xr += acc;
+        }
+        let e = self.eb - self.ea;
+        for (row, &v) in self.basis.iter().enumerate() {
+            if v >= n && v < 2 * n {
+                z[v - n] = ldexp(x[row], e).max(0.0);
+            }
+        }
+    }
+
+    /// The basic values of the rows (scaled units) into `x` (length n).
+    pub(crate) fn basic_values(&self, x: &mut Vec<f64>) {
+        x.clear();
+        let (cols, rhs) = (self.cols, self.rhs());
+        x.extend((0..self.n).map(|i| self.t[i * cols + rhs]));
     }
 }
 
-/// Rows of `rows` whose ratio `value(i) / divisor` is within the tie
-/// tolerance of the minimum.
-fn min_ties(
-    rows: &[(usize, f64)],
-    value: impl Fn(usize) -> f64,
-    tie_tol: f64,
-) -> Vec<(usize, f64)> {
-    let ratios: Vec<f64> = rows.iter().map(|&(i, c)| value(i) / c).collect();
-    let min = ratios.iter().copied().fold(f64::INFINITY, f64::min);
+/// Keeps the entries of `cand` whose `key` is at most
+/// `min + rel_tol · |min| + abs_tol`.
+fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, abs_tol: f64) {
+    let mut min = f64::INFINITY;
+    for &i in cand.iter() {
+        let v = key(i);
+        if v < min {
+            min = v;
+        }
+    }
     if !min.is_finite() {
-        return rows.to_vec();
+        return;
     }
-    let tol = tie_tol * min.abs().max(1.0);
-    rows.iter()
-        .zip(ratios.iter())
-        .filter(|(_, &v)| v <= min + tol)
-        .map(|(&rc, _)| rc)
-        .collect()
+    let tol = rel_tol * min.abs() + abs_tol;
+    cand.retain(|&i| key(i) <= min + tol);
 }
 
-fn largest_pivot(rows: &[(usize, f64)]) -> Option<usize> {
-    rows.iter()
-        .copied()
-        .fold(None, |best: Option<(usize, f64)>, (i, c)| match best {
-            Some((_, bc)) if bc >= c => best,
-            _ => Some((i, c)),
-        })
-        .map(|(i, _)| i)
+fn largest_pivot(rows: &[usize], c: impl Fn(usize) -> f64) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for &i in rows {
+        let ci = c(i);
+        match best {
+            Some((_, bc)) if bc >= ci => {}
+            _ => best = Some((i, ci)),
+        }
+    }
+    best.map(|(i, _)| i)
+}
+
+fn options_valid(o: &LemkeOptions) -> bool {
+    let ok = |x: f64| x.is_finite() && x >= 0.0;
+    ok(o.pivot_tol) && ok(o.tie_tol) && ok(o.lex_tol) && ok(o.clamp_tol) && ok(o.z0_tol)
+}
+
+fn resize(v: &mut Vec<f64>, len: usize) {
+    v.clear();
+    v.resize(len, 0.0);
+}
+
+/// Largest magnitude of `v` (0 for an empty slice; NaN entries are skipped).
+pub(crate) fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
+}
+
+/// Largest magnitude and whether every entry is finite, in one pass.
+fn max_abs_finite(v: &[f64]) -> (f64, bool) {
+    let mut m = 0.0_f64;
+    let mut finite = true;
+    for &x in v {
+        m = m.max(x.abs());
+        finite &= x.is_finite();
+    }
+    (m, finite)
+}
+
+/// `2^e` for `-1022 <= e <= 1023` (a normal number), else `None`.
+fn exp2_factor(e: i32) -> Option<f64> {
+    if (-1022..=1023).contains(&e) {
+        Some(f64::from_bits(((e + 1023) as u64) << 52))
+    } else {
+        None
+    }
+}
+
+/// `x · 2^e`, exact unless the result under- or overflows, for any `e`.
+pub(crate) fn ldexp(mut x: f64, mut e: i32) -> f64 {
+    const STEP: i32 = 1000;
+    let big = f64::from_bits(((STEP + 1023) as u64) << 52);
+    let small = f64::from_bits(((1023 - STEP) as u64) << 52);
+    while e > STEP {
+        x *= big;
+        e -= STEP;
+        if !x.is_finite() || x == 0.0 {
+            return x;
+        }
+    }
+    while e < -STEP {
+        x *= small;
+        e += STEP;
+        if x == 0.0 || !x.is_finite() {
+            return x;
+        }
+    }
+    match exp2_factor(e) {
+        Some(f) => x * f,
+        None => x,
+    }
+}
+
+/// Binary exponent `e` of the power of two nearest to `x` in log scale
+/// (`2^e ≤ √2·x` and `x < √2·2^e`), computed exactly from the bits, over the
+/// whole range including subnormal `x`; 0 for zero or non-finite `x`.
+pub fn pow2_exponent(x: f64) -> i32 {
+    if !(x > 0.0 && x.is_finite()) {
+        return 0;
+    }
+    let (mut y, mut shift) = (x, 0);
+    if y < f64::MIN_POSITIVE {
+        y *= f64::from_bits(((64 + 1023) as u64) << 52); // 2^64: now normal
+        shift = 64;
+    }
+    let bits = y.to_bits();
+    let e = ((bits >> 52) & 0x7ff) as i32 - 1023;
+    let mantissa = f64::from_bits((bits & ((1u64 << 52) - 1)) | (1023u64 << 52)); // in [1, 2)
+    let e = if mantissa >= std::f64::consts::SQRT_2 {
+        e + 1
+    } else {
+        e
+    };
+    e - shift
 }

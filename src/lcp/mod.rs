@@ -17,17 +17,23 @@
 //! [`lemke::lemke`] is our own implementation of **Lemke's complementary
 //! pivoting method** with a covering vector `d > 0` (default all ones) and an
 //! artificial variable `z0`, as stated in Cottle, Pang & Stone (1992),
-//! Algorithm 4.4.5, on a dense tableau `[I | −M | −d | q]`. Degeneracy is
+//! Algorithm 4.4.5, on a dense tableau `[I | −M | −d | q]` kept in condensed
+//! form (only the non-basic columns, see [`lemke`]). Degeneracy is
 //! resolved by the **lexicographic minimum-ratio rule** (CPS §4.9): among rows
 //! tied in the ratio test, the leaving row is the lexicographic minimum of
 //! `(b_i, (B⁻¹)_{i·}) / c_i` (right-hand side followed by the row of the
 //! current basis inverse, divided by the entering-column entry). Because the
 //! rows of `B⁻¹` are linearly independent the minimum is unique, every
 //! almost-complementary basis stays lexicographically feasible and no basis can
-//! repeat, so the method cannot cycle. A plain minimum-ratio test with a
+//! repeat, so the method cannot cycle. Ties in the ratio test are exact up to
+//! a relative 1e-14 (a looser, absolute tolerance let non-minimal rows leave
+//! and lost the path). A plain minimum-ratio test with a
 //! documented tie-break ([`lemke::PivotRule`]) is offered as an alternative.
 //! If `z0` is among the rows tied in the ratio test it is always chosen (the
-//! method then stops on a complementary solution).
+//! method then stops on a complementary solution), and so it is when the
+//! step would leave it negligible ([`LemkeOptions::z0_tol`]). A
+//! [`Workspace`] holds the tableau and scratch vectors; [`solve`] and
+//! [`lemke()`] use one per thread, so a solve allocates only its result.
 //!
 //! For a P-matrix `M` the LCP has a unique solution for every `q` and Lemke's
 //! method finds it; for a copositive-plus `M` (e.g. positive semidefinite)
@@ -36,9 +42,13 @@
 //! [`solve`] is the robust driver used by the simulation: it runs a sequence of
 //! attempts (lexicographic rule; alternative rule with another covering
 //! vector; lexicographic rule on `M + εI` for a few relative `ε`), re-checks every candidate against the
-//! **original** data with [`residual`], optionally polishes it by re-solving
-//! the linear system of its support on the original data, and reports every
+//! **original** data with [`residual`], optionally polishes it (iterative
+//! refinement of the final basis on the original data, else re-solving the
+//! linear system of its support), and reports every
 //! attempt. It never panics and never returns a non-finite `z`.
+//!
+//! [`timing`] times the driver on a folder of dumps (`floebench lcp DIR
+//! --time`).
 //!
 //! [`dump`] writes and reads JSON LCP dumps for reproducing a solve.
 //!
@@ -59,12 +69,13 @@ mod json_f64;
 pub mod lemke;
 pub(crate) mod polish;
 pub mod solve;
+pub mod timing;
 
 pub use dump::{DumpError, LcpDump};
-pub use lemke::{lemke, LemkeOptions, LemkeResult, PivotRule, Termination};
+pub use lemke::{lemke, lemke_with, LemkeOptions, LemkeResult, PivotRule, Termination, Workspace};
 pub use solve::{
-    solve, Attempt, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus, SolveSummary,
-    Strategy,
+    solve, solve_with, Attempt, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus,
+    SolveSummary, Strategy,
 };
 
 use serde::{Deserialize, Serialize};
@@ -235,14 +246,21 @@ pub fn compute_w(m: &[f64], q: &[f64], z: &[f64]) -> Result<Vec<f64>, LcpError> 
 /// that the cancellation in `M z` for large `z` cannot hide a negative `w_i`
 /// from the acceptance test of [`solve`].
 pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
+    let mut w = vec![0.0; q.len()];
+    w_into(m, q, z, &mut w);
+    w
+}
+
+/// [`w_unchecked`] into a given buffer (`w.len() == q.len()`), without
+/// allocation.
+pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
     let n = q.len();
     if n == 0 {
-        return Vec::new();
+        return;
     }
-    m.chunks_exact(n)
-        .zip(q.iter())
-        .map(|(row, &qi)| dot2_plus(row, z, qi))
-        .collect()
+    for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
+        *wi = dot2_plus(row, z, qi);
+    }
 }
 
 /// Error-free transformation `a + b = s + e`.
@@ -269,22 +287,42 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
     (h, r)
 }
 
-/// `Σ x_i y_i + c` with Dot2 compensation. Non-finite only if the data are
-/// or an intermediate overflows (then the plain sum is returned).
+/// `Σ x_i y_i + c` with Dot2 compensation. Near the top of the
+/// floating-point range (where Dekker's splitting overflows) the data are
+/// scaled by powers of two first, exactly; non-finite only if the data are
+/// or the result overflows.
 fn dot2_plus(x: &[f64], y: &[f64], c: f64) -> f64 {
-    let (mut p, mut s) = (c, 0.0_f64);
+    let v = dot2_plus_scaled(x, y, c, 1.0, 1.0, 1.0);
+    if v.is_finite() {
+        return v;
+    }
+    if !(x.iter().chain(y.iter()).all(|v| v.is_finite()) && c.is_finite()) {
+        return x.iter().zip(y.iter()).map(|(a, b)| a * b).sum::<f64>() + c;
+    }
+    // Scale x and y to magnitudes near 1 (powers of two: exact), and c by
+    // the product of the two scalings, then undo.
+    let ex = lemke::pow2_exponent(lemke::max_abs(x));
+    let ey = lemke::pow2_exponent(lemke::max_abs(y));
+    let fx = lemke::ldexp(1.0, -ex);
+    let fy = lemke::ldexp(1.0, -ey);
+    if !(fx.is_normal() && fy.is_normal()) {
+        return x.iter().zip(y.iter()).map(|(a, b)| a * b).sum::<f64>() + c;
+    }
+    let v = dot2_plus_scaled(x, y, lemke::ldexp(lemke::ldexp(c, -ex), -ey), fx, fy, 1.0);
+    lemke::ldexp(lemke::ldexp(v, ex), ey)
+}
+
+/// `Σ (fx x_i)(fy y_i) + fc c` with Dot2 compensation (`fx`, `fy`, `fc`
+/// powers of two).
+fn dot2_plus_scaled(x: &[f64], y: &[f64], c: f64, fx: f64, fy: f64, fc: f64) -> f64 {
+    let (mut p, mut s) = (c * fc, 0.0_f64);
     for (&a, &b) in x.iter().zip(y.iter()) {
-        let (h, r) = two_prod(a, b);
+        let (h, r) = two_prod(a * fx, b * fy);
         let (np, t) = two_sum(p, h);
         p = np;
         s += t + r;
     }
-    let v = p + s;
-    if v.is_finite() {
-        v
-    } else {
-        x.iter().zip(y.iter()).map(|(a, b)| a * b).sum::<f64>() + c
-    }
+    p + s
 }
 
 /// Natural-map (Siconos-style) residual of `z`:
@@ -313,7 +351,7 @@ pub fn residual(m: &[f64], q: &[f64], z: &[f64]) -> f64 {
     residual_with_w(q, z, &w)
 }
 
-/// [`residual`] when `w = M z + q` is already known.
+/// [`residual`] when `w = M z + q` is already known (no allocation).
 pub(crate) fn residual_with_w(q: &[f64], z: &[f64], w: &[f64]) -> f64 {
     if z.len() != w.len()
         || !z
@@ -324,12 +362,8 @@ pub(crate) fn residual_with_w(q: &[f64], z: &[f64], w: &[f64]) -> f64 {
     {
         return f64::INFINITY;
     }
-    let nat: Vec<f64> = z
-        .iter()
-        .zip(w.iter())
-        .map(|(&zi, &wi)| zi.min(wi))
-        .collect();
-    let num = norm2(&nat);
+    let nat = |i: usize| z[i].min(w[i]);
+    let num = norm2_by(z.len(), nat);
     let den = norm2(q).max(RESIDUAL_DENOMINATOR_FLOOR);
     let r = num / den;
     if r.is_nan() {
@@ -342,9 +376,20 @@ pub(crate) fn residual_with_w(q: &[f64], z: &[f64], w: &[f64]) -> f64 {
 /// Euclidean norm, scaled by the largest magnitude so that it neither
 /// overflows nor underflows for finite input.
 pub(crate) fn norm2(v: &[f64]) -> f64 {
-    let s = v.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+    norm2_by(v.len(), |i| v[i])
+}
+
+/// [`norm2`] of the vector `(f(0), …, f(len − 1))` without materialising it.
+fn norm2_by(len: usize, f: impl Fn(usize) -> f64) -> f64 {
+    let s = (0..len).fold(0.0_f64, |a, i| a.max(f(i).abs()));
     if s == 0.0 || !s.is_finite() {
         return s;
     }
-    s * v.iter().map(|x| (x / s) * (x / s)).sum::<f64>().sqrt()
+    s * (0..len)
+        .map(|i| {
+            let x = f(i) / s;
+            x * x
+        })
+        .sum::<f64>()
+        .sqrt()
 }

@@ -20,9 +20,15 @@
 //!
 //! Attempts 1 and 3 use [`SolveOptions::covering`] (default all ones).
 //! After **every** attempt, whatever Lemke reported, its `z` is projected
-//! onto `z >= 0`, optionally polished (re-solving `M_αα z_α = −q_α` on the
-//! support `α` of `z` with the **original** M and q, kept only if better) and
-//! its [`residual`] on the original `(M, q)` is computed. The attempt is
+//! onto `z >= 0`, its [`residual`] on the original `(M, q)` is computed
+//! (compensated `M z + q`) and, if it is not 0 and polishing is on, it is
+//! polished, each step kept only if it lowers the residual: when Lemke
+//! solved, by up to three steps of iterative refinement of the final basis
+//! (`x_B += B⁻¹ (q − B x_B)` with the residual of the **original** M and q,
+//! and the tableau's `B⁻¹`: O(n²) a step, valid when `M_αα` is singular, and
+//! turning a solution of `M + εI` into one of `M`); then, if the residual
+//! is still above the tolerance or Lemke did not solve, by re-solving
+//! `M_αα z_α = −q_α` on the support `α` of `z`. The attempt is
 //! accepted iff that residual is `<= tolerance`. A perturbed attempt is thus
 //! accepted only on the merit of its residual for the original problem.
 //!
@@ -34,9 +40,11 @@
 //! frictionless LCP, or apply no impulse) and to count it.
 
 use super::json_f64;
-use super::lemke::{lemke, max_abs, LemkeOptions, PivotRule, Termination};
+use super::lemke::{
+    max_abs, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
+};
 use super::polish::polish;
-use super::{residual, w_unchecked, Lcp};
+use super::{residual_with_w, w_into, w_unchecked, Lcp};
 use serde::{Deserialize, Serialize};
 
 /// Which strategy of the driver produced an attempt.
@@ -132,6 +140,8 @@ pub struct SolveOptions {
     pub pivot_tol: f64,
     /// See [`LemkeOptions::tie_tol`].
     pub tie_tol: f64,
+    /// See [`LemkeOptions::lex_tol`].
+    pub lex_tol: f64,
     /// See [`LemkeOptions::clamp_tol`].
     pub clamp_tol: f64,
     /// Pivot cap per attempt; see [`LemkeOptions::max_pivots`].
@@ -145,8 +155,11 @@ pub struct SolveOptions {
     /// Relative diagonal shifts `ε_rel` of the perturbed attempts, tried in
     /// order; non-finite or non-positive entries are skipped.
     pub perturbations: Vec<f64>,
-    /// Polish every candidate on its support (see module doc).
+    /// Polish every candidate: refinement of the final basis, then the
+    /// support re-solve (see module doc).
     pub polish: bool,
+    /// See [`LemkeOptions::z0_tol`].
+    pub z0_tol: f64,
 }
 
 impl Default for SolveOptions {
@@ -156,6 +169,7 @@ impl Default for SolveOptions {
             tolerance: 1e-10,
             pivot_tol: l.pivot_tol,
             tie_tol: l.tie_tol,
+            lex_tol: l.lex_tol,
             clamp_tol: l.clamp_tol,
             max_pivots: None,
             covering: Covering::Ones,
@@ -163,6 +177,7 @@ impl Default for SolveOptions {
             alternative_covering: Covering::Diagonal,
             perturbations: vec![1e-12, 1e-9, 1e-6],
             polish: true,
+            z0_tol: l.z0_tol,
         }
     }
 }
@@ -300,8 +315,31 @@ impl SolveCounters {
 /// inconsistent or `opts.tolerance` is not a finite non-negative number, no
 /// attempt is made and the result is [`SolveStatus::Failed`] with `z = 0`
 /// (length `lcp.q.len()`). With non-finite data only the first attempt is
-/// made (every strategy would see the same data).
+/// made (every strategy would see the same data). Uses this thread's
+/// [`Workspace`]; see [`solve_with`].
 pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
+    with_thread_workspace(|ws| solve_with(ws, lcp, opts))
+}
+
+/// The attempts of the plan, in order: `(strategy, rule, ε_rel)`.
+fn plan(opts: &SolveOptions) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
+    std::iter::once((Strategy::Lexicographic, PivotRule::Lexicographic, 0.0))
+        .chain(
+            opts.alternative_rule
+                .map(|rule| (Strategy::AlternativeRule, rule, 0.0)),
+        )
+        .chain(
+            opts.perturbations
+                .iter()
+                .filter(|e| e.is_finite() && **e > 0.0)
+                .map(|&e| (Strategy::Perturbed, PivotRule::Lexicographic, e)),
+        )
+}
+
+/// [`solve`] with an explicit work space: once `ws` has grown to the problem
+/// size, a solve allocates only its result (`z`, `w`, the attempt list) when
+/// the first attempt is accepted.
+pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
     let (m, q) = (&lcp.m[..], &lcp.q[..]);
     let n = q.len();
     if lcp.check().is_err() || !(opts.tolerance.is_finite() && opts.tolerance >= 0.0) {
@@ -316,30 +354,18 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
         };
     }
     let finite = lcp.is_finite();
-
-    let mut plan: Vec<(Strategy, PivotRule, f64)> =
-        vec![(Strategy::Lexicographic, PivotRule::Lexicographic, 0.0)];
-    if let Some(rule) = opts.alternative_rule {
-        plan.push((Strategy::AlternativeRule, rule, 0.0));
+    let mut sc = std::mem::take(&mut ws.scratch);
+    for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
+        v.clear();
+        v.resize(n, 0.0);
     }
-    for &e in &opts.perturbations {
-        if e.is_finite() && e > 0.0 {
-            plan.push((Strategy::Perturbed, PivotRule::Lexicographic, e));
-        }
-    }
-    let mscale = {
-        let s = max_abs(m);
-        if s > 0.0 && s.is_finite() {
-            s
-        } else {
-            1.0
-        }
-    };
-
-    let mut attempts = Vec::with_capacity(plan.len());
+    // max|M_ij|, needed only by a perturbed attempt.
+    let mut mscale: Option<f64> = None;
+    let mut attempts = Vec::with_capacity(1);
     let mut pivots = 0usize;
-    let mut best: Option<(Vec<f64>, f64)> = None;
-    for (strategy, rule, eps_rel) in plan {
+    let mut best_r = f64::INFINITY;
+    let mut have_best = false;
+    for (strategy, rule, eps_rel) in plan(opts) {
         let covering = if strategy == Strategy::AlternativeRule {
             &opts.alternative_covering
         } else {
@@ -350,46 +376,87 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
             covering: covering.vector(m, n),
             pivot_tol: opts.pivot_tol,
             tie_tol: opts.tie_tol,
+            lex_tol: opts.lex_tol,
             max_pivots: opts.max_pivots,
             clamp_tol: opts.clamp_tol,
             prefer_z0: true,
+            z0_tol: opts.z0_tol,
         };
-        let epsilon = eps_rel * mscale;
-        let res = if epsilon > 0.0 {
-            let mut mp = m.to_vec();
-            for i in 0..n {
-                mp[i * n + i] += epsilon;
-            }
-            lemke(&mp, q, &lopts)
+        let epsilon = if eps_rel > 0.0 {
+            let s = *mscale.get_or_insert_with(|| {
+                let s = max_abs(m);
+                if s > 0.0 && s.is_finite() {
+                    s
+                } else {
+                    1.0
+                }
+            });
+            eps_rel * s
         } else {
-            lemke(m, q, &lopts)
+            0.0
         };
-        pivots = pivots.saturating_add(res.pivots);
-        let candidate = evaluate(m, q, &res.z, opts.polish);
-        let (resid, polished) = candidate
-            .as_ref()
-            .map_or((f64::INFINITY, false), |c| (c.1, c.2));
-        let accepted = candidate.is_some() && resid <= opts.tolerance;
+        let run = if epsilon > 0.0 {
+            sc.m_shift.clear();
+            sc.m_shift.extend_from_slice(m);
+            for i in 0..n {
+                sc.m_shift[i * n + i] += epsilon;
+            }
+            ws.run(&sc.m_shift, q, &lopts)
+        } else {
+            ws.run(m, q, &lopts)
+        };
+        let termination = if run.tableau {
+            ws.read_z(&mut sc.z, run.termination, run.detail, opts.clamp_tol)
+                .0
+        } else {
+            sc.z.iter_mut().for_each(|x| *x = 0.0);
+            run.termination
+        };
+        pivots = pivots.saturating_add(run.pivots);
+        // Evaluate on the original data: project, w, residual, polish.
+        for x in sc.z.iter_mut() {
+            *x = x.max(0.0);
+        }
+        w_into(m, q, &sc.z, &mut sc.w);
+        let mut resid = residual_with_w(q, &sc.z, &sc.w);
+        let mut polished = false;
+        if opts.polish && resid > 0.0 && finite {
+            let refined = run.tableau && termination == Termination::Solved;
+            if refined {
+                polished |= refine(ws, &mut sc, m, q, &mut resid);
+            }
+            if !refined || resid > opts.tolerance {
+                if let Some(p) = polish(m, q, &sc.z) {
+                    w_into(m, q, &p, &mut sc.w2);
+                    let rp = residual_with_w(q, &p, &sc.w2);
+                    if rp < resid {
+                        sc.z.copy_from_slice(&p);
+                        std::mem::swap(&mut sc.w, &mut sc.w2);
+                        resid = rp;
+                        polished = true;
+                    }
+                }
+            }
+        }
+        let accepted = resid <= opts.tolerance;
         attempts.push(Attempt {
             strategy,
             rule,
             epsilon_rel: eps_rel,
             epsilon,
-            termination: res.termination,
-            pivots: res.pivots,
+            termination,
+            pivots: run.pivots,
             residual: resid,
             polished,
             accepted,
         });
-        if let Some((z, r, _)) = candidate {
-            if best.as_ref().is_none_or(|b| r < b.1) {
-                best = Some((z, r));
-            }
+        if !have_best || resid < best_r {
+            std::mem::swap(&mut sc.best_z, &mut sc.z);
+            std::mem::swap(&mut sc.best_w, &mut sc.w);
+            best_r = resid;
+            have_best = true;
         }
-        if accepted {
-            break;
-        }
-        if !finite || res.termination == Termination::InvalidInput {
+        if accepted || !finite || termination == Termination::InvalidInput {
             break;
         }
     }
@@ -400,12 +467,15 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
         Some(_) => SolveStatus::SolvedByFallback,
         None => SolveStatus::Failed,
     };
-    let z = match best {
-        Some((z, _)) => z,
-        None => vec![0.0; n],
+    let (z, w, residual) = if have_best && best_r.is_finite() {
+        (sc.best_z.clone(), sc.best_w.clone(), best_r)
+    } else {
+        let z = vec![0.0; n];
+        let w = w_unchecked(m, q, &z);
+        let r = residual_with_w(q, &z, &w);
+        (z, w, r)
     };
-    let w = w_unchecked(m, q, &z);
-    let residual = residual(m, q, &z);
+    ws.scratch = sc;
     LcpSolution {
         z,
         w,
@@ -417,22 +487,32 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
     }
 }
 
-/// Projects `z` onto `z >= 0`, optionally polishes it, and returns the better
-/// point with its residual on `(m, q)` and whether polishing won. `None` if
-/// `z` is not finite.
-fn evaluate(m: &[f64], q: &[f64], z: &[f64], do_polish: bool) -> Option<(Vec<f64>, f64, bool)> {
-    if !z.iter().all(|x| x.is_finite()) {
-        return None;
-    }
-    let zp: Vec<f64> = z.iter().map(|&x| x.max(0.0)).collect();
-    let r = residual(m, q, &zp);
-    if do_polish && r > 0.0 {
-        if let Some(p) = polish(m, q, &zp) {
-            let rp = residual(m, q, &p);
-            if rp < r {
-                return Some((p, rp, true));
-            }
+/// Maximum number of refinement steps of a basic solution.
+const REFINE_STEPS: usize = 3;
+
+/// Iterative refinement of the candidate `sc.z` (with `sc.w = M z + q` and
+/// residual `*resid`) on the basis left in `ws`; keeps each step that lowers
+/// the residual. Returns whether `z` changed.
+fn refine(ws: &Workspace, sc: &mut Scratch, m: &[f64], q: &[f64], resid: &mut f64) -> bool {
+    let mut changed = false;
+    ws.basic_values(&mut sc.x);
+    sc.z2.clear();
+    sc.z2.extend_from_slice(&sc.z);
+    sc.w2.resize(q.len(), 0.0);
+    for _ in 0..REFINE_STEPS {
+        ws.refine_step(&mut sc.x, &sc.w, &mut sc.rho, &mut sc.z2);
+        w_into(m, q, &sc.z2, &mut sc.w2);
+        let r2 = residual_with_w(q, &sc.z2, &sc.w2);
+        if r2.is_nan() || r2 >= *resid {
+            break;
+        }
+        sc.z.copy_from_slice(&sc.z2);
+        std::mem::swap(&mut sc.w, &mut sc.w2);
+        *resid = r2;
+        changed = true;
+        if r2 == 0.0 {
+            break;
         }
     }
-    Some((zp, r, false))
+    changed
 }

@@ -1,0 +1,271 @@
+//! Timing the driver on a folder of LCP dumps (`floebench lcp DIR --time`).
+//!
+//! Every `*.json` dump of a folder (sorted by file name) is read, re-solved
+//! by [`solve`] with the default [`SolveOptions`], and timed in **thread CPU
+//! time** (`CLOCK_THREAD_CPUTIME_ID`, see
+//! [`crate::run::clock::thread_cpu_seconds`]). Reading that clock is a system
+//! call of about 0.3 µs here, more than a whole solve of a 4-unknown LCP, so
+//! a measurement is a *batch*: the same solve repeated until at least
+//! [`TimingOptions::min_batch_seconds`] (default 1 ms) of CPU time has
+//! elapsed, divided by the number of solves. The reported figure is the
+//! median over [`TimingOptions::repeats`] batches (default 5).
+//!
+//! The per-problem rows ([`TimedSolve`]) are written as CSV by [`csv`] and
+//! summarised per size bucket (unknowns 1–8, 9–40, 41–200, 201–800, > 800)
+//! by [`summarize`].
+
+use super::dump::{DumpError, LcpDump};
+use super::solve::{solve, LcpSolution, SolveOptions, SolveStatus, Strategy};
+use crate::run::clock::thread_cpu_seconds;
+use std::hint::black_box;
+use std::path::{Path, PathBuf};
+
+/// Size buckets of the summary: inclusive bounds on the number of unknowns n.
+pub const BUCKETS: [(usize, usize); 5] =
+    [(1, 8), (9, 40), (41, 200), (201, 800), (801, usize::MAX)];
+
+/// Label of bucket `b` of [`BUCKETS`] (`"1-8"`, …, `">800"`).
+pub fn bucket_label(b: usize) -> String {
+    match BUCKETS.get(b) {
+        Some(&(lo, hi)) if hi == usize::MAX => format!(">{}", lo - 1),
+        Some(&(lo, hi)) => format!("{lo}-{hi}"),
+        None => String::from("?"),
+    }
+}
+
+/// Index in [`BUCKETS`] of a problem with `n` unknowns (`None` for n = 0).
+pub fn bucket_of(n: usize) -> Option<usize> {
+    BUCKETS.iter().position(|&(lo, hi)| n >= lo && n <= hi)
+}
+
+/// Options of [`time_solve`] and [`time_folder`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimingOptions {
+    /// Number of timed batches; the median is reported. At least 1.
+    pub repeats: usize,
+    /// Minimum CPU time of one batch, s (default 1e-3).
+    pub min_batch_seconds: f64,
+    /// Options of the driver.
+    pub solve: SolveOptions,
+}
+
+impl Default for TimingOptions {
+    fn default() -> Self {
+        Self {
+            repeats: 5,
+            min_batch_seconds: 1e-3,
+            solve: SolveOptions::default(),
+        }
+    }
+}
+
+/// One timed problem (a row of the CSV).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TimedSolve {
+    /// File name of the dump (without the folder).
+    pub file: String,
+    /// Number of unknowns.
+    pub n: usize,
+    /// Number of contacts stored in the dump.
+    pub contacts: usize,
+    /// Total pivots of the solve (all attempts).
+    pub pivots: usize,
+    /// Status of the solve.
+    pub status: SolveStatus,
+    /// Accepted attempt: `Lexicographic`, `AlternativeRule`,
+    /// `Perturbed:<ε_rel>`, or `none`.
+    pub accepted_attempt: String,
+    /// Residual on the original data.
+    pub residual: f64,
+    /// Median thread CPU time per solve, µs.
+    pub cpu_us: f64,
+}
+
+/// Name of the accepted attempt of `sol` as written in the CSV.
+pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
+    match sol.attempts.iter().find(|a| a.accepted) {
+        None => String::from("none"),
+        Some(a) => match a.strategy {
+            Strategy::Lexicographic => String::from("Lexicographic"),
+            Strategy::AlternativeRule => String::from("AlternativeRule"),
+            Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
+        },
+    }
+}
+
+/// Solves `lcp` once (the returned solution) and then times it: the median
+/// over `opts.repeats` batches of the CPU time per solve, µs (see the
+/// module doc).
+pub fn time_solve(lcp: &super::Lcp, opts: &TimingOptions) -> (LcpSolution, f64) {
+    let t0 = thread_cpu_seconds();
+    let sol = solve(black_box(lcp), &opts.solve);
+    let first = (thread_cpu_seconds() - t0).max(0.0);
+    let min_batch = if opts.min_batch_seconds.is_finite() {
+        opts.min_batch_seconds.max(0.0)
+    } else {
+        1e-3
+    };
+    // Batch size from the first solve, at least 1; then doubled while a
+    // batch stays below the minimum (the first solve may be slow: cold
+    // caches, page faults).
+    let mut batch: u64 = if first > 0.0 {
+        ((min_batch / first).ceil() as u64).clamp(1, 1 << 24)
+    } else {
+        1 << 10
+    };
+    let mut samples = Vec::with_capacity(opts.repeats.max(1));
+    while samples.len() < opts.repeats.max(1) {
+        let t0 = thread_cpu_seconds();
+        for _ in 0..batch {
+            black_box(solve(black_box(lcp), &opts.solve));
+        }
+        let dt = (thread_cpu_seconds() - t0).max(0.0);
+        if dt < min_batch && batch < (1 << 24) {
+            batch = batch.saturating_mul(2);
+            continue;
+        }
+        samples.push(dt / batch as f64 * 1e6);
+    }
+    (sol, median(&mut samples))
+}
+
+/// Median of `v` (reorders it); NaN for an empty slice.
+pub fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return f64::NAN;
+    }
+    v.sort_by(f64::total_cmp);
+    let k = v.len() / 2;
+    if v.len() % 2 == 1 {
+        v[k]
+    } else {
+        0.5 * (v[k - 1] + v[k])
+    }
+}
+
+/// The `*.json` files of `dir`, sorted by name.
+pub fn dump_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// Reads and times one dump file.
+pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpError> {
+    let dump = LcpDump::read(path)?;
+    let lcp = dump.to_lcp().map_err(|e| DumpError::Io {
+        path: path.to_path_buf(),
+        source: std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
+    })?;
+    let (sol, cpu_us) = time_solve(&lcp, opts);
+    Ok(TimedSolve {
+        file: path
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        n: lcp.n,
+        contacts: dump.contacts,
+        pivots: sol.pivots,
+        status: sol.status,
+        accepted_attempt: accepted_attempt_name(&sol),
+        residual: sol.residual,
+        cpu_us,
+    })
+}
+
+/// The CSV text of `rows`: header
+/// `file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us`.
+pub fn csv(rows: &[TimedSolve]) -> String {
+    let mut s = String::from("file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us\n");
+    for r in rows {
+        s.push_str(&format!(
+            "{},{},{},{},{},{},{:e},{:.4}\n",
+            r.file,
+            r.n,
+            r.contacts,
+            r.pivots,
+            r.status.as_str(),
+            r.accepted_attempt,
+            r.residual,
+            r.cpu_us
+        ));
+    }
+    s
+}
+
+/// Summary of one size bucket.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BucketSummary {
+    /// Label (`"1-8"`, …).
+    pub label: String,
+    /// Number of problems.
+    pub count: usize,
+    /// Median CPU time per solve, µs (NaN if empty).
+    pub median_us: f64,
+    /// Median pivots (NaN if empty).
+    pub median_pivots: f64,
+    /// Problems with status [`SolveStatus::Failed`].
+    pub failures: usize,
+    /// Problems solved by a fallback.
+    pub fallbacks: usize,
+    /// Largest residual (0 if empty).
+    pub max_residual: f64,
+    /// Total CPU time of one solve of each problem, s.
+    pub total_seconds: f64,
+}
+
+/// One [`BucketSummary`] per entry of [`BUCKETS`] (empty buckets included).
+pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
+    (0..BUCKETS.len())
+        .map(|b| {
+            let sel: Vec<&TimedSolve> = rows.iter().filter(|r| bucket_of(r.n) == Some(b)).collect();
+            let mut us: Vec<f64> = sel.iter().map(|r| r.cpu_us).collect();
+            let mut piv: Vec<f64> = sel.iter().map(|r| r.pivots as f64).collect();
+            BucketSummary {
+                label: bucket_label(b),
+                count: sel.len(),
+                median_us: median(&mut us),
+                median_pivots: median(&mut piv),
+                failures: sel
+                    .iter()
+                    .filter(|r| r.status == SolveStatus::Failed)
+                    .count(),
+                fallbacks: sel
+                    .iter()
+                    .filter(|r| r.status == SolveStatus::SolvedByFallback)
+                    .count(),
+                max_residual: sel.iter().map(|r| r.residual).fold(0.0, f64::max),
+                total_seconds: sel.iter().fold(0.0, |a, r| a + r.cpu_us) * 1e-6,
+            }
+        })
+        .collect()
+}
+
+/// The summary as a fixed-width text table.
+pub fn format_summary(rows: &[BucketSummary]) -> String {
+    let mut s = format!(
+        "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>11} {:>10}\n",
+        "unknowns", "count", "median µs", "pivots", "failures", "fallback", "max resid", "total s"
+    );
+    for r in rows {
+        if r.count == 0 {
+            s.push_str(&format!("{:<9} {:>6}\n", r.label, 0));
+            continue;
+        }
+        s.push_str(&format!(
+            "{:<9} {:>6} {:>12.3} {:>9.1} {:>9} {:>9} {:>11.2e} {:>10.4}\n",
+            r.label,
+            r.count,
+            r.median_us,
+            r.median_pivots,
+            r.failures,
+            r.fallbacks,
+            r.max_residual,
+            r.total_seconds
+        ));
+    }
+    s
+}
