@@ -16,7 +16,7 @@
 
 use super::dump::{DumpError, LcpDump};
 use super::solve::{solve, LcpSolution, SolveOptions, SolveStatus, Strategy};
-use crate::run::clock::thread_cpu_seconds;
+use crate::record::clock::thread_cpu_seconds;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
 

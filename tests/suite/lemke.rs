@@ -1401,7 +1401,8 @@ fn psd_lcps_near_the_floating_point_range_are_solved() {
 
 #[test]
 fn strict_dump_reader_names_the_key_and_the_file() {
-    let dir = temp_dir("strict");
+    let tmp = tempdir();
+    let dir = tmp.path();
     let read = |name: &str, text: &str| -> Result<LcpDump, String> {
         let path = dir.join(name);
         std::fs::write(&path, text).expect("write");
@@ -1526,5 +1527,4 @@ fn strict_dump_reader_names_the_key_and_the_file() {
     assert!(read("frictionless.json", frictionless).is_ok());
     let empty = r#"{"t": 0, "contacts": 0, "pivots": 0, "status": "Solved", "M": [], "q": [], "z": [], "w": []}"#;
     assert!(read("empty.json", empty).is_ok());
-    let _ = std::fs::remove_dir_all(&dir);
 }
