@@ -275,17 +275,20 @@ fn run(
 
 fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
     use floebench::compare;
+    use floebench::run::batch;
     if !(opts.divergence_threshold > 0.0 && opts.divergence_threshold.is_finite()) {
         eprintln!("error: --threshold must be a positive number");
         return ExitCode::FAILURE;
     }
-    let result = compare::load_cases(cases).and_then(|loaded| {
-        for (_, scn) in &loaded {
-            eprintln!("{}", describe(scn));
-        }
-        eprintln!("{} cases, {} runs at a time", loaded.len(), opts.jobs);
-        compare::compare(loaded, opts)
-    });
+    let result = batch::load_cases(cases)
+        .map_err(compare::CompareError::from)
+        .and_then(|loaded| {
+            for (_, scn) in &loaded {
+                eprintln!("{}", describe(scn));
+            }
+            eprintln!("{} cases, {} runs at a time", loaded.len(), opts.jobs);
+            compare::compare(loaded, opts)
+        });
     let comps = match result {
         Ok(c) => c,
         Err(e) => {
@@ -325,23 +328,25 @@ fn check(
     quiet: bool,
 ) -> ExitCode {
     use floebench::analysis::check;
-    use floebench::compare;
-    let mut opts = CompareOptions {
+    use floebench::run::batch::{self, BatchOptions};
+    let mut opts = BatchOptions {
         progress: !quiet,
-        ..CompareOptions::default()
+        ..BatchOptions::default()
     };
     if let Some(f) = formulations {
         opts.formulations = f;
     }
-    let comps = match compare::load_cases(cases).and_then(|loaded| compare::compare(loaded, &opts))
-    {
+    let done = match batch::load_cases(cases).and_then(|loaded| batch::run_cases(loaded, &opts)) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
-    let rows: Vec<check::CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
+    let rows: Vec<check::CheckOutcome> = done
+        .iter()
+        .flat_map(|c| check::check_runs(&c.scenario, &c.runs))
+        .collect();
     print!("{}", check::format_table(&rows));
     if let Some(file) = markdown {
         if let Err(e) =

@@ -8,6 +8,7 @@ use floebench::formulation::load_case;
 use floebench::formulation::{self, FormulationOptions};
 use floebench::model::Scenario;
 use floebench::record::{ContactEvent, ImpulseRecord};
+use floebench::run::batch;
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -59,7 +60,7 @@ fn row(scn: &Scenario, k: usize, floe: usize) -> usize {
 #[test]
 fn every_small_case_passes_every_check_its_formulations_claim() {
     let start = Instant::now();
-    let paths = compare::case_files(&[cases_dir()]).unwrap();
+    let paths = batch::case_files(&[cases_dir()]).unwrap();
     assert!(paths.len() >= 12, "{} cases", paths.len());
     for p in &paths {
         let text = std::fs::read_to_string(p).unwrap();
@@ -69,7 +70,7 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
             p.display()
         );
     }
-    let cases = compare::load_cases(&[cases_dir()]).unwrap_or_else(|e| panic!("{e}"));
+    let cases = batch::load_cases(&[cases_dir()]).unwrap_or_else(|e| panic!("{e}"));
     let comps =
         compare::compare(cases, &CompareOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let rows: Vec<CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
@@ -133,7 +134,7 @@ fn structure_decides_applicability() {
     // Contact-free cases only for free-drift.
     assert!(case("free_drift_coriolis").contact_free());
     assert!(!case("head_on").contact_free());
-    assert!(!check::default_formulations(&case("head_on")).contains(&"free-drift"));
+    assert!(!batch::default_formulations(&case("head_on")).contains(&"free-drift"));
     // The bouncing floe's gap along the wind is 1 m, face on.
     let scn = case("bouncing_floe");
     let (gap, rays) =

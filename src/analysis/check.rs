@@ -28,8 +28,9 @@
 //! `floebench check` exit non-zero; a failing unclaimed one is printed as
 //! `fail (known)`, a finding.
 //!
-//! Which formulations run: every formulation of [`crate::formulation::REGISTRY`],
-//! except `free-drift` on a case where contacts can happen. A case is
+//! Which formulations run ([`crate::run::batch::default_formulations`]):
+//! every formulation of [`crate::formulation::REGISTRY`], except
+//! `free-drift` on a case where contacts can happen. A case is
 //! *contact-free* ([`Scenario::contact_free`]) when it has no obstacle and every floe
 //! starts at rest (only the environment moves them; the drift cases keep
 //! their floes apart, which the `penetration` check verifies).
@@ -154,16 +155,6 @@ pub fn no_forcing(scn: &Scenario) -> bool {
     let env = &scn.environment;
     let air_off = env.air.drag_factor() == 0.0 || env.air.velocity.max_speed() == 0.0;
     air_off && env.water.drag_factor() == 0.0 && env.coriolis == 0.0
-}
-
-/// The formulations `check` runs on `scn` by default: those of the registry
-/// that apply to it ([`formulation::Entry::applies`]).
-pub fn default_formulations(scn: &Scenario) -> Vec<&'static str> {
-    formulation::REGISTRY
-        .iter()
-        .filter(|e| e.applies(scn))
-        .map(|e| e.name)
-        .collect()
 }
 
 /// A mirror line through `c` with unit direction `d`.
@@ -512,6 +503,11 @@ impl Rows<'_> {
             note,
         });
     }
+}
+
+/// The checks of every run of `scn`, run by run ([`check_run`]).
+pub fn check_runs(scn: &Scenario, runs: &[RunResult]) -> Vec<CheckOutcome> {
+    runs.iter().flat_map(|r| check_run(scn, r)).collect()
 }
 
 /// Every check that applies to `scn`, measured on `run` (see the module
