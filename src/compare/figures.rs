@@ -14,8 +14,9 @@
 //! A formulation keeps its palette colour (its position in the comparison)
 //! on every chart.
 
-use super::metrics::frames;
-use super::{CaseComparison, CompareError};
+use super::CompareError;
+use crate::analysis::comparison::CaseComparison;
+use crate::analysis::divergence::frames;
 use crate::geometry::Vec2;
 use crate::report::plot::{self, LineChart, Panel, PlanView, Scale, Series, StackedBars};
 use crate::run::RunResult;

@@ -2,23 +2,21 @@
 //!
 //! [`compare`] runs the cases with the batch runner ([`crate::run::batch`]:
 //! every case loaded and every formulation built before any run, runs in
-//! parallel, results in order), then measures each case with [`assess`].
+//! parallel, results in order), then measures each case
+//! ([`crate::analysis::comparison::assess`]).
 //!
 //! The result, one [`CaseComparison`] per case, holds the runs, the pair
-//! divergences ([`metrics::divergence`]) and every figure in long format
-//! ([`metrics::MetricRow`]) and the physical checks of every run
-//! ([`check::check_run`]); [`report`] writes it as data, plots and a page.
+//! divergences, every figure in long format and the physical checks of
+//! every run; [`report`] writes it as data, plots and a page.
 
 pub mod figures;
-pub mod metrics;
 pub mod page;
 pub mod report;
 
-use crate::analysis::check::{self, CheckOutcome};
+use crate::analysis::comparison::{assess, CaseComparison};
+use crate::analysis::divergence::TimeMismatch;
 use crate::model::{IntegratorKind, Scenario};
 use crate::run::batch::{self, BatchError, BatchOptions};
-use crate::run::RunResult;
-use metrics::{MetricRow, PairDivergence};
 use std::path::PathBuf;
 
 /// Why a comparison could not be made.
@@ -38,9 +36,9 @@ pub enum CompareError {
         /// The error.
         source: std::io::Error,
     },
-    /// Two runs cannot be compared.
-    #[error("{0}")]
-    Mismatch(String),
+    /// Two runs of a case cannot be compared.
+    #[error(transparent)]
+    Mismatch(#[from] TimeMismatch),
     /// A plot could not be drawn.
     #[error("plot {path}: {message}")]
     Plot {
@@ -83,23 +81,6 @@ impl Default for CompareOptions {
     }
 }
 
-/// The comparison of the formulations on one case.
-#[derive(Debug, Clone)]
-pub struct CaseComparison {
-    /// The case file.
-    pub path: PathBuf,
-    /// The case.
-    pub scenario: Scenario,
-    /// One run per formulation, in the order of the options.
-    pub runs: Vec<RunResult>,
-    /// Every pair of runs (i < j), in order.
-    pub pairs: Vec<PairDivergence>,
-    /// The physical checks of every run ([`check::check_run`]).
-    pub checks: Vec<CheckOutcome>,
-    /// Every figure of the runs and of the pairs.
-    pub metrics: Vec<MetricRow>,
-}
-
 /// Runs every formulation of `opts` on every case (loaded by
 /// [`batch::load_cases`]) and measures the differences.
 pub fn compare(
@@ -115,35 +96,6 @@ pub fn compare(
     batch::run_cases(cases, &bopts)?
         .into_iter()
         .map(|c| assess(c.path, c.scenario, c.runs, opts.divergence_threshold))
-        .collect()
-}
-
-/// Measures the runs of one case: pair divergences and every metric.
-pub fn assess(
-    path: PathBuf,
-    scenario: Scenario,
-    runs: Vec<RunResult>,
-    threshold: f64,
-) -> Result<CaseComparison, CompareError> {
-    let mut pairs = Vec::new();
-    for i in 0..runs.len() {
-        for j in i + 1..runs.len() {
-            pairs.push(metrics::divergence(
-                &scenario, &runs[i], &runs[j], threshold,
-            )?);
-        }
-    }
-    let mut rows: Vec<MetricRow> = runs.iter().flat_map(metrics::run_metrics).collect();
-    for p in &pairs {
-        rows.extend(metrics::pair_metrics(&scenario.name, p));
-    }
-    let checks = check::check_runs(&scenario, &runs);
-    Ok(CaseComparison {
-        path,
-        scenario,
-        runs,
-        pairs,
-        checks,
-        metrics: rows,
-    })
+        .collect::<Result<_, _>>()
+        .map_err(CompareError::from)
 }

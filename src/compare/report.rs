@@ -16,10 +16,12 @@
 //! written last.
 
 use super::figures::{self, Figure};
-use super::metrics::{self, MetricRow, PairDivergence};
 use super::page::{self, Block};
-use super::{CaseComparison, CompareError};
+use super::CompareError;
 use crate::analysis::check::{self, CheckOutcome};
+use crate::analysis::comparison::CaseComparison;
+use crate::analysis::divergence::{self, PairDivergence};
+use crate::analysis::metrics::MetricRow;
 use crate::formulation::contact_solver::{
     CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
     LCP_SOLVES, LCP_UNRESOLVED,
@@ -484,7 +486,7 @@ fn write_case(
         output_interval_s: comp.scenario.output_interval,
         restitution: comp.scenario.contact.restitution,
         friction: comp.scenario.contact.friction,
-        mean_diameter_m: metrics::mean_diameter(&comp.scenario),
+        mean_diameter_m: divergence::mean_diameter(&comp.scenario),
         verdict: verdict.clone(),
         runs: comp.runs.iter().map(|r| &r.summary).collect(),
         pairs: comp
