@@ -275,6 +275,7 @@ fn run(
 
 fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
     use floebench::compare;
+    use floebench::report;
     use floebench::run::batch;
     if !(opts.divergence_threshold > 0.0 && opts.divergence_threshold.is_finite()) {
         eprintln!("error: --threshold must be a positive number");
@@ -301,11 +302,11 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         .map(|a| a.replace(['\n', '`'], " "))
         .collect();
     let command = format!("floebench {}", command.join(" "));
-    match compare::report::write_report(&comps, out, &command) {
+    match report::compare::write_report(&comps, out, &command) {
         Ok(paths) => {
             for c in &comps {
                 println!("{}", c.scenario.name);
-                for v in compare::report::verdict(c) {
+                for v in report::compare::verdict(c) {
                     println!("  {v}");
                 }
             }

@@ -17,7 +17,7 @@
 
 use super::figures::{self, Figure};
 use super::page::{self, Block};
-use super::CompareError;
+use super::ReportError;
 use crate::analysis::check::{self, CheckOutcome};
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::{self, PairDivergence};
@@ -34,8 +34,8 @@ use serde::Serialize;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> CompareError + '_ {
-    move |source| CompareError::Io {
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ReportError + '_ {
+    move |source| ReportError::Io {
         path: path.to_path_buf(),
         source,
     }
@@ -469,7 +469,7 @@ fn headline(comps: &[CaseComparison]) -> Block {
 fn write_case(
     comp: &CaseComparison,
     dir: &Path,
-) -> Result<(Vec<String>, Vec<Figure>), CompareError> {
+) -> Result<(Vec<String>, Vec<Figure>), ReportError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     for r in &comp.runs {
         let d = dir.join(&r.summary.formulation);
@@ -505,7 +505,7 @@ fn write_case(
             .collect(),
         checks: &comp.checks,
     };
-    let json = serde_json::to_vec_pretty(&summary).map_err(|e| CompareError::Io {
+    let json = serde_json::to_vec_pretty(&summary).map_err(|e| ReportError::Io {
         path: dir.join("summary.json"),
         source: std::io::Error::other(e),
     })?;
@@ -524,7 +524,7 @@ fn write_case(
 }
 
 /// Replaces `target` by the complete folder `staged`.
-fn swap_into_place(staged: &Path, target: &Path) -> Result<(), CompareError> {
+fn swap_into_place(staged: &Path, target: &Path) -> Result<(), ReportError> {
     let old = target.with_file_name(format!(
         ".{}.old{}",
         target
@@ -549,14 +549,11 @@ pub fn write_report(
     comps: &[CaseComparison],
     out: &Path,
     command: &str,
-) -> Result<Vec<PathBuf>, CompareError> {
+) -> Result<Vec<PathBuf>, ReportError> {
     let mut names: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
     names.sort_unstable();
     if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
-        return Err(CompareError::Case(format!(
-            "two cases are named `{}`: their reports would overwrite each other",
-            w[0]
-        )));
+        return Err(ReportError::DuplicateName(w[0].to_string()));
     }
     std::fs::create_dir_all(out).map_err(io_err(out))?;
     let mut blocks = vec![

@@ -7,11 +7,7 @@
 //!
 //! The result, one [`CaseComparison`] per case, holds the runs, the pair
 //! divergences, every figure in long format and the physical checks of
-//! every run; [`report`] writes it as data, plots and a page.
-
-pub mod figures;
-pub mod page;
-pub mod report;
+//! every run; [`crate::report::compare`] writes it as data, plots and a page.
 
 use crate::analysis::comparison::{assess, CaseComparison};
 use crate::analysis::divergence::TimeMismatch;
@@ -25,28 +21,9 @@ pub enum CompareError {
     /// The cases could not be loaded or run.
     #[error(transparent)]
     Batch(#[from] BatchError),
-    /// A case file is bad (the message names file and line).
-    #[error("{0}")]
-    Case(String),
-    /// A folder or file could not be read or written.
-    #[error("{path}: {source}")]
-    Io {
-        /// The path.
-        path: PathBuf,
-        /// The error.
-        source: std::io::Error,
-    },
     /// Two runs of a case cannot be compared.
     #[error(transparent)]
     Mismatch(#[from] TimeMismatch),
-    /// A plot could not be drawn.
-    #[error("plot {path}: {message}")]
-    Plot {
-        /// The plot's file stem.
-        path: PathBuf,
-        /// What failed.
-        message: String,
-    },
 }
 
 /// Options of a comparison.
