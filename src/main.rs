@@ -306,7 +306,7 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         Ok(paths) => {
             for c in &comps {
                 println!("{}", c.scenario.name);
-                for v in report::compare::verdict(c) {
+                for v in report::verdict::verdict(c) {
                     println!("  {v}");
                 }
             }
@@ -329,6 +329,7 @@ fn check(
     quiet: bool,
 ) -> ExitCode {
     use floebench::analysis::check;
+    use floebench::report::checks::{format_table, markdown_table};
     use floebench::run::batch::{self, BatchOptions};
     let mut opts = BatchOptions {
         progress: !quiet,
@@ -348,10 +349,9 @@ fn check(
         .iter()
         .flat_map(|c| check::check_runs(&c.scenario, &c.runs))
         .collect();
-    print!("{}", check::format_table(&rows));
+    print!("{}", format_table(&rows));
     if let Some(file) = markdown {
-        if let Err(e) =
-            floebench::run::output::write_atomic(file, check::markdown_table(&rows).as_bytes())
+        if let Err(e) = floebench::run::output::write_atomic(file, markdown_table(&rows).as_bytes())
         {
             eprintln!("error: cannot write {}: {e}", file.display());
             return ExitCode::FAILURE;

@@ -8,6 +8,7 @@ use floebench::formulation::load_case;
 use floebench::formulation::{self, FormulationOptions};
 use floebench::model::Scenario;
 use floebench::record::{ContactEvent, ImpulseRecord};
+use floebench::report::checks::{format_table, markdown_table};
 use floebench::run::batch;
 use floebench::run::{EndReason, RunOptions, RunResult, Runner};
 use std::path::{Path, PathBuf};
@@ -74,7 +75,7 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
     let comps =
         compare::compare(cases, &CompareOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let rows: Vec<CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
-    println!("{}", check::format_table(&rows));
+    println!("{}", format_table(&rows));
     println!("check over cases/: {:.1} s", start.elapsed().as_secs_f64());
     assert_eq!(claimed_failures(&rows), 0, "claimed checks failed");
     // Every kind of check applied somewhere, and every formulation ran.
@@ -117,7 +118,7 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
         .iter()
         .any(|o| o.case == "mirror_collision" && o.check == "symmetry"));
     // The Markdown table has a row per outcome.
-    assert_eq!(check::markdown_table(&rows).lines().count(), rows.len() + 2);
+    assert_eq!(markdown_table(&rows).lines().count(), rows.len() + 2);
 }
 
 #[test]

@@ -1,9 +1,26 @@
-//! Reports: plots, tables and the report page.
+//! Reports: everything that turns runs and their analysis into files and
+//! text for people. Nothing below this layer prints a table or draws a plot.
+//!
+//! - [`compare`]: writes a comparison (`floebench compare`): each case's
+//!   folder (data files, run files, plots), then `index.md` and `index.html`;
+//! - [`verdict`]: the verdict sentences on a case;
+//! - [`tables`]: the tables of the report page (headline, runs, pairs, checks);
+//! - [`checks`]: the tables of check outcomes (`floebench check`): plain
+//!   text, Markdown, `checks.csv`;
+//! - [`figures`]: which plots a comparison draws, from its data;
+//! - [`page`]: the page's document model, rendered as Markdown and HTML;
+//! - [`plot`]: the charts (plotters, DejaVu Sans embedded): lines, stacked
+//!   bars, plan views, snapshot grids;
+//! - [`format`](mod@format): the rounding of numbers for people.
 
+pub mod checks;
 pub mod compare;
 pub mod figures;
+pub mod format;
 pub mod page;
 pub mod plot;
+pub mod tables;
+pub mod verdict;
 
 use std::path::PathBuf;
 
