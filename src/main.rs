@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use floebench::compare::CompareOptions;
 use floebench::formulation::{self, load_case, FormulationOptions};
 use floebench::model::{IntegratorKind, Scenario};
+use floebench::report::format::fmt_num;
 use floebench::run::{output, EndReason, RunOptions, Runner};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -173,17 +174,17 @@ fn describe(scn: &Scenario) -> String {
         .map(|i| scn.euler_stability_bound(i))
         .fold(f64::INFINITY, f64::min);
     format!(
-        "{}: {} floes ({:.4e} kg, {:.4e} m^2), {} obstacles, {} s every {} s, e = {}, mu = {}, Euler bound {}",
+        "{}: {} floes ({} kg, {} m^2), {} obstacles, {} s every {} s, e = {}, mu = {}, Euler bound {}",
         scn.name,
         scn.floes.len(),
-        mass,
-        area,
+        fmt_num(mass),
+        fmt_num(area),
         scn.obstacles.len(),
         scn.duration,
         scn.output_interval,
         scn.contact.restitution,
         scn.contact.friction,
-        if dt.is_finite() { format!("{dt:.4e} s") } else { "none (no drag)".into() }
+        if dt.is_finite() { format!("{} s", fmt_num(dt)) } else { "none (no drag)".into() }
     )
 }
 
@@ -252,17 +253,17 @@ fn run(
     }
     let s = &result.summary;
     println!(
-        "{} / {}: reached t = {} s of {} s; CPU {:.3} s (detection {:.3}, solve {:.3}, integration {:.3}); energy residual {:.3e} J of {:.3e} J exchanged",
+        "{} / {}: reached t = {} s of {} s; CPU {} s (detection {}, solve {}, integration {}); energy residual {} J of {} J exchanged",
         s.case,
         s.formulation,
         s.t_reached,
         s.duration,
-        s.timing.cpu_total,
-        s.timing.stages.detection,
-        s.timing.stages.solve,
-        s.timing.stages.integration,
-        s.energy.residual,
-        s.energy.exchanged
+        fmt_num(s.timing.cpu_total),
+        fmt_num(s.timing.stages.detection),
+        fmt_num(s.timing.stages.solve),
+        fmt_num(s.timing.stages.integration),
+        fmt_num(s.energy.residual),
+        fmt_num(s.energy.exchanged)
     );
     match &s.end {
         EndReason::Completed => ExitCode::SUCCESS,
@@ -390,20 +391,27 @@ fn resolve_lcp(file: &Path) -> ExitCode {
         dump.t
     );
     println!(
-        "stored solution: status {}, {} pivots, residual {:.3e}",
-        dump.status, dump.pivots, stored
+        "stored solution: status {}, {} pivots, residual {}",
+        dump.status,
+        dump.pivots,
+        fmt_num(stored)
     );
     println!(
-        "re-solved:       status {}, {} pivots, residual {:.3e}, accepted by {:?}",
+        "re-solved:       status {}, {} pivots, residual {}, accepted by {:?}",
         sol.status.as_str(),
         sol.pivots,
-        sol.residual,
+        fmt_num(sol.residual),
         sol.accepted_by
     );
     for a in &sol.attempts {
         println!(
-            "  attempt {:?} (rule {:?}, eps {:.1e}): {:?} after {} pivots, residual {:.3e}",
-            a.strategy, a.rule, a.epsilon_rel, a.termination, a.pivots, a.residual
+            "  attempt {:?} (rule {:?}, eps {}): {:?} after {} pivots, residual {}",
+            a.strategy,
+            a.rule,
+            a.epsilon_rel,
+            a.termination,
+            a.pivots,
+            fmt_num(a.residual)
         );
     }
     if sol.status.is_solved() {

@@ -1,23 +1,11 @@
 //! The tables of check outcomes ([`crate::analysis::check`]): aligned plain
 //! text for the terminal (`floebench check`), Markdown (`--markdown`, the
-//! report page) and `checks.csv` (every number at full precision).
+//! report page), with numbers rounded by [`super::format::fmt_num`], and
+//! `checks.csv`, with every number at full precision.
 
+use super::format::fmt_num;
 use crate::analysis::check::{claimed_failures, verdict, CheckOutcome};
 use std::fmt::Write as _;
-
-/// A number for the tables: 7 significant digits, exponent when large or small.
-fn num(x: f64) -> String {
-    if x == 0.0 {
-        "0".into()
-    } else if !x.is_finite() {
-        format!("{x}")
-    } else if (1e-3..1e5).contains(&x.abs()) {
-        let digits = (6 - x.abs().log10().floor() as i32).max(0) as usize;
-        format!("{x:.digits$}")
-    } else {
-        format!("{x:.6e}")
-    }
-}
 
 /// The cells of one outcome, in the order of [`TABLE_HEADER`].
 pub fn table_cells(o: &CheckOutcome) -> [String; 9] {
@@ -25,9 +13,9 @@ pub fn table_cells(o: &CheckOutcome) -> [String; 9] {
         o.case.clone(),
         o.check.clone(),
         o.formulation.clone(),
-        num(o.measured),
-        o.expected.map_or("-".into(), num),
-        num(o.tolerance),
+        fmt_num(o.measured),
+        o.expected.map_or("-".into(), fmt_num),
+        fmt_num(o.tolerance),
         o.unit.clone(),
         verdict(o).into(),
         o.note.clone(),

@@ -14,8 +14,8 @@
 //! A case's folder is written under a temporary name and swapped into place
 //! when complete, so a reader never sees a half-written case; the page is
 //! written last. The CSV and JSON files hold every number at full precision
-//! (Rust's shortest round-trip form); the page rounds them
-//! ([`super::format::fmt_num`]).
+//! (Rust's shortest round-trip form); the page rounds them with
+//! [`super::format::fmt_num`].
 
 use super::checks::checks_csv;
 use super::figures::{self, Figure};

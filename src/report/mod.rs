@@ -11,7 +11,8 @@
 //! - [`page`]: the page's document model, rendered as Markdown and HTML;
 //! - [`plot`]: the charts (plotters, DejaVu Sans embedded): lines, stacked
 //!   bars, plan views, snapshot grids;
-//! - [`format`](mod@format): the rounding of numbers for people.
+//! - [`format`](mod@format): the one rounding rule of the numbers printed for
+//!   people ([`format::fmt_num`]).
 
 pub mod checks;
 pub mod compare;
