@@ -1,7 +1,7 @@
 //! Charts for the comparison reports, each written as `<stem>.png` and `<stem>.svg`.
 //!
 //! The inputs are plain data (no dependency on the rest of the crate), so the
-//! comparison harness can feed them directly:
+//! report's figures ([`super::figures`]) feed them directly:
 //!
 //! - [`line_chart`]: curves against a common axis (energy against time, ...);
 //! - [`bar_chart`]: stacked bars, one bar per category, one segment per stage;
