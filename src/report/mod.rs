@@ -4,7 +4,8 @@
 //! - [`compare`]: writes a comparison (`floebench compare`): each case's
 //!   folder (data files, run files, plots), then `index.md` and `index.html`;
 //! - [`verdict`]: the verdict sentences on a case;
-//! - [`tables`]: the tables of the report page (headline, runs, pairs, checks);
+//! - `tables` (private): the tables of the report page (headline, runs,
+//!   pairs, checks);
 //! - [`checks`]: the tables of check outcomes (`floebench check`): plain
 //!   text, Markdown, `checks.csv`;
 //! - [`figures`]: which plots a comparison draws, from its data;
@@ -20,7 +21,7 @@ pub mod figures;
 pub mod format;
 pub mod page;
 pub mod plot;
-pub mod tables;
+mod tables;
 pub mod verdict;
 
 use std::path::PathBuf;
