@@ -22,10 +22,10 @@
 mod thread_cpu;
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
-use floebench::compare::{case_files, default_formulations};
 use floebench::formulation::load_case;
 use floebench::formulation::{build, FormulationOptions};
 use floebench::model::Scenario;
+use floebench::run::batch::{case_files, contact_formulations};
 use floebench::run::{RunOptions, Runner};
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -76,7 +76,7 @@ fn per_case(c: &mut Criterion<ThreadCpu>) {
         };
         let mut g = c.benchmark_group(&scn.name);
         g.sample_size(10).warm_up_time(Duration::from_millis(500));
-        for name in default_formulations() {
+        for name in contact_formulations() {
             g.bench_with_input(BenchmarkId::new(&name, &scn.name), &scn, |b, scn| {
                 b.iter(|| black_box(run_once(scn, &name)))
             });
@@ -105,7 +105,7 @@ fn scaling(c: &mut Criterion<ThreadCpu>) {
         scn.duration = SCALING_SPAN;
         scn.output_interval = SCALING_SPAN;
         g.throughput(Throughput::Elements(scn.floes.len() as u64));
-        for name in default_formulations() {
+        for name in contact_formulations() {
             let id = BenchmarkId::new(&name, scn.floes.len());
             g.bench_with_input(id, &scn, |b, scn| {
                 b.iter(|| black_box(run_once(scn, &name)))

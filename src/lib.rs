@@ -6,9 +6,15 @@
 //!
 //! ```text
 //! cases/*.toml ──load──▶ Scenario ──▶ Runner(formulation) ──▶ RunResult (trajectory, energy ledger, counters)
-//!                                                   │
-//!                             compare / check / report / plot / bench ◀──┘
+//!                                                                  │
+//!        report (pages, tables, plots) ◀── analysis (checks, divergence, metrics) ◀──┘
 //! ```
+//!
+//! The layers, each using only those before it: [`model`] → [`formulation`]
+//! → [`run`] → [`analysis`] → [`report`] (with the shared foundations
+//! [`geometry`], [`state`], [`physics`], [`contact`], [`lcp`], [`record`],
+//! [`rng`] below the formulations). [`compare`] combines the batch runner
+//! and the analysis; only the command line writes reports.
 //!
 //! - [`model`]: the case file, validated into a [`model::Scenario`] (floes,
 //!   obstacles, environment, contact law, settings);
@@ -19,10 +25,13 @@
 //! - [`state`]: the dynamic state and the energy ledger;
 //! - [`record`]: what formulations report with: typed counters and settings, the contact log, the stage clock;
 //! - [`formulation`]: the [`formulation::Formulation`] trait, the registry ([`formulation::REGISTRY`]) and the formulations;
-//! - [`run`]: the [`run::Runner`] (timing, stopping, recording) and output files;
-//! - [`compare`]: the comparison harness (parallel runs, metrics, report page);
-//! - [`report`]: plots (line charts, stacked bars, plan views, snapshot grids) for the reports;
-//! - [`analysis`]: the physical checks of a run ([`analysis::check`]).
+//! - [`run`]: the [`run::Runner`] (timing, stopping, recording), output files, and the batch
+//!   runner ([`run::batch`]: every formulation on every case on a pool of threads);
+//! - [`analysis`]: what the runs say: the physical checks ([`analysis::check`]), the divergence
+//!   of two runs, every figure in long format, the comparison of one case;
+//! - [`compare`]: the comparison harness (the batch, then each case's comparison);
+//! - [`report`]: everything written for people: the comparison report (data files, plots,
+//!   page), verdicts, tables, the one number formatter ([`report::format::fmt_num`]).
 //!
 //! All quantities are SI and `f64`.
 

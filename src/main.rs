@@ -4,6 +4,7 @@ use clap::{Parser, Subcommand};
 use floebench::compare::CompareOptions;
 use floebench::formulation::{self, load_case, FormulationOptions};
 use floebench::model::{IntegratorKind, Scenario};
+use floebench::report::format::fmt_num;
 use floebench::run::{output, EndReason, RunOptions, Runner};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -203,17 +204,17 @@ fn describe(scn: &Scenario) -> String {
         .map(|i| scn.euler_stability_bound(i))
         .fold(f64::INFINITY, f64::min);
     format!(
-        "{}: {} floes ({:.4e} kg, {:.4e} m^2), {} obstacles, {} s every {} s, e = {}, mu = {}, Euler bound {}",
+        "{}: {} floes ({} kg, {} m^2), {} obstacles, {} s every {} s, e = {}, mu = {}, Euler bound {}",
         scn.name,
         scn.floes.len(),
-        mass,
-        area,
+        fmt_num(mass),
+        fmt_num(area),
         scn.obstacles.len(),
         scn.duration,
         scn.output_interval,
         scn.contact.restitution,
         scn.contact.friction,
-        if dt.is_finite() { format!("{dt:.4e} s") } else { "none (no drag)".into() }
+        if dt.is_finite() { format!("{} s", fmt_num(dt)) } else { "none (no drag)".into() }
     )
 }
 
@@ -282,17 +283,17 @@ fn run(
     }
     let s = &result.summary;
     println!(
-        "{} / {}: reached t = {} s of {} s; CPU {:.3} s (detection {:.3}, solve {:.3}, integration {:.3}); energy residual {:.3e} J of {:.3e} J exchanged",
+        "{} / {}: reached t = {} s of {} s; CPU {} s (detection {}, solve {}, integration {}); energy residual {} J of {} J exchanged",
         s.case,
         s.formulation,
         s.t_reached,
         s.duration,
-        s.timing.cpu_total,
-        s.timing.stages.detection,
-        s.timing.stages.solve,
-        s.timing.stages.integration,
-        s.energy.residual,
-        s.energy.exchanged
+        fmt_num(s.timing.cpu_total),
+        fmt_num(s.timing.stages.detection),
+        fmt_num(s.timing.stages.solve),
+        fmt_num(s.timing.stages.integration),
+        fmt_num(s.energy.residual),
+        fmt_num(s.energy.exchanged)
     );
     match &s.end {
         EndReason::Completed => ExitCode::SUCCESS,
@@ -305,17 +306,21 @@ fn run(
 
 fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
     use floebench::compare;
+    use floebench::report;
+    use floebench::run::batch;
     if !(opts.divergence_threshold > 0.0 && opts.divergence_threshold.is_finite()) {
         eprintln!("error: --threshold must be a positive number");
         return ExitCode::FAILURE;
     }
-    let result = compare::load_cases(cases).and_then(|loaded| {
-        for (_, scn) in &loaded {
-            eprintln!("{}", describe(scn));
-        }
-        eprintln!("{} cases, {} runs at a time", loaded.len(), opts.jobs);
-        compare::compare(loaded, opts)
-    });
+    let result = batch::load_cases(cases)
+        .map_err(compare::CompareError::from)
+        .and_then(|loaded| {
+            for (_, scn) in &loaded {
+                eprintln!("{}", describe(scn));
+            }
+            eprintln!("{} cases, {} runs at a time", loaded.len(), opts.jobs);
+            compare::compare(loaded, opts)
+        });
     let comps = match result {
         Ok(c) => c,
         Err(e) => {
@@ -328,11 +333,11 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         .map(|a| a.replace(['\n', '`'], " "))
         .collect();
     let command = format!("floebench {}", command.join(" "));
-    match compare::report::write_report(&comps, out, &command) {
+    match report::compare::write_report(&comps, out, &command) {
         Ok(paths) => {
             for c in &comps {
                 println!("{}", c.scenario.name);
-                for v in compare::report::verdict(c) {
+                for v in report::verdict::verdict(c) {
                     println!("  {v}");
                 }
             }
@@ -355,27 +360,29 @@ fn check(
     quiet: bool,
 ) -> ExitCode {
     use floebench::analysis::check;
-    use floebench::compare;
-    let mut opts = CompareOptions {
+    use floebench::report::checks::{format_table, markdown_table};
+    use floebench::run::batch::{self, BatchOptions};
+    let mut opts = BatchOptions {
         progress: !quiet,
-        ..CompareOptions::default()
+        ..BatchOptions::default()
     };
     if let Some(f) = formulations {
         opts.formulations = f;
     }
-    let comps = match compare::load_cases(cases).and_then(|loaded| compare::compare(loaded, &opts))
-    {
+    let done = match batch::load_cases(cases).and_then(|loaded| batch::run_cases(loaded, &opts)) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
-    let rows: Vec<check::CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
-    print!("{}", check::format_table(&rows));
+    let rows: Vec<check::CheckOutcome> = done
+        .iter()
+        .flat_map(|c| check::check_runs(&c.scenario, &c.runs))
+        .collect();
+    print!("{}", format_table(&rows));
     if let Some(file) = markdown {
-        if let Err(e) =
-            floebench::run::output::write_atomic(file, check::markdown_table(&rows).as_bytes())
+        if let Err(e) = floebench::run::output::write_atomic(file, markdown_table(&rows).as_bytes())
         {
             eprintln!("error: cannot write {}: {e}", file.display());
             return ExitCode::FAILURE;
@@ -414,20 +421,27 @@ fn resolve_lcp(file: &Path) -> ExitCode {
         dump.t
     );
     println!(
-        "stored solution: status {}, {} pivots, residual {:.3e}",
-        dump.status, dump.pivots, stored
+        "stored solution: status {}, {} pivots, residual {}",
+        dump.status,
+        dump.pivots,
+        fmt_num(stored)
     );
     println!(
-        "re-solved:       status {}, {} pivots, residual {:.3e}, accepted by {:?}",
+        "re-solved:       status {}, {} pivots, residual {}, accepted by {:?}",
         sol.status.as_str(),
         sol.pivots,
-        sol.residual,
+        fmt_num(sol.residual),
         sol.accepted_by
     );
     for a in &sol.attempts {
         println!(
-            "  attempt {:?} (rule {:?}, eps {:.1e}): {:?} after {} pivots, residual {:.3e}",
-            a.strategy, a.rule, a.epsilon_rel, a.termination, a.pivots, a.residual
+            "  attempt {:?} (rule {:?}, eps {}): {:?} after {} pivots, residual {}",
+            a.strategy,
+            a.rule,
+            a.epsilon_rel,
+            a.termination,
+            a.pivots,
+            fmt_num(a.residual)
         );
     }
     if sol.status.is_solved() {

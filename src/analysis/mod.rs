@@ -1,4 +1,12 @@
-//! Analysis of recorded runs: the physical checks with exact answers
-//! (physics.md section 6) that every formulation is held to.
+//! Analysis of recorded runs: what the numbers say, before any is printed.
+//!
+//! - [`check`]: the physical checks with exact answers (physics.md section 6)
+//!   that every formulation is held to;
+//! - [`divergence`]: how two runs of the same case differ over time;
+//! - [`metrics`]: every figure of a run and of a pair of runs, in long format;
+//! - [`comparison`]: one case's runs with their divergences, figures and checks.
 
 pub mod check;
+pub mod comparison;
+pub mod divergence;
+pub mod metrics;

@@ -1,3 +1,51 @@
-//! Reports: plots, tables and the report page.
+//! Reports: everything that turns runs and their analysis into files and
+//! text for people. Nothing below this layer prints a table or draws a plot.
+//!
+//! - [`compare`]: writes a comparison (`floebench compare`): each case's
+//!   folder (data files, run files, plots), then `index.md` and `index.html`;
+//! - [`verdict`]: the verdict sentences on a case;
+//! - `tables` (private): the tables of the report page (headline, runs,
+//!   pairs, checks);
+//! - [`checks`]: the tables of check outcomes (`floebench check`): plain
+//!   text, Markdown, `checks.csv`;
+//! - [`figures`]: which plots a comparison draws, from its data;
+//! - [`page`]: the page's document model, rendered as Markdown and HTML;
+//! - [`plot`]: the charts (plotters, DejaVu Sans embedded): lines, stacked
+//!   bars, plan views, snapshot grids;
+//! - [`format`](mod@format): the one rounding rule of the numbers printed for
+//!   people ([`format::fmt_num`]).
 
+pub mod checks;
+pub mod compare;
+pub mod figures;
+pub mod format;
+pub mod page;
 pub mod plot;
+mod tables;
+pub mod verdict;
+
+use std::path::PathBuf;
+
+/// Why a report could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// Two cases have the same name, so their folders would collide.
+    #[error("two cases are named `{0}`: their reports would overwrite each other")]
+    DuplicateName(String),
+    /// A folder or file could not be written.
+    #[error("{path}: {source}")]
+    Io {
+        /// The path.
+        path: PathBuf,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// A plot could not be drawn.
+    #[error("plot {path}: {message}")]
+    Plot {
+        /// The plot's file stem.
+        path: PathBuf,
+        /// What failed.
+        message: String,
+    },
+}

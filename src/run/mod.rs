@@ -6,7 +6,11 @@
 //! of air, water and Coriolis forces `W_ext`, the energy dissipated by
 //! contacts `D`, and the balance residual `E(t) − E(0) − W_ext + D`, which
 //! is zero for an exact integration.
+//!
+//! [`output`] writes a run's files; [`batch`] runs several formulations on
+//! several cases on a pool of threads.
 
+pub mod batch;
 pub mod output;
 
 use crate::formulation::Formulation;

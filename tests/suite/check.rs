@@ -8,6 +8,8 @@ use floebench::compare::{self, CompareOptions};
 use floebench::formulation;
 use floebench::model::Scenario;
 use floebench::record::{ContactEvent, ImpulseRecord};
+use floebench::report::checks::{format_table, markdown_table};
+use floebench::run::batch;
 use floebench::run::{EndReason, RunResult};
 use std::time::Instant;
 
@@ -45,7 +47,7 @@ fn row(scn: &Scenario, k: usize, floe: usize) -> usize {
 #[test]
 fn every_small_case_passes_every_check_its_formulations_claim() {
     let start = Instant::now();
-    let paths = compare::case_files(&[cases_dir()]).unwrap();
+    let paths = batch::case_files(&[cases_dir()]).unwrap();
     assert!(paths.len() >= 12, "{} cases", paths.len());
     for p in &paths {
         let text = std::fs::read_to_string(p).unwrap();
@@ -55,11 +57,11 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
             p.display()
         );
     }
-    let cases = compare::load_cases(&[cases_dir()]).unwrap_or_else(|e| panic!("{e}"));
+    let cases = batch::load_cases(&[cases_dir()]).unwrap_or_else(|e| panic!("{e}"));
     let comps =
         compare::compare(cases, &CompareOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     let rows: Vec<CheckOutcome> = comps.into_iter().flat_map(|c| c.checks).collect();
-    println!("{}", check::format_table(&rows));
+    println!("{}", format_table(&rows));
     println!("check over cases/: {:.1} s", start.elapsed().as_secs_f64());
     assert_eq!(claimed_failures(&rows), 0, "claimed checks failed");
     // Every kind of check applied somewhere, and every formulation ran.
@@ -102,7 +104,7 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
         .iter()
         .any(|o| o.case == "mirror_collision" && o.check == "symmetry"));
     // The Markdown table has a row per outcome.
-    assert_eq!(check::markdown_table(&rows).lines().count(), rows.len() + 2);
+    assert_eq!(markdown_table(&rows).lines().count(), rows.len() + 2);
 }
 
 #[test]
@@ -119,7 +121,7 @@ fn structure_decides_applicability() {
     // Contact-free cases only for free-drift.
     assert!(load("free_drift_coriolis").contact_free());
     assert!(!load("head_on").contact_free());
-    assert!(!check::default_formulations(&load("head_on")).contains(&"free-drift"));
+    assert!(!batch::default_formulations(&load("head_on")).contains(&"free-drift"));
     // The bouncing floe's gap along the wind is 1 m, face on.
     let scn = load("bouncing_floe");
     let (gap, rays) =

@@ -3,7 +3,8 @@
 //! for runs that must differ.
 
 use crate::common::{bad_case, case_path, floebench, load, run, tempdir};
-use floebench::compare::{self, metrics, CompareOptions};
+use floebench::analysis::divergence;
+use floebench::compare::{self, CompareOptions};
 use std::path::Path;
 
 /// The header of a CSV file and its rows, each checked to have as many fields.
@@ -199,7 +200,7 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
     let scn = load("cradle_touching");
     let a = run(&scn, "event-driven");
     let b = run(&scn, "event-driven");
-    let same = metrics::divergence(&scn, &a, &b, 0.1).unwrap();
+    let same = divergence::divergence(&scn, &a, &b, 0.1).unwrap();
     assert_eq!(same.samples.len(), a.energy.len());
     assert_eq!(same.max_rms_position_rel, 0.0);
     assert_eq!(same.max_angle_rad, 0.0);
@@ -209,13 +210,13 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
     // (2 − n)/n v0 while rapier's sequential soft contacts do not: the
     // trajectories must differ, and the metric must say so.
     let r = run(&scn, "rapier");
-    let d = metrics::divergence(&scn, &a, &r, 0.1).unwrap();
+    let d = divergence::divergence(&scn, &a, &r, 0.1).unwrap();
     assert!(d.max_rms_position_rel > 0.1, "{d:?}");
     assert!(d.diverged_at.is_some());
     // The metric is symmetric and its largest floe distance bounds the RMS.
-    let back = metrics::divergence(&scn, &r, &a, 0.1).unwrap();
+    let back = divergence::divergence(&scn, &r, &a, 0.1).unwrap();
     assert_eq!(back.max_rms_position_rel, d.max_rms_position_rel);
-    let dbar = metrics::mean_diameter(&scn);
+    let dbar = divergence::mean_diameter(&scn);
     for s in &d.samples {
         assert!(s.rms_position_rel * dbar <= s.max_position_m * (1.0 + 1e-12));
     }

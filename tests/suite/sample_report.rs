@@ -51,7 +51,7 @@ fn committed(case: &str) -> BTreeMap<Key, f64> {
 #[test]
 fn metrics_equal_the_committed_sample_report() {
     let inputs: Vec<PathBuf> = CASES.iter().map(|c| case_path(c)).collect();
-    let loaded = compare::load_cases(&inputs).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = floebench::run::batch::load_cases(&inputs).unwrap_or_else(|e| panic!("{e}"));
     let opts = CompareOptions {
         progress: false,
         ..CompareOptions::default()

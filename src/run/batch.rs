@@ -1,65 +1,52 @@
-//! The comparison harness: every formulation on the same cases, side by side.
+//! The batch runner: several formulations on several cases, on a pool of
+//! worker threads. `floebench compare` and `floebench check` both run here.
 //!
-//! [`compare`] loads every case first (a bad file stops everything before any
-//! run), builds every formulation on every case (an unknown name or a case a
-//! formulation cannot take also stops before any run), then runs the
-//! (case, formulation) jobs on a pool of worker threads. Each run's CPU time
-//! is its own thread's CPU time ([`crate::run::thread_cpu_seconds`]), so
+//! [`load_cases`] loads every case first (a bad file stops everything before
+//! any run). [`run_cases`] then builds every formulation on every case (an
+//! unknown name, a name listed twice or a case a formulation cannot take
+//! also stops before any run), and only then runs the (case, formulation)
+//! pairs on `jobs` threads, each with its progress bar. Each run's CPU time
+//! is its own thread's CPU time ([`crate::record::thread_cpu_seconds`]), so
 //! parallel runs do not distort each other; wall time is kept beside it.
+//! The results come back in the order of the cases and, within a case, of
+//! its formulations, whatever order the runs finish in.
 //!
-//! The result, one [`CaseComparison`] per case, holds the runs, the pair
-//! divergences ([`metrics::divergence`]) and every figure in long format
-//! ([`metrics::MetricRow`]) and the physical checks of every run
-//! ([`check::check_run`]); [`report`] writes it as data, plots and a page.
-//! `floebench check` is the same runs without the report.
+//! Which formulations run on a case when none are named:
+//! [`default_formulations`], those of the registry that apply to it.
 
-pub mod figures;
-pub mod metrics;
-pub mod page;
-pub mod report;
-
-use crate::analysis::check::{self, CheckOutcome};
+use super::{RunOptions, RunResult, Runner};
 use crate::formulation::{self, load_case, FormulationOptions};
 use crate::model::{IntegratorKind, Scenario};
-use crate::run::{RunOptions, RunResult, Runner};
-use metrics::{MetricRow, PairDivergence};
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-/// Why a comparison could not be made.
+/// Why a batch could not be run.
 #[derive(Debug, thiserror::Error)]
-pub enum CompareError {
-    /// A case file is bad (the message names file and line).
+pub enum BatchError {
+    /// A case file is bad (the message names file and line), or a folder
+    /// holds no case file.
     #[error("{0}")]
     Case(String),
-    /// A folder or file could not be read or written.
+    /// A folder could not be read.
     #[error("{path}: {source}")]
     Io {
-        /// The path.
+        /// The folder.
         path: PathBuf,
         /// The error.
         source: std::io::Error,
     },
-    /// A formulation is unknown or cannot take a case.
+    /// A formulation is unknown, listed twice or cannot take a case.
     #[error("{0}")]
     Formulation(String),
-    /// Two runs cannot be compared.
+    /// A run panicked instead of returning its result.
     #[error("{0}")]
-    Mismatch(String),
-    /// A plot could not be drawn.
-    #[error("plot {path}: {message}")]
-    Plot {
-        /// The plot's file stem.
-        path: PathBuf,
-        /// What failed.
-        message: String,
-    },
+    Panicked(String),
 }
 
 /// Every formulation that handles contacts (all but `free-drift`): the
 /// benches' list.
-pub fn default_formulations() -> Vec<String> {
+pub fn contact_formulations() -> Vec<String> {
     formulation::REGISTRY
         .iter()
         .filter(|e| e.resolves_contacts)
@@ -67,61 +54,60 @@ pub fn default_formulations() -> Vec<String> {
         .collect()
 }
 
-/// Options of a comparison.
+/// The formulations run on `scn` when none are named: those of the registry
+/// that apply to it ([`formulation::Entry::applies`]: all, `free-drift` only
+/// on contact-free cases).
+pub fn default_formulations(scn: &Scenario) -> Vec<&'static str> {
+    formulation::REGISTRY
+        .iter()
+        .filter(|e| e.applies(scn))
+        .map(|e| e.name)
+        .collect()
+}
+
+/// Options of a batch.
 #[derive(Debug, Clone)]
-pub struct CompareOptions {
-    /// Formulations, in report order; the first is the reference of the
-    /// verdicts. Empty (the default): on each case, the formulations that
-    /// apply to it ([`check::default_formulations`]: all, `free-drift` only
-    /// on contact-free cases).
+pub struct BatchOptions {
+    /// Formulations, in this order on every case. Empty (the default): on
+    /// each case, its [`default_formulations`].
     pub formulations: Vec<String>,
     /// Runs at a time (worker threads); default: the available cores.
     pub jobs: usize,
     /// Progress bars on stderr.
     pub progress: bool,
-    /// Divergence threshold on the RMS position difference, as a fraction of
-    /// the mean floe diameter (-); default 0.1.
-    pub divergence_threshold: f64,
     /// Override of the cases' smooth integrator.
     pub integrator: Option<IntegratorKind>,
 }
 
-impl Default for CompareOptions {
+impl Default for BatchOptions {
     fn default() -> Self {
-        CompareOptions {
+        BatchOptions {
             formulations: Vec::new(),
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             progress: false,
-            divergence_threshold: 0.1,
             integrator: None,
         }
     }
 }
 
-/// The comparison of the formulations on one case.
+/// The runs of one case.
 #[derive(Debug, Clone)]
-pub struct CaseComparison {
+pub struct CaseRuns {
     /// The case file.
     pub path: PathBuf,
     /// The case.
     pub scenario: Scenario,
     /// One run per formulation, in the order of the options.
     pub runs: Vec<RunResult>,
-    /// Every pair of runs (i < j), in order.
-    pub pairs: Vec<PairDivergence>,
-    /// The physical checks of every run ([`check::check_run`]).
-    pub checks: Vec<CheckOutcome>,
-    /// Every figure of the runs and of the pairs.
-    pub metrics: Vec<MetricRow>,
 }
 
 /// The case files named by `inputs`: files as given, folders expanded to
 /// their `*.toml` files (not recursive), sorted by name.
-pub fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CompareError> {
+pub fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, BatchError> {
     let mut files = Vec::new();
     for input in inputs {
         if input.is_dir() {
-            let io = |source| CompareError::Io {
+            let io = |source| BatchError::Io {
                 path: input.clone(),
                 source,
             };
@@ -132,7 +118,7 @@ pub fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CompareError> {
                 .collect();
             found.sort();
             if found.is_empty() {
-                return Err(CompareError::Case(format!(
+                return Err(BatchError::Case(format!(
                     "{}: no case file (*.toml) in this folder",
                     input.display()
                 )));
@@ -147,24 +133,24 @@ pub fn case_files(inputs: &[PathBuf]) -> Result<Vec<PathBuf>, CompareError> {
 
 /// Loads every case named by `inputs` (see [`case_files`]); the first bad
 /// file is the error.
-pub fn load_cases(inputs: &[PathBuf]) -> Result<Vec<(PathBuf, Scenario)>, CompareError> {
+pub fn load_cases(inputs: &[PathBuf]) -> Result<Vec<(PathBuf, Scenario)>, BatchError> {
     case_files(inputs)?
         .into_iter()
         .map(|p| match load_case(&p) {
             Ok(s) => Ok((p, s)),
-            Err(e) => Err(CompareError::Case(e.to_string())),
+            Err(e) => Err(BatchError::Case(e.to_string())),
         })
         .collect()
 }
 
-/// Runs every formulation of `opts` on every case and measures the differences.
-pub fn compare(
+/// Runs every formulation of `opts` on every case (see the module doc).
+pub fn run_cases(
     cases: Vec<(PathBuf, Scenario)>,
-    opts: &CompareOptions,
-) -> Result<Vec<CaseComparison>, CompareError> {
+    opts: &BatchOptions,
+) -> Result<Vec<CaseRuns>, BatchError> {
     for (i, name) in opts.formulations.iter().enumerate() {
         if opts.formulations[..i].contains(name) {
-            return Err(CompareError::Formulation(format!(
+            return Err(BatchError::Formulation(format!(
                 "formulation `{name}` is listed twice"
             )));
         }
@@ -173,7 +159,7 @@ pub fn compare(
         .iter()
         .map(|(_, scn)| {
             if opts.formulations.is_empty() {
-                check::default_formulations(scn)
+                default_formulations(scn)
                     .into_iter()
                     .map(str::to_string)
                     .collect()
@@ -189,9 +175,8 @@ pub fn compare(
     // Every formulation must accept every case before anything runs.
     for ((path, scn), list) in cases.iter().zip(&lists) {
         for name in list {
-            formulation::build(name, scn, &fopts).map_err(|e| {
-                CompareError::Formulation(format!("{}: {name}: {e}", path.display()))
-            })?;
+            formulation::build(name, scn, &fopts)
+                .map_err(|e| BatchError::Formulation(format!("{}: {name}: {e}", path.display())))?;
         }
     }
     let jobs: Vec<(usize, usize)> = lists
@@ -223,7 +208,7 @@ pub fn compare(
     });
     let mut results = results
         .into_inner()
-        .map_err(|_| CompareError::Mismatch("a run panicked".into()))?
+        .map_err(|_| BatchError::Panicked("a run panicked".into()))?
         .into_iter();
     let mut out = Vec::with_capacity(cases.len());
     for ((path, scenario), list) in cases.into_iter().zip(&lists) {
@@ -232,53 +217,24 @@ pub fn compare(
             match results.next().flatten() {
                 Some(Ok(r)) => runs.push(r),
                 Some(Err(e)) => {
-                    return Err(CompareError::Formulation(format!(
+                    return Err(BatchError::Formulation(format!(
                         "{}: {name}: {e}",
                         path.display()
                     )))
                 }
                 None => {
-                    return Err(CompareError::Mismatch(format!(
+                    return Err(BatchError::Panicked(format!(
                         "{}: {name}: the run did not finish (panicked)",
                         path.display()
                     )))
                 }
             }
         }
-        out.push(assess(path, scenario, runs, opts.divergence_threshold)?);
+        out.push(CaseRuns {
+            path,
+            scenario,
+            runs,
+        });
     }
     Ok(out)
-}
-
-/// Measures the runs of one case: pair divergences and every metric.
-pub fn assess(
-    path: PathBuf,
-    scenario: Scenario,
-    runs: Vec<RunResult>,
-    threshold: f64,
-) -> Result<CaseComparison, CompareError> {
-    let mut pairs = Vec::new();
-    for i in 0..runs.len() {
-        for j in i + 1..runs.len() {
-            pairs.push(metrics::divergence(
-                &scenario, &runs[i], &runs[j], threshold,
-            )?);
-        }
-    }
-    let mut rows: Vec<MetricRow> = runs.iter().flat_map(metrics::run_metrics).collect();
-    for p in &pairs {
-        rows.extend(metrics::pair_metrics(&scenario.name, p));
-    }
-    let checks = runs
-        .iter()
-        .flat_map(|r| check::check_run(&scenario, r))
-        .collect();
-    Ok(CaseComparison {
-        path,
-        scenario,
-        runs,
-        pairs,
-        checks,
-        metrics: rows,
-    })
 }

@@ -1,5 +1,5 @@
 //! The plots of a case comparison, drawn from the same data the CSV files
-//! hold (PNG and SVG each, by [`crate::report::plot`]):
+//! hold (PNG and SVG each, by [`super::plot`]):
 //!
 //! - `kinetic`: kinetic energy against time, every formulation;
 //! - `dissipated`: energy dissipated by contacts against time;
@@ -14,10 +14,11 @@
 //! A formulation keeps its palette colour (its position in the comparison)
 //! on every chart.
 
-use super::metrics::frames;
-use super::{CaseComparison, CompareError};
+use super::plot::{self, LineChart, Panel, PlanView, Scale, Series, StackedBars};
+use super::ReportError;
+use crate::analysis::comparison::CaseComparison;
+use crate::analysis::divergence::frames;
 use crate::geometry::Vec2;
-use crate::report::plot::{self, LineChart, Panel, PlanView, Scale, Series, StackedBars};
 use crate::run::RunResult;
 use std::path::Path;
 
@@ -30,8 +31,8 @@ pub struct Figure {
     pub stem: String,
 }
 
-fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> CompareError + '_ {
-    move |e| CompareError::Plot {
+fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
+    move |e| ReportError::Plot {
         path: stem.to_path_buf(),
         message: e.to_string(),
     }
@@ -70,7 +71,7 @@ fn travelling_floes(run: &RunResult, n: usize, k: usize) -> Vec<usize> {
 }
 
 /// Draws every figure of `comp` into `dir`.
-pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, CompareError> {
+pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
     let scn = &comp.scenario;
     let name = &scn.name;
     let n = scn.floes.len();

@@ -1,0 +1,640 @@
+//! The checks, one function each: whether it applies (the case's
+//! structure), what it measures on the run, the exact answer and the
+//! tolerance it is held to (see the table of the module doc of
+//! [`super`]).
+
+use super::exact::{head_on_velocities, steady_drift_velocity, wind_acceleration};
+use super::measure::{final_velocity, rest_time, sampled_penetration};
+use super::structure::{
+    extent, find_symmetry, in_a_row, initial_polygon, no_forcing, self_symmetric, translation_gap,
+    wind_as_gravity, GEOMETRY_MATCH,
+};
+use super::{
+    CheckOutcome, CRADLE_TOLERANCE, ENERGY_CONSERVED_TOLERANCE, FREE_DRIFT_TIME_CONSTANTS,
+    FREE_DRIFT_TOLERANCE, HEAD_ON_TOLERANCE, IMPACT_ENERGY_TOLERANCE, LEDGER_TOLERANCE,
+    MOMENTUM_TOLERANCE, REST_SPEED_FRACTION, SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
+};
+use crate::contact::signed_distance;
+use crate::formulation::contact_solver::COULOMB_SLACK;
+use crate::formulation::event_driven::{
+    floe_length_scale, EventDrivenSettings, DEFAULT_PENETRATION_FRACTION,
+};
+use crate::geometry::{cross, Vec2};
+use crate::model::Scenario;
+use crate::record::counters::common::MAX_PENETRATION;
+use crate::run::{EndReason, RunResult};
+
+struct Rows<'a> {
+    scn: &'a Scenario,
+    run: &'a RunResult,
+    out: Vec<CheckOutcome>,
+}
+
+impl Rows<'_> {
+    #[allow(clippy::too_many_arguments)]
+    fn push(
+        &mut self,
+        check: &str,
+        description: &str,
+        measured: f64,
+        expected: Option<f64>,
+        tolerance: f64,
+        unit: &str,
+        note: String,
+    ) {
+        let pass = match expected {
+            Some(x) => (measured - x).abs() <= tolerance,
+            None => measured <= tolerance,
+        };
+        self.out.push(CheckOutcome {
+            case: self.scn.name.clone(),
+            formulation: self.run.summary.formulation.clone(),
+            check: check.to_string(),
+            description: description.to_string(),
+            measured,
+            expected,
+            tolerance,
+            unit: unit.to_string(),
+            pass,
+            claimed: true,
+            note,
+        });
+    }
+}
+
+/// Every check that applies to `scn`, measured on `run`, each claimed
+/// (the claims are [`super::check_run`]'s).
+pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
+    let mut r = Rows {
+        scn,
+        run,
+        out: Vec::new(),
+    };
+    let completed = run.summary.end == EndReason::Completed;
+    r.push(
+        "run_completed",
+        "the run reaches the case's duration",
+        if completed { 1.0 } else { 0.0 },
+        Some(1.0),
+        0.0,
+        "1",
+        match &run.summary.end {
+            EndReason::Completed => String::new(),
+            other => format!("{other}; reached t = {} s", run.summary.t_reached),
+        },
+    );
+    momentum(&mut r);
+    impact_energy(&mut r);
+    energy_conserved(&mut r);
+    coulomb(&mut r);
+    penetration(&mut r);
+    symmetry(&mut r);
+    head_on(&mut r);
+    bouncing(&mut r);
+    sliding(&mut r);
+    cradle(&mut r);
+    cannon(&mut r);
+    free_drift(&mut r);
+    ledger(&mut r);
+    r.out
+}
+
+fn momentum(r: &mut Rows) {
+    let scn = r.scn;
+    if !no_forcing(scn) || !scn.obstacles.is_empty() || scn.floes.len() < 2 {
+        return;
+    }
+    let scale: f64 = scn.floes.iter().map(|f| f.mass * f.velocity.norm()).sum();
+    if scale == 0.0 {
+        return;
+    }
+    let p0 = scn
+        .floes
+        .iter()
+        .fold(Vec2::zeros(), |s, f| s + f.velocity * f.mass);
+    let n = scn.floes.len();
+    let worst = r
+        .run
+        .trajectory
+        .chunks(n)
+        .map(|rows| {
+            let p = rows.iter().fold(Vec2::zeros(), |s, row| {
+                s + Vec2::new(row.vx, row.vy) * scn.floes[row.floe].mass
+            });
+            (p - p0).norm() / scale
+        })
+        .fold(0.0, f64::max);
+    r.push(
+        "momentum",
+        "total momentum conserved across impacts (no forcing, no obstacle)",
+        worst,
+        None,
+        MOMENTUM_TOLERANCE,
+        "1",
+        "max_t |P(t) - P(0)| / sum M |v(0)|".into(),
+    );
+}
+
+fn impact_energy(r: &mut Rows) {
+    let log = &r.run.contacts;
+    let Some(gain) = log.max_energy_gain() else {
+        return;
+    };
+    let scale = r.run.summary.energy.exchanged.max(f64::MIN_POSITIVE);
+    r.push(
+        "impact_energy",
+        "no contact event creates kinetic energy (e <= 1)",
+        gain.max(0.0) / scale,
+        None,
+        IMPACT_ENERGY_TOLERANCE,
+        "1",
+        format!(
+            "largest gain {gain:.3e} J over {} events / {scale:.3e} J exchanged",
+            log.event_count()
+        ),
+    );
+}
+
+fn energy_conserved(r: &mut Rows) {
+    let scn = r.scn;
+    if scn.contact.restitution != 1.0 || scn.contact.friction != 0.0 || !no_forcing(scn) {
+        return;
+    }
+    let e0 = r.run.summary.energy.initial_kinetic;
+    if e0 <= 0.0 {
+        return;
+    }
+    let worst = r
+        .run
+        .energy
+        .iter()
+        .map(|s| (s.kinetic - e0).abs() / e0)
+        .fold(0.0, f64::max);
+    r.push(
+        "energy_conserved",
+        "kinetic energy conserved (e = 1, mu = 0, no forcing)",
+        worst,
+        None,
+        ENERGY_CONSERVED_TOLERANCE,
+        "1",
+        "max_t |E(t) - E(0)| / E(0)".into(),
+    );
+}
+
+fn coulomb(r: &mut Rows) {
+    let log = &r.run.contacts;
+    if log.impulse_count() == 0 {
+        return;
+    }
+    r.push(
+        "coulomb",
+        "every contact impulse in the Coulomb cone |beta| <= mu lambda",
+        log.max_coulomb_ratio(),
+        None,
+        1.0 + COULOMB_SLACK,
+        "|beta|/(mu lambda)",
+        format!(
+            "{} impulses, {} of the kept {} outside the cone",
+            log.impulse_count(),
+            log.impulses
+                .iter()
+                .filter(|i| i.coulomb_ratio() > 1.0 + COULOMB_SLACK)
+                .count(),
+            log.impulses.len()
+        ),
+    );
+}
+
+fn penetration(r: &mut Rows) {
+    let scn = r.scn;
+    if scn.floes.len() < 2 && scn.obstacles.is_empty() {
+        return;
+    }
+    let sampled = sampled_penetration(scn, &r.run.trajectory);
+    let own = r
+        .run
+        .summary
+        .counters
+        .value(&MAX_PENETRATION)
+        .ok()
+        .flatten();
+    let tol = EventDrivenSettings::of(scn)
+        .map_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn), |s| {
+            s.penetration_tolerance(scn)
+        });
+    r.push(
+        "penetration",
+        "deepest overlap, at the outputs and as the formulation saw it",
+        own.unwrap_or(0.0).max(sampled),
+        Some(0.0),
+        tol,
+        "m",
+        format!(
+            "outputs {sampled:.3e} m, formulation {}; tolerance: the event-driven one of the case",
+            own.map_or("n/a".to_string(), |v| format!("{v:.3e} m"))
+        ),
+    );
+}
+
+fn symmetry(r: &mut Rows) {
+    let scn = r.scn;
+    let Some((axis, pairing)) = find_symmetry(scn) else {
+        return;
+    };
+    let n = scn.floes.len();
+    let mut worst = 0.0f64;
+    let mut at = 0.0;
+    for rows in r.run.trajectory.chunks(n) {
+        for (i, row) in rows.iter().enumerate() {
+            let Some(other) = rows.get(pairing[i]) else {
+                continue;
+            };
+            let g = axis.point(&Vec2::new(row.x, row.y));
+            let err = (Vec2::new(other.x, other.y) - g).norm()
+                + scn.floes[i].radius * (other.theta + row.theta).abs();
+            if err > worst {
+                worst = err;
+                at = row.t;
+            }
+        }
+    }
+    let scale = extent(scn, &axis.c);
+    r.push(
+        "symmetry",
+        "trajectories stay mirror images",
+        worst,
+        Some(0.0),
+        SYMMETRY_TOLERANCE * scale,
+        "m",
+        format!(
+            "axis through ({:.4}, {:.4}) along ({:.4}, {:.4}); worst at t = {at} s; extent {scale:.4} m",
+            axis.c.x, axis.c.y, axis.d.x, axis.d.y
+        ),
+    );
+}
+
+fn head_on(r: &mut Rows) {
+    let scn = r.scn;
+    if scn.floes.len() != 2 || !scn.obstacles.is_empty() || !no_forcing(scn) {
+        return;
+    }
+    let (f1, f2) = (&scn.floes[0], &scn.floes[1]);
+    let Some(d) = (f2.position - f1.position).try_normalize(0.0) else {
+        return;
+    };
+    let along = |v: &Vec2| cross(&d, v).abs() <= 1e-12 * v.norm();
+    let (v1, v2) = (f1.velocity.dot(&d), f2.velocity.dot(&d));
+    if !along(&f1.velocity)
+        || !along(&f2.velocity)
+        || f1.angular_velocity != 0.0
+        || f2.angular_velocity != 0.0
+        || v1 <= v2
+        || !self_symmetric(scn, f1.position, d)
+    {
+        return;
+    }
+    let e = scn.contact.restitution;
+    let (w1, w2) = head_on_velocities(f1.mass, v1, f2.mass, v2, e);
+    let tol = HEAD_ON_TOLERANCE * (v1 - v2);
+    let (a, b) = (final_velocity(r.run, 0), final_velocity(r.run, 1));
+    let note = format!("M1 = {:.6e} kg, M2 = {:.6e} kg, e = {e}", f1.mass, f2.mass);
+    r.push(
+        "head_on_v1",
+        "floe 0 after a central impact: (m1 v1 + m2 v2 - m2 e (v1 - v2))/(m1 + m2)",
+        a.dot(&d),
+        Some(w1),
+        tol,
+        "m/s",
+        note.clone(),
+    );
+    r.push(
+        "head_on_v2",
+        "floe 1 after a central impact: (m1 v1 + m2 v2 + m1 e (v1 - v2))/(m1 + m2)",
+        b.dot(&d),
+        Some(w2),
+        tol,
+        "m/s",
+        note,
+    );
+}
+
+fn bouncing(r: &mut Rows) {
+    let scn = r.scn;
+    let Some(d) = wind_as_gravity(scn) else {
+        return;
+    };
+    let f = &scn.floes[0];
+    if f.velocity.norm() != 0.0 || f.angular_velocity != 0.0 || !self_symmetric(scn, f.position, d)
+    {
+        return;
+    }
+    let Some((gap, _)) = translation_gap(scn, 0, &d) else {
+        return;
+    };
+    if gap <= GEOMETRY_MATCH * f.radius {
+        return;
+    }
+    let e = scn.contact.restitution;
+    let a = wind_acceleration(scn, 0);
+    let t1 = (2.0 * gap / a).sqrt();
+    let v1 = a * t1;
+    let dt = scn.output_interval;
+    let first = r.run.contacts.events.first().map(|ev| ev.t);
+    if r.run.contacts.records_events {
+        r.push(
+            "bouncing_first_impact",
+            "first impact at t1 = sqrt(2 d / a)",
+            first.unwrap_or(f64::NAN),
+            Some(t1),
+            dt,
+            "s",
+            format!("d = {gap:.6} m, a = {a:.6e} m/s^2; tolerance: one output interval"),
+        );
+    }
+    if e < 1.0 {
+        let t_inf = t1 * (1.0 + e) / (1.0 - e);
+        let v_rest = REST_SPEED_FRACTION * v1;
+        // Decelerating at a, the floe is below v_rest during the last
+        // 2 v_rest / (a (1 - e)) of the accumulation: the threshold's own shift.
+        let tol = dt + 2.0 * v_rest / (a * (1.0 - e));
+        let rest = rest_time(&r.run.trajectory, 0, v_rest);
+        r.push(
+            "bouncing_rest",
+            "comes to rest at the accumulation time t1 (1 + e)/(1 - e)",
+            rest.unwrap_or(f64::NAN),
+            Some(t_inf),
+            tol,
+            "s",
+            format!(
+                "rest: speed below {v_rest:.3e} m/s from then on; tolerance: one output interval + the threshold's shift"
+            ),
+        );
+    }
+}
+
+fn sliding(r: &mut Rows) {
+    let scn = r.scn;
+    let Some(d) = wind_as_gravity(scn) else {
+        return;
+    };
+    let f = &scn.floes[0];
+    let mu = scn.contact.friction;
+    let v0 = f.velocity.norm();
+    if mu <= 0.0 || v0 == 0.0 || f.angular_velocity != 0.0 || f.velocity.dot(&d).abs() > 1e-12 * v0
+    {
+        return;
+    }
+    let Some((gap, rays)) = translation_gap(scn, 0, &d) else {
+        return;
+    };
+    if gap > GEOMETRY_MATCH * f.radius || rays < 2 {
+        return;
+    }
+    let a = wind_acceleration(scn, 0);
+    let t_stop = v0 / (mu * a);
+    let dist = v0 * v0 / (2.0 * mu * a);
+    if scn.duration < t_stop + scn.output_interval {
+        return;
+    }
+    let dir = f.velocity / v0;
+    let end = r
+        .run
+        .final_state
+        .bodies
+        .first()
+        .map_or(f.position, |b| b.position);
+    r.push(
+        "sliding_distance",
+        "slides v0^2 / (2 mu a) along the wall",
+        (end - f.position).dot(&dir),
+        Some(dist),
+        SLIDING_DISTANCE_TOLERANCE * dist,
+        "m",
+        format!("v0 = {v0} m/s, mu = {mu}, a = {a:.6e} m/s^2"),
+    );
+    let v_rest = REST_SPEED_FRACTION * v0;
+    r.push(
+        "sliding_stop",
+        "stops after v0 / (mu a)",
+        rest_time(&r.run.trajectory, 0, v_rest).unwrap_or(f64::NAN),
+        Some(t_stop),
+        scn.output_interval + REST_SPEED_FRACTION * t_stop,
+        "s",
+        format!(
+            "rest: speed below {v_rest:.3e} m/s from then on; tolerance: one output interval + the threshold's shift"
+        ),
+    );
+}
+
+fn cradle(r: &mut Rows) {
+    let scn = r.scn;
+    let n = scn.floes.len();
+    if n < 3 || !scn.obstacles.is_empty() || !no_forcing(scn) || scn.contact.restitution != 1.0 {
+        return;
+    }
+    let f0 = &scn.floes[0];
+    let v0 = f0.velocity.norm();
+    let Some(d) = f0.velocity.try_normalize(0.0) else {
+        return;
+    };
+    let m = f0.mass;
+    if scn.floes.iter().any(|f| (f.mass - m).abs() > 1e-12 * m)
+        || scn.floes.iter().any(|f| f.angular_velocity != 0.0)
+        || scn.floes[1..].iter().any(|f| f.velocity.norm() != 0.0)
+    {
+        return;
+    }
+    let Some(order) = in_a_row(scn, d) else {
+        return;
+    };
+    if order[0] != 0 {
+        return;
+    }
+    let gaps: Vec<f64> = order
+        .windows(2)
+        .map(|w| signed_distance(&initial_polygon(scn, w[0]), &initial_polygon(scn, w[1])))
+        .collect();
+    let tol = GEOMETRY_MATCH * f0.radius;
+    let touching = gaps.iter().all(|&g| g.abs() <= tol);
+    let apart = gaps.iter().all(|&g| g > tol);
+    if !touching && !apart {
+        return;
+    }
+    let physical: Vec<f64> = (0..n).map(|k| if k + 1 == n { v0 } else { 0.0 }).collect();
+    let nf = n as f64;
+    let lcp: Vec<f64> = (0..n)
+        .map(|k| {
+            if k == 0 {
+                (2.0 - nf) / nf * v0
+            } else {
+                2.0 / nf * v0
+            }
+        })
+        .collect();
+    let error = |expected: &[f64]| -> f64 {
+        order
+            .iter()
+            .zip(expected)
+            .map(|(&i, &x)| (final_velocity(r.run, i) - d * x).norm() / v0)
+            .fold(0.0, f64::max)
+    };
+    let finals: Vec<String> = order
+        .iter()
+        .map(|&i| format!("{:.6}", final_velocity(r.run, i).dot(&d)))
+        .collect();
+    let show = |x: &[f64]| {
+        x.iter()
+            .map(|v| format!("{v:.6}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if apart {
+        let err = error(&physical);
+        r.push(
+            "cradle_outcome",
+            "with gaps: sequential impacts, the last floe leaves at v0, the others at rest",
+            err,
+            Some(0.0),
+            CRADLE_TOLERANCE,
+            "1",
+            format!(
+                "max |v - v_exact| / v0; got ({}), exact ({}) m/s",
+                finals.join(", "),
+                show(&physical)
+            ),
+        );
+    } else {
+        let err = error(&lcp);
+        r.push(
+            "cradle_outcome",
+            "touching: the simultaneous LCP answer ((2-n)/n, 2/n, ..., 2/n) v0 (physics.md section 6)",
+            err,
+            Some(0.0),
+            CRADLE_TOLERANCE,
+            "1",
+            format!(
+                "max |v - v_lcp| / v0; got ({}), LCP ({}) m/s",
+                finals.join(", "),
+                show(&lcp)
+            ),
+        );
+        let err = error(&physical);
+        r.push(
+            "cradle_physical",
+            "touching: the physical answer, the last floe leaves at v0",
+            err,
+            Some(0.0),
+            CRADLE_TOLERANCE,
+            "1",
+            format!(
+                "max |v - v_exact| / v0; got ({}), physical ({}) m/s",
+                finals.join(", "),
+                show(&physical)
+            ),
+        );
+    }
+}
+
+fn cannon(r: &mut Rows) {
+    let scn = r.scn;
+    if scn.floes.len() != 2 || scn.obstacles.is_empty() || !no_forcing(scn) {
+        return;
+    }
+    let (fa, fb) = (&scn.floes[0], &scn.floes[1]);
+    let v0 = fa.velocity.norm();
+    let Some(d) = fa.velocity.try_normalize(0.0) else {
+        return;
+    };
+    if (fb.velocity - fa.velocity).norm() > GEOMETRY_MATCH * v0
+        || fa.angular_velocity != 0.0
+        || fb.angular_velocity != 0.0
+    {
+        return;
+    }
+    let Some(order) = in_a_row(scn, d) else {
+        return;
+    };
+    let (rear, front) = (order[0], order[1]);
+    let Some((wall_gap, _)) = translation_gap(scn, front, &d) else {
+        return;
+    };
+    let between = signed_distance(&initial_polygon(scn, rear), &initial_polygon(scn, front));
+    let tol = GEOMETRY_MATCH * fa.radius.min(fb.radius);
+    if wall_gap <= tol || between <= tol {
+        return;
+    }
+    let e = scn.contact.restitution;
+    let (mr, mf) = (scn.floes[rear].mass, scn.floes[front].mass);
+    // The front floe rebounds at -e v0, then meets the rear one head-on.
+    let (vr, vf) = head_on_velocities(mr, v0, mf, -e * v0, e);
+    if vf > 0.0 || vr > vf {
+        return; // it returns to the wall, or they meet again: no closed form
+    }
+    let err = [(rear, vr), (front, vf)]
+        .iter()
+        .map(|&(i, x)| (final_velocity(r.run, i) - d * x).norm() / v0)
+        .fold(0.0, f64::max);
+    r.push(
+        "cannon_velocities",
+        "front floe rebounds at -e v0 from the wall, then fires the rear one (head-on law)",
+        err,
+        Some(0.0),
+        CRADLE_TOLERANCE,
+        "1",
+        format!(
+            "max |v - v_exact| / v0; exact rear {vr:.6}, front {vf:.6} m/s; got rear {:.6}, front {:.6} m/s",
+            final_velocity(r.run, rear).dot(&d),
+            final_velocity(r.run, front).dot(&d)
+        ),
+    );
+}
+
+fn free_drift(r: &mut Rows) {
+    let scn = r.scn;
+    if !scn.obstacles.is_empty() {
+        return;
+    }
+    let kw = scn.environment.water.drag_factor();
+    for i in 0..scn.floes.len() {
+        let Some(u) = steady_drift_velocity(scn, i) else {
+            return;
+        };
+        let uw = scn.environment.water.velocity.at(0.0);
+        let rel = (u - uw).norm();
+        // Linearised drag time constant ρ_i h / (2 ρ_w C_w |u − U_w|).
+        let tau = scn.floes[i].surface_density() / (2.0 * kw * rel.max(f64::MIN_POSITIVE));
+        if scn.duration < FREE_DRIFT_TIME_CONSTANTS * tau || u.norm() == 0.0 {
+            continue;
+        }
+        let v = final_velocity(r.run, i);
+        r.push(
+            "free_drift_velocity",
+            "reaches the steady free-drift velocity (physics.md section 2)",
+            (v - u).norm() / u.norm(),
+            Some(0.0),
+            FREE_DRIFT_TOLERANCE,
+            "1",
+            format!(
+                "floe {i}: |v - u| / |u|; u = ({:.9}, {:.9}) m/s, got ({:.9}, {:.9}); drag time {tau:.1} s",
+                u.x, u.y, v.x, v.y
+            ),
+        );
+    }
+}
+
+fn ledger(r: &mut Rows) {
+    let e = &r.run.summary.energy;
+    let scale = e.exchanged.max(f64::MIN_POSITIVE);
+    r.push(
+        "energy_ledger",
+        "energy ledger balances: |E - E0 - W_ext + D| at every output",
+        e.max_abs_residual / scale,
+        None,
+        LEDGER_TOLERANCE,
+        "1",
+        format!(
+            "largest residual {:.3e} J of {:.3e} J exchanged",
+            e.max_abs_residual, e.exchanged
+        ),
+    );
+}

@@ -1,0 +1,68 @@
+//! The exact answers the checks compare with, computed from the case's own
+//! parameters (physics.md sections 2 and 6): the velocities after a central
+//! impact, the wind acceleration of "constant wind as gravity" and the
+//! steady free-drift velocity.
+
+use crate::geometry::Vec2;
+use crate::model::{Scenario, VelocitySeries};
+
+/// `(v1', v2')` of a central impact (physics.md section 6).
+pub fn head_on_velocities(m1: f64, v1: f64, m2: f64, v2: f64, e: f64) -> (f64, f64) {
+    let p = m1 * v1 + m2 * v2;
+    (
+        (p - m2 * e * (v1 - v2)) / (m1 + m2),
+        (p + m1 * e * (v1 - v2)) / (m1 + m2),
+    )
+}
+
+/// The wind acceleration `a = ρ_a C_a |U_a|² / (ρ_i h)` of floe `i` at t = 0
+/// (physics.md section 2: constant wind as gravity), m/s².
+pub fn wind_acceleration(scn: &Scenario, i: usize) -> f64 {
+    let air = &scn.environment.air;
+    let u = air.velocity.at(0.0).norm();
+    air.drag_factor() * u * u / scn.floes[i].surface_density()
+}
+
+/// The steady free-drift velocity of floe `i` under constant wind and
+/// current (physics.md section 2): the root of
+/// `τ_a + ρ_w C_w |U_w − u|(U_w − u) − ρ_i h f k ∧ u = 0` by Newton's method,
+/// m/s; `None` without water drag, with varying forcing, or if Newton fails.
+pub fn steady_drift_velocity(scn: &Scenario, i: usize) -> Option<Vec2> {
+    let env = &scn.environment;
+    let (VelocitySeries::Constant(ua), VelocitySeries::Constant(uw)) =
+        (&env.air.velocity, &env.water.velocity)
+    else {
+        return None;
+    };
+    let (ka, kw) = (env.air.drag_factor(), env.water.drag_factor());
+    if kw <= 0.0 {
+        return None;
+    }
+    let rho_h = scn.floes[i].surface_density();
+    let f = env.coriolis;
+    let tau_a = ua * (ka * ua.norm());
+    let g = |u: Vec2| -> Vec2 {
+        let r = uw - u;
+        tau_a + r * (kw * r.norm()) - Vec2::new(-u.y, u.x) * (rho_h * f)
+    };
+    let mut u = uw + ua * (ka / kw).sqrt();
+    let scale = tau_a
+        .norm()
+        .max(kw * uw.norm().powi(2))
+        .max(f64::MIN_POSITIVE);
+    for _ in 0..100 {
+        let g0 = g(u);
+        if g0.norm() <= 1e-13 * scale {
+            return Some(u);
+        }
+        let h = 1e-7 * u.norm().max(1e-3);
+        let jx = (g(u + Vec2::new(h, 0.0)) - g0) / h;
+        let jy = (g(u + Vec2::new(0.0, h)) - g0) / h;
+        let det = jx.x * jy.y - jy.x * jx.y;
+        if det == 0.0 || !det.is_finite() {
+            return None;
+        }
+        u -= Vec2::new(jy.y * g0.x - jy.x * g0.y, -jx.y * g0.x + jx.x * g0.y) / det;
+    }
+    (g(u).norm() <= 1e-10 * scale).then_some(u)
+}

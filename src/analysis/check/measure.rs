@@ -1,0 +1,61 @@
+//! Measurements on a recorded run that several checks share: when a floe
+//! comes to rest, the deepest overlap at the output times, a floe's final
+//! velocity.
+
+use super::structure::world_polygon;
+use crate::contact::{signed_distance, Aabb, BroadPhase};
+use crate::geometry::Vec2;
+use crate::model::Scenario;
+use crate::run::{RunResult, TrajectoryRow};
+
+/// The first output time from which floe `floe` moves slower than `speed`
+/// (m/s) at every later output; `None` if it still moves at the end.
+pub fn rest_time(rows: &[TrajectoryRow], floe: usize, speed: f64) -> Option<f64> {
+    let mine = || rows.iter().filter(|r| r.floe == floe);
+    let last_move = mine()
+        .filter(|r| r.vx.hypot(r.vy) > speed)
+        .map(|r| r.t)
+        .reduce(f64::max);
+    match last_move {
+        None => mine().map(|r| r.t).next(),
+        Some(tm) => mine().map(|r| r.t).find(|&t| t > tm),
+    }
+}
+
+/// The deepest overlap (m, ≥ 0) between two floes or a floe and an obstacle
+/// at the output times of `rows`: the minimum translation distance
+/// ([`signed_distance`]) of every overlapping pair.
+pub fn sampled_penetration(scn: &Scenario, rows: &[TrajectoryRow]) -> f64 {
+    let n = scn.floes.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let mut bp = BroadPhase::new();
+    let mut pairs = Vec::new();
+    let mut deepest = 0.0f64;
+    for sample in rows.chunks(n) {
+        let mut polys: Vec<Vec<Vec2>> = sample
+            .iter()
+            .map(|r| world_polygon(scn, r.floe, &Vec2::new(r.x, r.y), r.theta))
+            .collect();
+        polys.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
+        let boxes: Vec<Aabb> = polys
+            .iter()
+            .enumerate()
+            .map(|(i, p)| Aabb::of_polygon(p, i >= n))
+            .collect();
+        bp.pairs(&boxes, 0.0, &mut pairs);
+        for &(i, j) in &pairs {
+            deepest = deepest.max(-signed_distance(&polys[i], &polys[j]));
+        }
+    }
+    deepest
+}
+
+/// The final velocity of floe `i`, m/s.
+pub(super) fn final_velocity(run: &RunResult, i: usize) -> Vec2 {
+    run.final_state
+        .bodies
+        .get(i)
+        .map_or(Vec2::zeros(), |b| b.velocity)
+}

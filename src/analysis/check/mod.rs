@@ -1,0 +1,195 @@
+//! `floebench check`: the physical checks of physics.md section 6, measured
+//! on a recorded run, with the expected values computed from the case's own
+//! parameters (masses, `e`, `μ`, wind acceleration, gaps), never stored.
+//!
+//! [`check_run`] decides from the case's *structure* which checks apply
+//! (no case names are used):
+//!
+//! | check | applies when | measured | tolerance |
+//! | --- | --- | --- | --- |
+//! | `run_completed` | always | 1 if the run reached its duration | – |
+//! | `momentum` | no forcing (no air or water drag, `f = 0`), no obstacle | `max_t ‖P(t) − P(0)‖ / Σ M‖Ġ(0)‖` | [`MOMENTUM_TOLERANCE`] |
+//! | `impact_energy` | the formulation records contact events | largest kinetic energy gained by one contact event / energy exchanged | [`IMPACT_ENERGY_TOLERANCE`] |
+//! | `energy_conserved` | `e = 1`, `μ = 0`, no forcing | `max_t \|E(t) − E(0)\| / E(0)` | [`ENERGY_CONSERVED_TOLERANCE`] |
+//! | `coulomb` | the formulation records contact impulses | `max \|β\| / (μ λ)` over every impulse | `1 +` [`COULOMB_SLACK`](crate::formulation::contact_solver::COULOMB_SLACK) |
+//! | `penetration` | an obstacle or two floes | deepest overlap at the output times (minimum translation distance) and the formulation's own `max_penetration_m` | the event-driven tolerance of the case |
+//! | `symmetry` | the initial configuration is a mirror image of itself about an axis, forcing parallel to it, `f = 0` | `max_t,i ‖G_P(i) − S G_i‖ + r_i \|θ_P(i) + θ_i\|` | [`SYMMETRY_TOLERANCE`] × extent |
+//! | `head_on_v1`, `head_on_v2` | two floes, no forcing, no obstacle, no spin, velocities along the line of centres and approaching, symmetric about it | final velocities along the line | [`HEAD_ON_TOLERANCE`] × approach speed |
+//! | `bouncing_first_impact`, `bouncing_rest` | one floe at rest at a gap `d > 0` from an obstacle, constant wind, no water drag, `f = 0`, symmetric about the wind line | first contact event; rest time | one output interval (+ rest threshold) |
+//! | `sliding_distance`, `sliding_stop` | one floe touching an obstacle face, wind into it, velocity across the wind, `μ > 0`, no water drag, `f = 0` | distance along `v0`; stop time | [`SLIDING_DISTANCE_TOLERANCE`]; one output interval |
+//! | `cradle_outcome` (and `cradle_physical` when touching) | ≥ 3 equal floes in a row along the first one's velocity, the others at rest, `e = 1`, no forcing, no obstacle, symmetric | final velocities | [`CRADLE_TOLERANCE`] × `v0` |
+//! | `cannon_velocities` | two floes in a row at the same velocity toward an obstacle, no forcing, symmetric; the front one rebounds before they meet and leaves the wall for good | final velocities | [`CRADLE_TOLERANCE`] × `v0` |
+//! | `free_drift_velocity` | no obstacle, constant wind and current, water drag, duration ≥ 20 drag time constants | final velocity of each floe | [`FREE_DRIFT_TOLERANCE`] |
+//! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
+//!
+//! Whether a formulation *claims* a check is decided by one table,
+//! each formulation's registry entry ([`formulation::Entry::not_claimed`]): every check is claimed by every formulation unless
+//! listed there, with the reason. A failing claimed check makes
+//! `floebench check` exit non-zero; a failing unclaimed one is printed as
+//! `fail (known)`, a finding.
+//!
+//! Which formulations run ([`crate::run::batch::default_formulations`]):
+//! every formulation of [`crate::formulation::REGISTRY`], except
+//! `free-drift` on a case where contacts can happen. A case is
+//! *contact-free* ([`Scenario::contact_free`]) when it has no obstacle and every floe
+//! starts at rest (only the environment moves them; the drift cases keep
+//! their floes apart, which the `penetration` check verifies).
+//!
+//! This file holds the outcome, the tolerances, the claims and
+//! [`check_run`]; the parts behind it are `structure.rs` (what a case's
+//! structure is: forcing, mirror axes and pairings, rows of floes, gaps,
+//! wind as gravity), `exact.rs` (the closed forms), `measure.rs`
+//! (measurements on a run shared by several checks) and `checks.rs` (each
+//! check). Their public items are re-exported here.
+
+mod checks;
+mod exact;
+mod measure;
+mod structure;
+
+pub use exact::{head_on_velocities, steady_drift_velocity, wind_acceleration};
+pub use measure::{rest_time, sampled_penetration};
+pub use structure::{find_symmetry, mirror_pairing, no_forcing, translation_gap, Axis};
+
+use crate::formulation;
+use crate::model::Scenario;
+use crate::run::RunResult;
+use serde::Serialize;
+
+/// The result of one check on one run.
+#[derive(Debug, Clone, Serialize)]
+pub struct CheckOutcome {
+    /// Case name.
+    pub case: String,
+    /// Formulation name.
+    pub formulation: String,
+    /// Short id of the check, e.g. `head_on_v1`.
+    pub check: String,
+    /// What is checked, in words.
+    pub description: String,
+    /// The measured value, in `unit`.
+    pub measured: f64,
+    /// The exact value where there is one, in `unit`.
+    pub expected: Option<f64>,
+    /// The tolerance on `|measured − expected|` (or the bound on `measured`
+    /// when there is no expected value), in `unit`.
+    pub tolerance: f64,
+    /// Unit of `measured`, `expected`, `tolerance` (`1`: dimensionless).
+    pub unit: String,
+    /// Whether the run passes.
+    pub pass: bool,
+    /// Whether the formulation claims to pass ([`not_claimed`]).
+    pub claimed: bool,
+    /// The reason when not claimed, or a detail of the measurement.
+    pub note: String,
+}
+
+/// Momentum conserved to this fraction of `Σ M ‖Ġ(0)‖`: impulses are applied
+/// in equal and opposite pairs, so only rounding (1e-16 per impact) changes
+/// the total; 1e-10 leaves room for thousands of impacts, and a missing
+/// reaction (a one-sided impulse) changes it by order one.
+pub const MOMENTUM_TOLERANCE: f64 = 1e-10;
+
+/// Largest kinetic energy one contact event may create, as a fraction of the
+/// energy exchanged in the run: the group energies round at 1e-16 and an LCP
+/// solution is accepted at a residual of 1e-10 of the velocities (2e-10 of
+/// the energy); an impact law that creates energy does so at the scale of
+/// the impact's energy.
+pub const IMPACT_ENERGY_TOLERANCE: f64 = 1e-9;
+
+/// Kinetic energy conserved to this fraction of `E(0)` for `e = 1`, `μ = 0`
+/// without forcing: the same rounding and LCP-residual argument as
+/// [`IMPACT_ENERGY_TOLERANCE`], over hundreds of impacts.
+pub const ENERGY_CONSERVED_TOLERANCE: f64 = 1e-9;
+
+/// Trajectories stay mirror images to this fraction of the configuration's
+/// extent: the initial data are mirror images to rounding (1e-16), each floe
+/// is integrated at a relative tolerance of 1e-10 per step, summed over up to
+/// 1e4 steps; a broken symmetry (a one-sided impulse, a spurious spin)
+/// shows at the scale of the motion.
+pub const SYMMETRY_TOLERANCE: f64 = 1e-6;
+
+/// Head-on velocities to this fraction of the approach speed: an LCP
+/// solution is accepted at a residual of 1e-10 of the velocities.
+pub const HEAD_ON_TOLERANCE: f64 = 1e-9;
+
+/// Cradle and cannon velocities to this fraction of `v0` (the same reason as
+/// [`HEAD_ON_TOLERANCE`]).
+pub const CRADLE_TOLERANCE: f64 = 1e-9;
+
+/// The sliding distance to this fraction of `v0² / (2 μ a)`: a consistent
+/// scheme at the bundled steps errs by `O(h²)` (`μ a h² / 8`, 1e-5 m at 1 s)
+/// or `O(v0 h / n)` with substeps (0.6 mm of 17 m); a friction law off by
+/// 1 % moves the stop by 1 %.
+pub const SLIDING_DISTANCE_TOLERANCE: f64 = 1e-4;
+
+/// A floe is at rest once its speed stays below this fraction of the
+/// reference speed (`v1` bouncing, `v0` sliding): decelerating uniformly it
+/// is that slow only in the last 1e-3 of its stopping time.
+pub const REST_SPEED_FRACTION: f64 = 1e-3;
+
+/// The free-drift velocity to this fraction of the steady speed: the
+/// integrators run at 1e-10 and after 20 drag time constants the transient
+/// is `e^-20` = 2e-9 of the initial gap.
+pub const FREE_DRIFT_TOLERANCE: f64 = 1e-6;
+
+/// Drag time constants a run must last for the free-drift check to apply.
+pub const FREE_DRIFT_TIME_CONSTANTS: f64 = 20.0;
+
+/// The energy-ledger residual to this fraction of the energy exchanged: the
+/// integrators run at 1e-10 relative; an energy term missing from the
+/// ledger (unbooked dissipation, work of a force) is a sizeable fraction of
+/// the exchanges.
+pub const LEDGER_TOLERANCE: f64 = 1e-6;
+
+/// The reason formulation `formulation` does not claim `check` on `case`
+/// (its registry entry's [`formulation::NotClaimed`] list), or `None` when
+/// it claims it; an unknown formulation claims nothing.
+pub fn not_claimed(formulation: &str, check: &str, case: &str) -> Option<&'static str> {
+    match formulation::entry(formulation) {
+        Ok(e) => e.not_claimed(check, case),
+        Err(_) => Some("not a formulation of the registry"),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// Running the checks.
+
+/// Every check that applies to `scn`, measured on `run` (see the module
+/// doc); `claimed` and `note` from [`not_claimed`].
+pub fn check_run(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
+    let mut out = checks::all(scn, run);
+    for o in &mut out {
+        if let Some(reason) = not_claimed(&o.formulation, &o.check, &o.case) {
+            o.claimed = false;
+            o.note = if o.note.is_empty() {
+                reason.to_string()
+            } else {
+                format!("{reason} [{}]", o.note)
+            };
+        }
+    }
+    out
+}
+
+/// The checks of every run of `scn`, run by run ([`check_run`]).
+pub fn check_runs(scn: &Scenario, runs: &[RunResult]) -> Vec<CheckOutcome> {
+    runs.iter().flat_map(|r| check_run(scn, r)).collect()
+}
+
+// ---------------------------------------------------------------------------
+// Outcomes.
+
+/// Number of checks that fail although the formulation claims them.
+pub fn claimed_failures(rows: &[CheckOutcome]) -> usize {
+    rows.iter().filter(|o| o.claimed && !o.pass).count()
+}
+
+/// `pass`, `FAIL` (claimed) or `fail (known)` (not claimed).
+pub fn verdict(o: &CheckOutcome) -> &'static str {
+    match (o.pass, o.claimed) {
+        (true, _) => "pass",
+        (false, true) => "FAIL",
+        (false, false) => "fail (known)",
+    }
+}

@@ -1,0 +1,143 @@
+//! How two runs of the same case differ over time.
+//!
+//! Trajectory differences are taken between the states recorded at the same
+//! output times: for each time, the position difference of each floe's centre
+//! of mass (m) and the difference of its cumulative rotation angle (rad, not
+//! wrapped: a floe that turned a full turn more has turned 2π more). The
+//! position difference is summarised by its RMS over floes, divided by the
+//! mean floe diameter `d̄` (the mean of the equal-area diameters
+//! `2·sqrt(A/π)`), and by its maximum over floes, in metres.
+
+use crate::model::Scenario;
+use crate::run::{RunResult, TrajectoryRow};
+use serde::Serialize;
+
+/// Two runs of a case recorded different output times, so they cannot be
+/// compared time by time.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{a} and {b} recorded different output times ({t_a} s and {t_b} s)")]
+pub struct TimeMismatch {
+    /// The first run's formulation.
+    pub a: String,
+    /// The second run's formulation.
+    pub b: String,
+    /// The first run's output time, s.
+    pub t_a: f64,
+    /// The second run's output time at the same index, s.
+    pub t_b: f64,
+}
+
+/// The difference of two runs at one output time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct DivergenceSample {
+    /// Time, s.
+    pub t: f64,
+    /// RMS over floes of the position difference, divided by the mean floe diameter (-).
+    pub rms_position_rel: f64,
+    /// Largest position difference of a floe, m.
+    pub max_position_m: f64,
+    /// RMS over floes of the angle difference, rad.
+    pub rms_angle_rad: f64,
+    /// Largest angle difference of a floe, rad.
+    pub max_angle_rad: f64,
+}
+
+/// How two runs of the same case differ over time.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PairDivergence {
+    /// First formulation (the reference).
+    pub a: String,
+    /// Second formulation.
+    pub b: String,
+    /// The difference at each output time both runs reached.
+    pub samples: Vec<DivergenceSample>,
+    /// Largest RMS relative position difference over time (-).
+    pub max_rms_position_rel: f64,
+    /// Largest position difference of any floe at any time, m.
+    pub max_position_m: f64,
+    /// Largest angle difference of any floe at any time, rad.
+    pub max_angle_rad: f64,
+    /// RMS relative position difference at the last common time (-).
+    pub final_rms_position_rel: f64,
+    /// The threshold on the RMS relative position difference (-).
+    pub threshold: f64,
+    /// The first output time at which the RMS relative position difference
+    /// exceeds the threshold, s; `None` if it never does.
+    pub diverged_at: Option<f64>,
+}
+
+/// The mean equal-area floe diameter `mean(2·sqrt(A/π))`, m.
+pub fn mean_diameter(scn: &Scenario) -> f64 {
+    if scn.floes.is_empty() {
+        return 0.0;
+    }
+    scn.floes
+        .iter()
+        .map(|f| 2.0 * (f.area / std::f64::consts::PI).sqrt())
+        .sum::<f64>()
+        / scn.floes.len() as f64
+}
+
+/// The trajectory cut into frames: one slice of `n` rows per output time.
+pub fn frames(run: &RunResult, n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
+    run.trajectory
+        .chunks(n.max(1))
+        .filter(move |c| c.len() == n)
+}
+
+/// The divergence between runs `a` and `b` of `scn`, over the output times
+/// both reached. `threshold` is on the RMS position difference relative to
+/// the mean floe diameter.
+pub fn divergence(
+    scn: &Scenario,
+    a: &RunResult,
+    b: &RunResult,
+    threshold: f64,
+) -> Result<PairDivergence, TimeMismatch> {
+    let n = scn.floes.len();
+    let d = mean_diameter(scn);
+    let mut samples = Vec::new();
+    for (fa, fb) in frames(a, n).zip(frames(b, n)) {
+        let t = fa[0].t;
+        if (t - fb[0].t).abs() > 1e-9 * t.abs().max(1.0) {
+            return Err(TimeMismatch {
+                a: a.summary.formulation.clone(),
+                b: b.summary.formulation.clone(),
+                t_a: t,
+                t_b: fb[0].t,
+            });
+        }
+        let (mut sp, mut mp, mut sa, mut ma) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        for (ra, rb) in fa.iter().zip(fb) {
+            let dp = (ra.x - rb.x).hypot(ra.y - rb.y);
+            let da = (ra.theta - rb.theta).abs();
+            sp += dp * dp;
+            mp = mp.max(dp);
+            sa += da * da;
+            ma = ma.max(da);
+        }
+        let nf = n.max(1) as f64;
+        samples.push(DivergenceSample {
+            t,
+            rms_position_rel: if d > 0.0 { (sp / nf).sqrt() / d } else { 0.0 },
+            max_position_m: mp,
+            rms_angle_rad: (sa / nf).sqrt(),
+            max_angle_rad: ma,
+        });
+    }
+    let max_of = |f: fn(&DivergenceSample) -> f64| samples.iter().map(f).fold(0.0, f64::max);
+    Ok(PairDivergence {
+        a: a.summary.formulation.clone(),
+        b: b.summary.formulation.clone(),
+        max_rms_position_rel: max_of(|s| s.rms_position_rel),
+        max_position_m: max_of(|s| s.max_position_m),
+        max_angle_rad: max_of(|s| s.max_angle_rad),
+        final_rms_position_rel: samples.last().map_or(0.0, |s| s.rms_position_rel),
+        threshold,
+        diverged_at: samples
+            .iter()
+            .find(|s| s.rms_position_rel > threshold)
+            .map(|s| s.t),
+        samples,
+    })
+}

@@ -1,0 +1,153 @@
+//! The figures of runs and of pairs of runs of the same case, in long format.
+//!
+//! Every figure is a [`MetricRow`] (case, formulation, other formulation,
+//! metric, value, unit), so `metrics.csv` can grow a column of formulations
+//! or a new metric without changing its shape: [`run_metrics`] for one run,
+//! [`pair_metrics`] for the divergence of two ([`super::divergence`]).
+
+use super::divergence::PairDivergence;
+use crate::record::SettingValue;
+use crate::run::{EndReason, RunResult};
+use serde::Serialize;
+
+/// One figure, in long format.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct MetricRow {
+    /// Case name.
+    pub case: String,
+    /// The formulation the figure is about.
+    pub formulation: String,
+    /// For a pair metric, the other formulation; empty otherwise.
+    pub other: String,
+    /// Metric name (snake case, stable).
+    pub metric: String,
+    /// Value, in `unit`.
+    pub value: f64,
+    /// Unit (`s`, `J`, `m`, `rad`, `count`, `-` for dimensionless, …).
+    pub unit: String,
+}
+
+impl MetricRow {
+    /// A row (`other` empty for a single run's figure).
+    pub fn new(
+        case: &str,
+        formulation: &str,
+        other: &str,
+        metric: &str,
+        value: f64,
+        unit: &str,
+    ) -> MetricRow {
+        MetricRow {
+            case: case.into(),
+            formulation: formulation.into(),
+            other: other.into(),
+            metric: metric.into(),
+            value,
+            unit: unit.into(),
+        }
+    }
+}
+
+/// The figures of one run: time reached, energy totals, CPU time in total,
+/// per simulated second and per stage, every counter of the formulation
+/// with its unit, and its numeric settings.
+pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
+    let s = &run.summary;
+    let e = &s.energy;
+    let t = &s.timing;
+    let mut rows = Vec::new();
+    let mut push = |metric: &str, value: f64, unit: &str| {
+        rows.push(MetricRow::new(
+            &s.case,
+            &s.formulation,
+            "",
+            metric,
+            value,
+            unit,
+        ))
+    };
+    push("t_reached", s.t_reached, "s");
+    push(
+        "completed",
+        f64::from(u8::from(s.end == EndReason::Completed)),
+        "-",
+    );
+    push("kinetic_initial", e.initial_kinetic, "J");
+    push("kinetic_final", e.final_kinetic, "J");
+    push("work_air", e.work_air, "J");
+    push("work_water", e.work_water, "J");
+    push("work_coriolis", e.work_coriolis, "J");
+    push("dissipated", e.dissipated, "J");
+    push("residual_final", e.residual, "J");
+    push("residual_max_abs", e.max_abs_residual, "J");
+    push(
+        "residual_rel",
+        if e.exchanged > 0.0 {
+            e.max_abs_residual / e.exchanged
+        } else {
+            0.0
+        },
+        "-",
+    );
+    push("cpu_total", t.cpu_total, "s");
+    push(
+        "cpu_per_simulated_second",
+        if s.t_reached > 0.0 {
+            t.cpu_total / s.t_reached
+        } else {
+            0.0
+        },
+        "s/s",
+    );
+    push("cpu_detection", t.stages.detection, "s");
+    push("cpu_solve", t.stages.solve, "s");
+    push("cpu_integration", t.stages.integration, "s");
+    push("cpu_other", t.cpu_other, "s");
+    push("wall", t.wall, "s");
+    push("cpu_timer_overhead", t.timer_overhead, "s");
+    push("cpu_clock_reads", t.clock_reads as f64, "count");
+    for (c, v) in s.counters.iter() {
+        push(c.name, v, c.unit.symbol());
+    }
+    if let Some(p) = &s.lcp_profile {
+        for b in &p.buckets {
+            let label = match b.unknowns_max {
+                Some(hi) => format!("n{}_{hi}", b.unknowns_min),
+                None => format!("n{}_up", b.unknowns_min),
+            };
+            push(&format!("lcp_{label}_solves"), b.solves as f64, "count");
+            push(&format!("lcp_{label}_pivots"), b.pivots as f64, "count");
+            push(&format!("lcp_{label}_fallback"), b.fallback as f64, "count");
+            push(&format!("lcp_{label}_failed"), b.failed as f64, "count");
+            push(&format!("cpu_lcp_{label}"), b.seconds, "s");
+        }
+    }
+    for st in &s.settings.0 {
+        if let SettingValue::Number(v) = st.value {
+            push(st.name, v, st.unit.symbol());
+        }
+    }
+    rows
+}
+
+/// The summary figures of a pair of runs (formulation = `a`, other = `b`).
+pub fn pair_metrics(case: &str, p: &PairDivergence) -> Vec<MetricRow> {
+    let mut rows = Vec::new();
+    let mut push = |metric: &str, value: f64, unit: &str| {
+        rows.push(MetricRow::new(case, &p.a, &p.b, metric, value, unit))
+    };
+    push("max_rms_position_rel", p.max_rms_position_rel, "-");
+    push("final_rms_position_rel", p.final_rms_position_rel, "-");
+    push("max_position_difference", p.max_position_m, "m");
+    push("max_angle_difference", p.max_angle_rad, "rad");
+    push("divergence_threshold", p.threshold, "-");
+    push(
+        "diverged",
+        f64::from(u8::from(p.diverged_at.is_some())),
+        "-",
+    );
+    if let Some(t) = p.diverged_at {
+        push("divergence_time", t, "s");
+    }
+    rows
+}

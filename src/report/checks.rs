@@ -1,0 +1,111 @@
+//! The tables of check outcomes ([`crate::analysis::check`]): aligned plain
+//! text for the terminal (`floebench check`), Markdown (`--markdown`, the
+//! report page), with numbers rounded by [`super::format::fmt_num`], and
+//! `checks.csv`, with every number at full precision.
+
+use super::format::fmt_num;
+use crate::analysis::check::{claimed_failures, verdict, CheckOutcome};
+use std::fmt::Write as _;
+
+/// The cells of one outcome, in the order of [`TABLE_HEADER`].
+pub fn table_cells(o: &CheckOutcome) -> [String; 9] {
+    [
+        o.case.clone(),
+        o.check.clone(),
+        o.formulation.clone(),
+        fmt_num(o.measured),
+        o.expected.map_or("-".into(), fmt_num),
+        fmt_num(o.tolerance),
+        o.unit.clone(),
+        verdict(o).into(),
+        o.note.clone(),
+    ]
+}
+
+/// The columns of the check tables.
+pub const TABLE_HEADER: [&str; 9] = [
+    "case",
+    "check",
+    "formulation",
+    "measured",
+    "expected",
+    "tolerance",
+    "unit",
+    "result",
+    "note",
+];
+
+/// The outcomes as an aligned plain-text table, one line each, then a count
+/// of passes, known failures and claimed failures.
+pub fn format_table(rows: &[CheckOutcome]) -> String {
+    let body: Vec<[String; 9]> = rows.iter().map(table_cells).collect();
+    let mut width = TABLE_HEADER.map(str::len);
+    for row in &body {
+        for (w, c) in width.iter_mut().zip(row) {
+            *w = (*w).max(c.chars().count());
+        }
+    }
+    let line = |row: &[String]| -> String {
+        let mut s = String::new();
+        for (k, c) in row.iter().enumerate() {
+            if k + 1 == row.len() {
+                s.push_str(c);
+            } else {
+                s.push_str(&format!("{c:<w$}  ", w = width[k]));
+            }
+        }
+        s.trim_end().to_string() + "\n"
+    };
+    let mut out = line(&TABLE_HEADER.map(String::from));
+    for row in &body {
+        out.push_str(&line(row));
+    }
+    let known = rows.iter().filter(|o| !o.pass && !o.claimed).count();
+    out.push_str(&format!(
+        "{} checks: {} pass, {} fail (known, not claimed), {} FAIL (claimed)\n",
+        rows.len(),
+        rows.iter().filter(|o| o.pass).count(),
+        known,
+        claimed_failures(rows)
+    ));
+    out
+}
+
+/// The outcomes as a Markdown table, for the report page.
+pub fn markdown_table(rows: &[CheckOutcome]) -> String {
+    let esc = |s: &str| s.replace('|', "\\|");
+    let mut out = format!(
+        "| {} |\n|{}\n",
+        TABLE_HEADER.join(" | "),
+        " --- |".repeat(9)
+    );
+    for o in rows {
+        let c = table_cells(o);
+        let c: Vec<String> = c.iter().map(|s| esc(s)).collect();
+        out.push_str(&format!("| {} |\n", c.join(" | ")));
+    }
+    out
+}
+
+/// `checks.csv`: one row per check outcome.
+pub fn checks_csv(rows: &[CheckOutcome]) -> String {
+    let mut s =
+        String::from("case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note\n");
+    for o in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},\"{}\"",
+            o.case,
+            o.formulation,
+            o.check,
+            o.measured,
+            o.expected.map_or(String::new(), |e| e.to_string()),
+            o.tolerance,
+            o.unit,
+            o.pass,
+            o.claimed,
+            o.note.replace('"', "'")
+        );
+    }
+    s
+}

@@ -1,0 +1,266 @@
+//! Writing a comparison: data first (CSV, JSON), then the plots, then the
+//! report page.
+//!
+//! ```text
+//! <out>/index.md, index.html          the page: headline table, per case verdict, tables, plots
+//! <out>/<case>/metrics.csv            case,formulation,other,metric,value,unit (long format)
+//! <out>/<case>/divergence.csv         t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad
+//! <out>/<case>/checks.csv             case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note
+//! <out>/<case>/summary.json           the case, each run's summary, the pairs, the verdict
+//! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json (as `floebench run`)
+//! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu
+//! ```
+//!
+//! A case's folder is written under a temporary name and swapped into place
+//! when complete, so a reader never sees a half-written case; the page is
+//! written last. The CSV and JSON files hold every number at full precision
+//! (Rust's shortest round-trip form); the page rounds them with
+//! [`super::format::fmt_num`].
+
+use super::checks::checks_csv;
+use super::figures::{self, Figure};
+use super::format::fmt_num;
+use super::page::{self, Block};
+use super::tables::{checks_table, headline, pairs_table, runs_table};
+use super::verdict::verdict;
+use super::ReportError;
+use crate::analysis::check::CheckOutcome;
+use crate::analysis::comparison::CaseComparison;
+use crate::analysis::divergence::{self, PairDivergence};
+use crate::analysis::metrics::MetricRow;
+use crate::run::output::{self, write_atomic};
+use crate::run::RunSummary;
+use serde::Serialize;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ReportError + '_ {
+    move |source| ReportError::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}
+
+/// `metrics.csv`: `case,formulation,other,metric,value,unit`.
+pub fn metrics_csv(rows: &[MetricRow]) -> String {
+    let mut s = String::from("case,formulation,other,metric,value,unit\n");
+    for r in rows {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{}",
+            r.case, r.formulation, r.other, r.metric, r.value, r.unit
+        );
+    }
+    s
+}
+
+/// `divergence.csv`: one row per pair and output time.
+pub fn divergence_csv(pairs: &[PairDivergence]) -> String {
+    let mut s = String::from("t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad\n");
+    for p in pairs {
+        for d in &p.samples {
+            let _ = writeln!(
+                s,
+                "{},{},{},{},{},{},{}",
+                d.t,
+                p.a,
+                p.b,
+                d.rms_position_rel,
+                d.max_position_m,
+                d.rms_angle_rad,
+                d.max_angle_rad
+            );
+        }
+    }
+    s
+}
+
+/// A pair's summary, without its time series (which is in `divergence.csv`).
+#[derive(Debug, Serialize)]
+struct PairSummary<'a> {
+    a: &'a str,
+    b: &'a str,
+    max_rms_position_rel: f64,
+    final_rms_position_rel: f64,
+    max_position_m: f64,
+    max_angle_rad: f64,
+    threshold: f64,
+    diverged_at_s: Option<f64>,
+}
+
+/// `summary.json` of a case.
+#[derive(Debug, Serialize)]
+struct CaseSummary<'a> {
+    case: &'a str,
+    file: String,
+    description: &'a str,
+    floes: usize,
+    obstacles: usize,
+    duration_s: f64,
+    output_interval_s: f64,
+    restitution: f64,
+    friction: f64,
+    mean_diameter_m: f64,
+    verdict: Vec<String>,
+    runs: Vec<&'a RunSummary>,
+    pairs: Vec<PairSummary<'a>>,
+    checks: &'a [CheckOutcome],
+}
+
+/// Writes one case's folder at `dir` (which must not exist yet): data, then
+/// the plots; returns the verdict and the figures.
+fn write_case(
+    comp: &CaseComparison,
+    dir: &Path,
+) -> Result<(Vec<String>, Vec<Figure>), ReportError> {
+    std::fs::create_dir_all(dir).map_err(io_err(dir))?;
+    for r in &comp.runs {
+        let d = dir.join(&r.summary.formulation);
+        output::write_run(&d, r).map_err(io_err(&d))?;
+    }
+    let verdict = verdict(comp);
+    let summary = CaseSummary {
+        case: &comp.scenario.name,
+        file: comp.path.display().to_string(),
+        description: &comp.scenario.description,
+        floes: comp.scenario.floes.len(),
+        obstacles: comp.scenario.obstacles.len(),
+        duration_s: comp.scenario.duration,
+        output_interval_s: comp.scenario.output_interval,
+        restitution: comp.scenario.contact.restitution,
+        friction: comp.scenario.contact.friction,
+        mean_diameter_m: divergence::mean_diameter(&comp.scenario),
+        verdict: verdict.clone(),
+        runs: comp.runs.iter().map(|r| &r.summary).collect(),
+        pairs: comp
+            .pairs
+            .iter()
+            .map(|p| PairSummary {
+                a: &p.a,
+                b: &p.b,
+                max_rms_position_rel: p.max_rms_position_rel,
+                final_rms_position_rel: p.final_rms_position_rel,
+                max_position_m: p.max_position_m,
+                max_angle_rad: p.max_angle_rad,
+                threshold: p.threshold,
+                diverged_at_s: p.diverged_at,
+            })
+            .collect(),
+        checks: &comp.checks,
+    };
+    let json = serde_json::to_vec_pretty(&summary).map_err(|e| ReportError::Io {
+        path: dir.join("summary.json"),
+        source: std::io::Error::other(e),
+    })?;
+    let files = [
+        ("metrics.csv", metrics_csv(&comp.metrics).into_bytes()),
+        ("divergence.csv", divergence_csv(&comp.pairs).into_bytes()),
+        ("checks.csv", checks_csv(&comp.checks).into_bytes()),
+        ("summary.json", json),
+    ];
+    for (name, bytes) in files {
+        let p = dir.join(name);
+        write_atomic(&p, &bytes).map_err(io_err(&p))?;
+    }
+    let figs = figures::draw(comp, dir)?;
+    Ok((verdict, figs))
+}
+
+/// Replaces `target` by the complete folder `staged`.
+fn swap_into_place(staged: &Path, target: &Path) -> Result<(), ReportError> {
+    let old = target.with_file_name(format!(
+        ".{}.old{}",
+        target
+            .file_name()
+            .map_or("case".into(), |n| n.to_string_lossy()),
+        std::process::id()
+    ));
+    if target.exists() {
+        std::fs::rename(target, &old).map_err(io_err(target))?;
+    }
+    std::fs::rename(staged, target).map_err(io_err(target))?;
+    if old.exists() {
+        std::fs::remove_dir_all(&old).map_err(io_err(&old))?;
+    }
+    Ok(())
+}
+
+/// Writes the whole report into `out`: one folder per case, then
+/// `index.md` and `index.html`. `command` is the command line that
+/// produced it, quoted on the page. Returns the files of the page.
+pub fn write_report(
+    comps: &[CaseComparison],
+    out: &Path,
+    command: &str,
+) -> Result<Vec<PathBuf>, ReportError> {
+    let mut names: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
+    names.sort_unstable();
+    if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
+        return Err(ReportError::DuplicateName(w[0].to_string()));
+    }
+    std::fs::create_dir_all(out).map_err(io_err(out))?;
+    let mut blocks = vec![
+        Block::Heading(1, "floebench comparison report".into()),
+        Block::Para(format!(
+            "Produced by `{command}` (floebench {}). CPU times are each run's own thread CPU seconds \
+             (runs go in parallel); Δx is a floe's centre-of-mass distance between two runs at the \
+             same output time, d̄ the mean equal-area floe diameter. Data: each case's \
+             `metrics.csv`, `divergence.csv`, `summary.json` and `<formulation>/` folder.",
+            env!("CARGO_PKG_VERSION")
+        )),
+        Block::Heading(2, "Headline".into()),
+        headline(comps),
+    ];
+    for comp in comps {
+        let name = &comp.scenario.name;
+        let staged = out.join(format!(".{name}.partial{}", std::process::id()));
+        if staged.exists() {
+            std::fs::remove_dir_all(&staged).map_err(io_err(&staged))?;
+        }
+        let (verdict, figs) = write_case(comp, &staged)?;
+        swap_into_place(&staged, &out.join(name))?;
+        blocks.push(Block::Heading(2, name.clone()));
+        blocks.push(Block::Para(format!(
+            "`{}`: {} floes, {} obstacles, {} s, e = {}, μ = {}. {}",
+            comp.path.display(),
+            comp.scenario.floes.len(),
+            comp.scenario.obstacles.len(),
+            fmt_num(comp.scenario.duration),
+            comp.scenario.contact.restitution,
+            comp.scenario.contact.friction,
+            comp.scenario.description
+        )));
+        blocks.push(Block::Para(format!("**Verdict.** {}", verdict.join(" "))));
+        blocks.push(runs_table(comp));
+        if !comp.pairs.is_empty() {
+            blocks.push(pairs_table(comp));
+        }
+        if !comp.checks.is_empty() {
+            blocks.push(Block::Para(format!(
+                "Physical checks (`floebench check {}`): \"fail (known)\" is a failure the formulation does not claim to pass (a finding, with its reason); FAIL is a claimed check that failed.",
+                comp.path.display()
+            )));
+            blocks.push(checks_table(comp));
+        }
+        blocks.push(Block::Figures(
+            figs.iter()
+                .map(|f| {
+                    (
+                        format!("{name}: {}", f.alt),
+                        format!("{name}/{}.png", f.stem),
+                        format!("{name}/{}.svg", f.stem),
+                    )
+                })
+                .collect(),
+        ));
+    }
+    let md = out.join("index.md");
+    let html = out.join("index.html");
+    write_atomic(&md, page::markdown(&blocks).as_bytes()).map_err(io_err(&md))?;
+    write_atomic(
+        &html,
+        page::html("floebench comparison report", &blocks).as_bytes(),
+    )
+    .map_err(io_err(&html))?;
+    Ok(vec![md, html])
+}

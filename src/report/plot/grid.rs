@@ -1,0 +1,145 @@
+//! Snapshot grids: panels of floe polygons sharing the same bounds, at
+//! equal aspect ratio.
+
+use super::axis::{bounds, Fmt};
+use super::line::equal_aspect;
+use super::render::Figure;
+use super::style::{color, font, polygons, titled, OBSTACLE, OBSTACLE_EDGE, TITLE_H};
+use super::{Panel, PlotError};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use std::ops::Range;
+
+/// A grid of snapshot panels.
+pub(super) struct Grid<'a> {
+    pub(super) title: &'a str,
+    pub(super) rows: usize,
+    pub(super) cols: usize,
+    pub(super) panels: &'a [Panel],
+}
+
+/// Panel width (pixels).
+const PANEL_W: u32 = 330;
+
+/// Panel title height (pixels).
+const PANEL_TITLE: u32 = 28;
+
+/// Y label area of a panel (pixels).
+const PANEL_Y_AREA: u32 = 70;
+
+/// X label area of a panel (pixels).
+const PANEL_X_AREA: u32 = 44;
+
+/// Margin inside a panel (pixels).
+const PANEL_MARGIN: u32 = 8;
+
+impl Grid<'_> {
+    /// All vertices of all panels.
+    fn points(&self) -> impl Iterator<Item = &(f64, f64)> {
+        self.panels
+            .iter()
+            .flat_map(|p| p.floes.iter().chain(&p.obstacles))
+            .flatten()
+    }
+
+    /// Shared data bounds, padded by 3 %.
+    fn bounds(&self) -> (Range<f64>, Range<f64>) {
+        let ok = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
+        (
+            bounds(self.points().filter(ok).map(|p| p.0), 0.03),
+            bounds(self.points().filter(ok).map(|p| p.1), 0.03),
+        )
+    }
+
+    /// Plotting area of one panel (pixels).
+    fn plot_size(&self) -> (f64, f64) {
+        let (x, y) = self.bounds();
+        let pw = (PANEL_W - PANEL_Y_AREA - 2 * PANEL_MARGIN) as f64;
+        let aspect = ((y.end - y.start) / (x.end - x.start)).clamp(0.5, 1.5);
+        (pw, (pw * aspect).round())
+    }
+}
+
+impl Figure for Grid<'_> {
+    fn size(&self) -> (u32, u32) {
+        let (_, ph) = self.plot_size();
+        let panel_h = ph as u32 + PANEL_TITLE + PANEL_X_AREA + 2 * PANEL_MARGIN;
+        (
+            (self.cols as u32 * PANEL_W).max(600),
+            self.rows as u32 * panel_h + TITLE_H,
+        )
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
+        let area = titled(root, self.title)?;
+        if self.rows == 0 || self.cols == 0 {
+            return Ok(());
+        }
+        let (w, _) = area.dim_in_pixel();
+        let area = area.margin(0, 0, (w - self.cols as u32 * PANEL_W.min(w)) / 2, 0);
+        let cells: Vec<_> = area
+            .split_evenly((self.rows, self.cols))
+            .iter()
+            .map(|c| c.split_vertically(PANEL_TITLE))
+            .collect();
+        // Every panel gets the plotting area of the first (they differ by a
+        // pixel at most), so equal aspect holds for all of them.
+        let (cw, ch) = cells[0].1.dim_in_pixel();
+        let plot = (
+            cw as f64 - (2 * PANEL_MARGIN + PANEL_Y_AREA) as f64,
+            ch as f64 - (2 * PANEL_MARGIN + PANEL_X_AREA) as f64,
+        );
+        let (x, y) = self.bounds();
+        let (x, y) = equal_aspect(&x, &y, plot);
+        let (xf, yf) = (Fmt::linear(&x), Fmt::linear(&y));
+        let (xfmt, yfmt) = (|v: &f64| xf.fmt(*v), |v: &f64| yf.fmt(*v));
+        let (fill, edge) = (color(5).mix(0.55), color(0));
+        let title_style = font(15)
+            .into_text_style(root)
+            .pos(Pos::new(HPos::Center, VPos::Center));
+        for (k, ((top, cell), panel)) in cells.iter().zip(self.panels).enumerate() {
+            let (row, col) = (k / self.cols, k % self.cols);
+            // Centred over the plotting area.
+            let centre = (PANEL_MARGIN + PANEL_Y_AREA) as i32 + (plot.0 / 2.0) as i32;
+            top.draw_text(
+                &panel.title,
+                &title_style,
+                (centre, PANEL_TITLE as i32 / 2 + 2),
+            )?;
+            let mut chart = ChartBuilder::on(cell)
+                .margin(PANEL_MARGIN)
+                .x_label_area_size(PANEL_X_AREA)
+                .y_label_area_size(PANEL_Y_AREA)
+                .build_cartesian_2d(x.clone(), y.clone())?;
+            let mut m = chart.configure_mesh();
+            m.label_style(font(12))
+                .axis_desc_style(font(13))
+                .x_labels(5)
+                .y_labels(5)
+                .x_label_formatter(&xfmt)
+                .y_label_formatter(&yfmt)
+                .bold_line_style(BLACK.mix(0.08))
+                .light_line_style(TRANSPARENT);
+            if row + 1 == self.rows || k + self.cols >= self.panels.len() {
+                m.x_desc("x (m)");
+            } else {
+                m.x_labels(0);
+            }
+            if col == 0 {
+                m.y_desc("y (m)");
+            } else {
+                m.y_labels(0);
+            }
+            m.draw()?;
+            polygons(
+                &mut chart,
+                panel.obstacles.iter(),
+                OBSTACLE.to_rgba(),
+                OBSTACLE_EDGE,
+            )?;
+            polygons(&mut chart, panel.floes.iter(), fill, edge)?;
+        }
+        Ok(())
+    }
+}

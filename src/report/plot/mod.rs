@@ -1,0 +1,240 @@
+//! Charts for the comparison reports, each written as `<stem>.png` and `<stem>.svg`.
+//!
+//! The inputs are plain data (no dependency on the rest of the crate), so the
+//! report's figures ([`super::figures`]) feed them directly:
+//!
+//! - [`line_chart`]: curves against a common axis (energy against time, ...);
+//! - [`bar_chart`]: stacked bars, one bar per category, one segment per stage;
+//! - [`plan_view`]: floe paths in the plane at equal aspect ratio, obstacles in grey;
+//! - [`snapshot_grid`]: panels of floe polygons sharing the same bounds.
+//!
+//! Colours come from the colour-blind-safe Okabe–Ito [`PALETTE`], indexed by
+//! [`Series::color`] so one formulation keeps its colour across charts. Text
+//! uses the DejaVu Sans font shipped by the `dejavu` crate, so rendering needs
+//! no system font. Non-finite points are skipped (a curve breaks there);
+//! empty or constant data still give a valid chart. Files are written
+//! atomically (temporary name in the same folder, then rename).
+//!
+//! This file holds the public inputs and the four entry points; the drawing
+//! is behind them, private: `render.rs` (both backends, fonts, files),
+//! `style.rs` (sizes, colours, title strip, filled polygons), `axis.rs`
+//! (bounds, scales, ticks and their labels, the mesh), `legend.rs`,
+//! `line.rs` (line charts and plan views), `bars.rs` (stacked bars) and
+//! `grid.rs` (snapshot grids).
+
+mod axis;
+mod bars;
+mod grid;
+mod legend;
+mod line;
+mod render;
+mod style;
+
+use bars::Bars;
+use grid::Grid;
+use line::Xy;
+use plotters::prelude::*;
+use plotters::style::RGBColor;
+use render::render;
+use std::path::{Path, PathBuf};
+
+/// The Okabe–Ito colour-blind-safe palette (blue, vermillion, bluish green,
+/// reddish purple, orange, sky blue, black, yellow); [`Series::color`] indexes
+/// it modulo its length.
+pub const PALETTE: [RGBColor; 8] = [
+    RGBColor(0x00, 0x72, 0xB2),
+    RGBColor(0xD5, 0x5E, 0x00),
+    RGBColor(0x00, 0x9E, 0x73),
+    RGBColor(0xCC, 0x79, 0xA7),
+    RGBColor(0xE6, 0x9F, 0x00),
+    RGBColor(0x56, 0xB4, 0xE9),
+    RGBColor(0x00, 0x00, 0x00),
+    RGBColor(0xF0, 0xE4, 0x42),
+];
+
+/// Why a chart could not be produced.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The embedded DejaVu Sans font could not be registered.
+    #[error("cannot register the DejaVu Sans font")]
+    Font,
+    /// The input data are inconsistent (e.g. a segment with the wrong number of values).
+    #[error("invalid plot input: {0}")]
+    Input(String),
+    /// The plotting library failed while drawing.
+    #[error("drawing failed: {0}")]
+    Draw(String),
+    /// A file or folder could not be written.
+    #[error("cannot write {path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+}
+
+impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotError {
+    fn from(e: DrawingAreaErrorKind<E>) -> Self {
+        PlotError::Draw(e.to_string())
+    }
+}
+
+/// One named curve (or floe path) with its palette colour.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Series {
+    /// Legend label; an empty label gives no legend entry.
+    pub label: String,
+    /// Index into [`PALETTE`] (modulo its length).
+    pub color: usize,
+    /// The points `(x, y)` in the caller's units; non-finite points are skipped.
+    pub points: Vec<(f64, f64)>,
+}
+
+/// Scale of a value axis.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Scale {
+    /// Linear axis.
+    #[default]
+    Linear,
+    /// Logarithmic axis; values `<= 0` are skipped.
+    Log,
+    /// Logarithmic when the positive values span more than two decades, else linear.
+    Auto,
+}
+
+/// Curves against a common x axis.
+#[derive(Debug, Clone, Copy)]
+pub struct LineChart<'a> {
+    /// Title above the chart.
+    pub title: &'a str,
+    /// x axis label with its unit, e.g. `"t (s)"`.
+    pub x_label: &'a str,
+    /// y axis label with its unit, e.g. `"kinetic energy (J)"`.
+    pub y_label: &'a str,
+    /// The curves; the n-th is drawn solid, the following ones with dash
+    /// patterns so exactly coinciding curves stay distinguishable.
+    pub series: &'a [Series],
+    /// Scale of the y axis.
+    pub y_scale: Scale,
+}
+
+/// Stacked bars: one bar per category (e.g. formulation), one segment per
+/// stage (e.g. detection, solve, integration, other); segment values are
+/// printed inside the segments that are tall enough, totals above the bars.
+#[derive(Debug, Clone, Copy)]
+pub struct StackedBars<'a> {
+    /// Title above the chart.
+    pub title: &'a str,
+    /// y axis label with its unit, e.g. `"CPU time (s)"`.
+    pub y_label: &'a str,
+    /// The category names, one bar each, left to right.
+    pub categories: &'a [String],
+    /// The segments bottom to top: name and one value per category (same
+    /// length as `categories`); non-finite and non-positive values are not drawn.
+    pub segments: &'a [(String, Vec<f64>)],
+    /// Scale of the y axis ([`Scale::Auto`] makes small bars visible next to large ones).
+    pub y_scale: Scale,
+}
+
+/// Floe paths in the plane (metres), at equal aspect ratio, with a start
+/// marker per path and obstacles filled grey.
+#[derive(Debug, Clone, Copy)]
+pub struct PlanView<'a> {
+    /// Title above the chart.
+    pub title: &'a str,
+    /// The paths, points `(x, y)` in metres.
+    pub paths: &'a [Series],
+    /// Obstacle polygons (vertices in metres).
+    pub obstacles: &'a [Vec<(f64, f64)>],
+}
+
+/// One panel of a [`snapshot_grid`]: the floes at one time of one run.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Panel {
+    /// Panel title, e.g. `"event-driven, t = 3600 s"`.
+    pub title: String,
+    /// Floe polygons (vertices in metres).
+    pub floes: Vec<Vec<(f64, f64)>>,
+    /// Obstacle polygons (vertices in metres).
+    pub obstacles: Vec<Vec<(f64, f64)>>,
+}
+
+/// Draws `chart` into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
+pub fn line_chart(chart: &LineChart, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    render(
+        &Xy {
+            title: chart.title,
+            x_label: chart.x_label,
+            y_label: chart.y_label,
+            series: chart.series,
+            obstacles: &[],
+            plan: false,
+            y_scale: chart.y_scale,
+        },
+        stem,
+    )
+}
+
+/// Draws `chart` into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
+///
+/// Fails with [`PlotError::Input`] when a segment does not have one value per category.
+pub fn bar_chart(chart: &StackedBars, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    if let Some((name, v)) = chart
+        .segments
+        .iter()
+        .find(|(_, v)| v.len() != chart.categories.len())
+    {
+        return Err(PlotError::Input(format!(
+            "segment {name:?} has {} values for {} categories",
+            v.len(),
+            chart.categories.len()
+        )));
+    }
+    render(&Bars(*chart), stem)
+}
+
+/// Draws `chart` into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
+pub fn plan_view(chart: &PlanView, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    render(
+        &Xy {
+            title: chart.title,
+            x_label: "x (m)",
+            y_label: "y (m)",
+            series: chart.paths,
+            obstacles: chart.obstacles,
+            plan: true,
+            y_scale: Scale::Linear,
+        },
+        stem,
+    )
+}
+
+/// Draws a grid of `rows` × `cols` panels (filled row by row) into
+/// `<stem>.png` and `<stem>.svg`; returns `[png, svg]`. All panels share
+/// the same bounds and an equal aspect ratio.
+///
+/// Fails with [`PlotError::Input`] when there are more panels than cells.
+pub fn snapshot_grid(
+    title: &str,
+    rows: usize,
+    cols: usize,
+    panels: &[Panel],
+    stem: &Path,
+) -> Result<[PathBuf; 2], PlotError> {
+    if panels.len() > rows * cols {
+        return Err(PlotError::Input(format!(
+            "{} panels do not fit a {rows}x{cols} grid",
+            panels.len()
+        )));
+    }
+    render(
+        &Grid {
+            title,
+            rows,
+            cols,
+            panels,
+        },
+        stem,
+    )
+}

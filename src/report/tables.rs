@@ -1,0 +1,224 @@
+//! The tables of the report page: the headline (one row per case and
+//! formulation), and per case the runs, the pairs and the checks.
+
+use super::checks::{table_cells, TABLE_HEADER};
+use super::format::fmt_num;
+use super::page::Block;
+use crate::analysis::check::CheckOutcome;
+use crate::analysis::comparison::CaseComparison;
+use crate::formulation::contact_solver::{
+    CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
+    LCP_SOLVES, LCP_UNRESOLVED,
+};
+use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
+use crate::record::Counter;
+use crate::run::{EndReason, RunSummary};
+use std::fmt::Write as _;
+
+/// The sum of the counts `keys`, or `-` if the formulation keeps none of them.
+fn count(s: &RunSummary, keys: &[&Counter]) -> String {
+    let found: Vec<u64> = keys
+        .iter()
+        .filter_map(|k| s.counters.count(k).ok())
+        .collect();
+    if found.is_empty() {
+        "-".into()
+    } else {
+        found.iter().sum::<u64>().to_string()
+    }
+}
+
+/// Contact problems solved (LCPs and cone programs).
+fn solves(s: &RunSummary) -> String {
+    count(s, &[&LCP_SOLVES, &CONE_SOLVES])
+}
+
+/// Contact problems that needed a fallback or were not solved.
+fn fallbacks(s: &RunSummary) -> String {
+    count(
+        s,
+        &[
+            &LCP_SOLVED_BY_FALLBACK,
+            &LCP_LAST_RESORT_FRICTIONLESS,
+            &LCP_UNRESOLVED,
+            &CONE_FALLBACK_LCP,
+        ],
+    )
+}
+
+pub(super) fn end_text(e: &EndReason) -> String {
+    match e {
+        EndReason::Completed => "completed".into(),
+        EndReason::Failed { message } => format!("failed: {message}"),
+        e @ EndReason::NonFinite { .. } => e.to_string(),
+    }
+}
+
+/// The runs table of a case: one row per formulation.
+pub(super) fn runs_table(comp: &CaseComparison) -> Block {
+    let header = [
+        "formulation",
+        "end",
+        "CPU (s)",
+        "CPU per sim. s",
+        "detection / solve / integration (s)",
+        "E_k final (J)",
+        "dissipated (J)",
+        "residual / exchanged",
+        "steps",
+        "impacts",
+        "contact solves",
+        "fallbacks",
+        "max penetration (m)",
+    ];
+    let rows = comp
+        .runs
+        .iter()
+        .map(|r| {
+            let s = &r.summary;
+            let t = &s.timing;
+            vec![
+                s.formulation.clone(),
+                end_text(&s.end),
+                fmt_num(t.cpu_total),
+                fmt_num(t.cpu_total / s.t_reached.max(1e-300)),
+                format!(
+                    "{} / {} / {}",
+                    fmt_num(t.stages.detection),
+                    fmt_num(t.stages.solve),
+                    fmt_num(t.stages.integration)
+                ),
+                fmt_num(s.energy.final_kinetic),
+                fmt_num(s.energy.dissipated),
+                fmt_num(s.energy.max_abs_residual / s.energy.exchanged.max(1e-300)),
+                count(s, &[&STEPS]),
+                count(s, &[&IMPACTS]),
+                solves(s),
+                fallbacks(s),
+                s.counters
+                    .value(&MAX_PENETRATION)
+                    .ok()
+                    .flatten()
+                    .map_or("-".into(), fmt_num),
+            ]
+        })
+        .collect();
+    Block::Table {
+        header: header.iter().map(|h| h.to_string()).collect(),
+        rows,
+    }
+}
+
+/// The pairs table of a case.
+pub(super) fn pairs_table(comp: &CaseComparison) -> Block {
+    let header = [
+        "a",
+        "b",
+        "max RMS Δx / d̄",
+        "final RMS Δx / d̄",
+        "max Δx (m)",
+        "max Δθ (rad)",
+        "diverged at (s)",
+    ];
+    let rows = comp
+        .pairs
+        .iter()
+        .map(|p| {
+            vec![
+                p.a.clone(),
+                p.b.clone(),
+                fmt_num(p.max_rms_position_rel),
+                fmt_num(p.final_rms_position_rel),
+                fmt_num(p.max_position_m),
+                fmt_num(p.max_angle_rad),
+                p.diverged_at.map_or("never".into(), fmt_num),
+            ]
+        })
+        .collect();
+    Block::Table {
+        header: header.iter().map(|h| h.to_string()).collect(),
+        rows,
+    }
+}
+
+/// The check table of a case (as `floebench check` prints it).
+pub(super) fn checks_table(comp: &CaseComparison) -> Block {
+    Block::Table {
+        header: TABLE_HEADER[1..].iter().map(|h| h.to_string()).collect(),
+        rows: comp
+            .checks
+            .iter()
+            .map(|o| table_cells(o)[1..].to_vec())
+            .collect(),
+    }
+}
+
+/// `pass/known/FAIL` counts of a run's checks.
+fn check_counts(comp: &CaseComparison, formulation: &str) -> String {
+    let mine: Vec<&CheckOutcome> = comp
+        .checks
+        .iter()
+        .filter(|o| o.formulation == formulation)
+        .collect();
+    let pass = mine.iter().filter(|o| o.pass).count();
+    let known = mine.iter().filter(|o| !o.pass && !o.claimed).count();
+    let fail = mine.iter().filter(|o| !o.pass && o.claimed).count();
+    let mut s = format!("{pass}/{}", mine.len());
+    if known > 0 {
+        let _ = write!(s, ", {known} known");
+    }
+    if fail > 0 {
+        let _ = write!(s, ", **{fail} FAIL**");
+    }
+    s
+}
+
+/// The headline table: one row per (case, formulation).
+pub(super) fn headline(comps: &[CaseComparison]) -> Block {
+    let header = [
+        "case",
+        "formulation",
+        "end",
+        "CPU (s)",
+        "× fastest",
+        "E_k final (J)",
+        "dissipated (J)",
+        "max RMS Δx / d̄ vs first",
+        "checks passed",
+    ];
+    let mut rows = Vec::new();
+    for c in comps {
+        let fastest = c
+            .runs
+            .iter()
+            .map(|r| r.summary.timing.cpu_total)
+            .fold(f64::INFINITY, f64::min)
+            .max(1e-9);
+        for (i, r) in c.runs.iter().enumerate() {
+            let s = &r.summary;
+            let div = if i == 0 {
+                "(reference)".to_string()
+            } else {
+                c.pairs
+                    .iter()
+                    .find(|p| p.a == c.runs[0].summary.formulation && p.b == s.formulation)
+                    .map_or("-".into(), |p| fmt_num(p.max_rms_position_rel))
+            };
+            rows.push(vec![
+                s.case.clone(),
+                s.formulation.clone(),
+                end_text(&s.end),
+                fmt_num(s.timing.cpu_total),
+                fmt_num(s.timing.cpu_total / fastest),
+                fmt_num(s.energy.final_kinetic),
+                fmt_num(s.energy.dissipated),
+                div,
+                check_counts(c, &s.formulation),
+            ]);
+        }
+    }
+    Block::Table {
+        header: header.iter().map(|h| h.to_string()).collect(),
+        rows,
+    }
+}
