@@ -1,6 +1,6 @@
 //! Analysis of recorded runs: what the numbers say, before any is printed.
 //!
-//! - [`check`]: the physical checks with exact answers (physics.md section 6)
+//! - [`check`]: the physical checks with exact answers (docs/physics.md §6)
 //!   that every formulation is held to;
 //! - [`divergence`]: how two runs of the same case differ over time;
 //! - [`metrics`]: every figure of a run and of a pair of runs, in long format;

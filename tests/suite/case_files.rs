@@ -1,4 +1,4 @@
-//! Case files: every rule of case-format.md has a bad file in
+//! Case files: every rule of docs/case-format.md has a bad file in
 //! `tests/cases/bad/`, whose first line says which message it must produce
 //! (`# expect: …`) and, where the rule points at a line, which (`# line: N`).
 //! Good files (all of `cases/`) must load.

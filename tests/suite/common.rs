@@ -1,7 +1,7 @@
 //! Helpers shared by the test modules: bundled and bad case files, case
 //! text, scenarios, runs of a formulation by name, the command-line binary,
 //! reads of a run (final velocities, rest time, counters, settings), the
-//! closed forms of physics.md section 6 that several formulations are held
+//! closed forms of docs/physics.md §6 that several formulations are held
 //! to, and a temporary folder.
 
 use floebench::analysis::check;
@@ -138,14 +138,14 @@ pub fn setting(r: &RunResult, name: &str) -> f64 {
 }
 
 // ---------------------------------------------------------------------------
-// Closed forms (physics.md section 6)
+// Closed forms (docs/physics.md §6)
 
 /// The head-on case (`cases/head_on.toml`) with restitution `e`.
 pub fn head_on(e: f64) -> Scenario {
     scenario(&case_text("head_on").replace("restitution = 0.4", &format!("restitution = {e:?}")))
 }
 
-/// The head-on closed form (physics.md §6) for the head-on case's speeds
+/// The head-on closed form (docs/physics.md §6.1) for the head-on case's speeds
 /// (0.5 and −0.1 m/s): `(v1', v2')`, m/s.
 pub fn head_on_expected(scn: &Scenario, e: f64) -> (f64, f64) {
     let (m1, m2) = (scn.floes[0].mass, scn.floes[1].mass);
@@ -182,7 +182,7 @@ pub fn assert_head_on(r: &RunResult, scn: &Scenario, e: f64, label: &str) {
     );
 }
 
-/// The bouncing floe (physics.md §6): pushed by the wind at `a` (m/s²)
+/// The bouncing floe (docs/physics.md §6): pushed by the wind at `a` (m/s²)
 /// across a gap of 1 m, it first hits the wall at `t1` (s) with speed `v1`
 /// (m/s), and with restitution `e` the bounces accumulate at `t_inf` (s).
 #[derive(Debug, Clone, Copy)]
@@ -205,7 +205,7 @@ pub fn bouncing_expected(scn: &Scenario) -> Bouncing {
     Bouncing { a, t1, v1, t_inf }
 }
 
-/// The sliding floe (physics.md §6): pressed on the wall by the wind at `a`
+/// The sliding floe (docs/physics.md §6): pressed on the wall by the wind at `a`
 /// (m/s²), sliding along it at `v0` = 0.05 m/s with friction `mu`, it stops
 /// after `t_stop` (s) and `dist` (m).
 #[derive(Debug, Clone, Copy)]
@@ -232,7 +232,7 @@ pub fn sliding_expected(scn: &Scenario) -> Sliding {
     }
 }
 
-/// The steady free-drift velocity without Coriolis (physics.md §6),
+/// The steady free-drift velocity without Coriolis (docs/physics.md §6),
 /// `U_w + sqrt(ρ_a C_a / (ρ_w C_w)) U_a` at t = 0, m/s.
 pub fn drift_velocity(scn: &Scenario) -> Vec2 {
     let env = &scn.environment;

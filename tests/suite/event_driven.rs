@@ -1,5 +1,5 @@
-//! The event-driven LCP formulation against the closed forms of physics.md
-//! section 6. Every test also checks Coulomb on every contact impulse, the
+//! The event-driven LCP formulation against the closed forms of docs/physics.md
+//! §6. Every test also checks Coulomb on every contact impulse, the
 //! penetration tolerance, and that no impact gained energy.
 
 use crate::common::{

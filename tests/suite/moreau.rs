@@ -1,5 +1,5 @@
 //! The Moreau–Jean formulation (`moreau`, `moreau-cone`) against the closed
-//! forms of physics.md section 6. Every run also goes through the shared
+//! forms of docs/physics.md §6. Every run also goes through the shared
 //! physical checks: completed, Coulomb on every contact impulse, no
 //! unresolved contact problem, and a penetration within the scheme's
 //! `O(h × approach speed)` (Moreau–Jean does not project positions).

@@ -1,5 +1,5 @@
 //! The floe model, the environment forces and the smooth integrator against
-//! closed forms (physics.md sections 1, 2 and 4).
+//! closed forms (docs/physics.md §1, §2 and §4).
 
 use crate::common::{counter, load, run, run_with, scenario};
 use floebench::formulation::FormulationOptions;
@@ -38,7 +38,7 @@ friction = 0.3
 
 // ---------------------------------------------------------------------------
 // Mass properties. Polygons are placed far from the origin so that the
-// formulas' rounding is exercised; 1e-12 relative is the bound.
+// formulas' rounding is exercised; 1e-12 relative is the required bound.
 
 fn offset(p: &[(f64, f64)], o: (f64, f64)) -> Vec<Vec2> {
     p.iter()

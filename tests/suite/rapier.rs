@@ -1,5 +1,5 @@
 //! The rapier reference formulation on the bundled cases, against the closed
-//! forms of physics.md section 6 and the project's own integrator.
+//! forms of docs/physics.md §6 and the project's own integrator.
 //!
 //! rapier is a regularised, game-oriented engine: where it departs from the
 //! closed form, the departure measured at the default parameters is pinned

@@ -507,7 +507,7 @@ fn cradle(r: &mut Rows) {
         let err = error(&lcp);
         r.push(
             "cradle_outcome",
-            "touching: the simultaneous LCP answer ((2-n)/n, 2/n, ..., 2/n) v0 (physics.md section 6)",
+            "touching: the simultaneous LCP answer ((2-n)/n, 2/n, ..., 2/n) v0 (docs/physics.md §6.1)",
             err,
             Some(0.0),
             CRADLE_TOLERANCE,
@@ -609,7 +609,7 @@ fn free_drift(r: &mut Rows) {
         let v = final_velocity(r.run, i);
         r.push(
             "free_drift_velocity",
-            "reaches the steady free-drift velocity (physics.md section 2)",
+            "reaches the steady free-drift velocity (docs/physics.md §2.2)",
             (v - u).norm() / u.norm(),
             Some(0.0),
             FREE_DRIFT_TOLERANCE,

@@ -1,12 +1,12 @@
 //! The exact answers the checks compare with, computed from the case's own
-//! parameters (physics.md sections 2 and 6): the velocities after a central
+//! parameters (docs/physics.md §2 and §6): the velocities after a central
 //! impact, the wind acceleration of "constant wind as gravity" and the
 //! steady free-drift velocity.
 
 use crate::geometry::Vec2;
 use crate::model::{Scenario, VelocitySeries};
 
-/// `(v1', v2')` of a central impact (physics.md section 6).
+/// `(v1', v2')` of a central impact (docs/physics.md §6.1).
 pub fn head_on_velocities(m1: f64, v1: f64, m2: f64, v2: f64, e: f64) -> (f64, f64) {
     let p = m1 * v1 + m2 * v2;
     (
@@ -16,7 +16,7 @@ pub fn head_on_velocities(m1: f64, v1: f64, m2: f64, v2: f64, e: f64) -> (f64, f
 }
 
 /// The wind acceleration `a = ρ_a C_a |U_a|² / (ρ_i h)` of floe `i` at t = 0
-/// (physics.md section 2: constant wind as gravity), m/s².
+/// (docs/physics.md §2.3: constant wind as gravity), m/s².
 pub fn wind_acceleration(scn: &Scenario, i: usize) -> f64 {
     let air = &scn.environment.air;
     let u = air.velocity.at(0.0).norm();
@@ -24,7 +24,7 @@ pub fn wind_acceleration(scn: &Scenario, i: usize) -> f64 {
 }
 
 /// The steady free-drift velocity of floe `i` under constant wind and
-/// current (physics.md section 2): the root of
+/// current (docs/physics.md §2.2): the root of
 /// `τ_a + ρ_w C_w |U_w − u|(U_w − u) − ρ_i h f k ∧ u = 0` by Newton's method,
 /// m/s; `None` without water drag, with varying forcing, or if Newton fails.
 pub fn steady_drift_velocity(scn: &Scenario, i: usize) -> Option<Vec2> {

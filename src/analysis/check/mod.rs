@@ -1,4 +1,4 @@
-//! `floebench check`: the physical checks of physics.md section 6, measured
+//! `floebench check`: the physical checks of docs/physics.md §6, measured
 //! on a recorded run, with the expected values computed from the case's own
 //! parameters (masses, `e`, `μ`, wind acceleration, gaps), never stored.
 //!

@@ -1,7 +1,7 @@
 //! What a case's structure is, read from its initial data alone: whether
 //! anything forces the floes, mirror symmetries (axes and the pairing of
 //! floes they give), floes in a row, gaps to obstacles, and whether the
-//! case is "constant wind as gravity" (physics.md section 2). The checks
+//! case is "constant wind as gravity" (docs/physics.md §2). The checks
 //! apply by structure, never by case name.
 
 use crate::geometry::{cross, Vec2};
@@ -228,7 +228,7 @@ pub fn translation_gap(scn: &Scenario, i: usize, d: &Vec2) -> Option<(f64, usize
 }
 
 /// The direction of the constant wind if the case is "constant wind as
-/// gravity" (physics.md section 2): one floe, an obstacle, constant wind,
+/// gravity" (docs/physics.md §2.3): one floe, an obstacle, constant wind,
 /// no water drag, no Coriolis.
 pub(super) fn wind_as_gravity(scn: &Scenario) -> Option<Vec2> {
     let env = &scn.environment;

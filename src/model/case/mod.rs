@@ -1,6 +1,6 @@
 //! Case files, version 1: parsing and validation.
 //!
-//! The contract is `cases/README.md` (from `shared/docs/case-format.md`).
+//! The contract is `docs/case-format.md`.
 //! Every rule is checked here, and every error names the file, the line and
 //! the key, or the floe's index. Loading either returns a whole [`Scenario`]
 //! or an error: nothing is written anywhere before a case has loaded.
