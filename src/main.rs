@@ -25,9 +25,10 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Check case files and print what they contain; exits non-zero on the first bad file.
+    /// Check case files and print what they contain; reports every bad file
+    /// and exits non-zero if there is one.
     Validate {
-        /// Case files (.toml).
+        /// Case files (.toml) or folders (their *.toml files, not subfolders).
         #[arg(required = true)]
         cases: Vec<PathBuf>,
     },
@@ -36,7 +37,7 @@ enum Command {
         /// The case file (.toml).
         case: PathBuf,
         /// Formulation (see `floebench formulations`).
-        #[arg(short, long, default_value = DEFAULT_FORMULATION)]
+        #[arg(short = 'f', long = "formulations", visible_alias = "formulation", default_value = DEFAULT_FORMULATION)]
         formulation: String,
         /// Output folder [default: out/<case name>/<formulation>].
         #[arg(short, long)]
@@ -46,9 +47,14 @@ enum Command {
         #[arg(long)]
         integrator: Option<IntegratorKind>,
         /// Write every LCP the formulation solves into DIR as <seq>.json
-        /// (keys M, q, z, w, t, contacts, pivots, status; see README).
+        /// (keys M, q, z, w, t, contacts, pivots, status; see README); DIR
+        /// must be empty or new, and the formulation one that solves LCPs.
         #[arg(long, value_name = "DIR")]
         dump_lcp: Option<PathBuf>,
+        /// Let a formulation that ignores contacts (free-drift) run a case
+        /// where contacts can happen (floes pass through each other).
+        #[arg(long)]
+        allow_contacts: bool,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
@@ -68,9 +74,9 @@ enum Command {
         /// Report folder.
         #[arg(short, long, default_value = "reports")]
         out: PathBuf,
-        /// Runs at a time [default: the number of cores].
-        #[arg(short, long)]
-        jobs: Option<usize>,
+        /// Runs at a time, at least 1 [default: the number of cores].
+        #[arg(short, long, value_parser = clap::value_parser!(u64).range(1..))]
+        jobs: Option<u64>,
         /// Divergence threshold: RMS position difference between two runs, as a
         /// fraction of the mean floe diameter (-).
         #[arg(long, default_value_t = 0.1)]
@@ -90,7 +96,7 @@ enum Command {
         cases: Vec<PathBuf>,
         /// Comma-separated formulations [default: every formulation that applies;
         /// free-drift only on contact-free cases].
-        #[arg(long, value_delimiter = ',')]
+        #[arg(short, long, value_delimiter = ',')]
         formulations: Option<Vec<String>>,
         /// Also write the table as Markdown to this file.
         #[arg(long, value_name = "FILE")]
@@ -133,8 +139,17 @@ fn main() -> ExitCode {
             out,
             integrator,
             dump_lcp,
+            allow_contacts,
             quiet,
-        } => run(&case, &formulation, out, integrator, dump_lcp, quiet),
+        } => run(
+            &case,
+            &formulation,
+            out,
+            integrator,
+            dump_lcp,
+            allow_contacts,
+            quiet,
+        ),
         Command::Compare {
             cases,
             formulations,
@@ -154,7 +169,7 @@ fn main() -> ExitCode {
                 opts.formulations = f;
             }
             if let Some(j) = jobs {
-                opts.jobs = j;
+                opts.jobs = usize::try_from(j).unwrap_or(usize::MAX);
             }
             compare(&cases, &opts, &out)
         }
@@ -197,6 +212,15 @@ fn main() -> ExitCode {
     }
 }
 
+/// `n thing` or `n things`.
+fn plural(n: usize, thing: &str) -> String {
+    if n == 1 {
+        format!("1 {thing}")
+    } else {
+        format!("{n} {thing}s")
+    }
+}
+
 fn describe(scn: &Scenario) -> String {
     let mass: f64 = scn.floes.iter().map(|f| f.mass).sum();
     let area: f64 = scn.floes.iter().map(|f| f.area).sum();
@@ -204,31 +228,48 @@ fn describe(scn: &Scenario) -> String {
         .map(|i| scn.euler_stability_bound(i))
         .fold(f64::INFINITY, f64::min);
     format!(
-        "{}: {} floes ({} kg, {} m^2), {} obstacles, {} s every {} s, e = {}, mu = {}, Euler bound {}",
+        "{}: {} ({} kg, {} m^2), {}, {} s every {} s, e = {}, mu = {}, Euler bound {}",
         scn.name,
-        scn.floes.len(),
+        plural(scn.floes.len(), "floe"),
         fmt_num(mass),
         fmt_num(area),
-        scn.obstacles.len(),
+        plural(scn.obstacles.len(), "obstacle"),
         scn.duration,
         scn.output_interval,
         scn.contact.restitution,
         scn.contact.friction,
-        if dt.is_finite() { format!("{} s", fmt_num(dt)) } else { "none (no drag)".into() }
+        if dt.is_finite() {
+            format!("{} s", fmt_num(dt))
+        } else {
+            "none (no drag)".into()
+        }
     )
 }
 
 fn validate(cases: &[PathBuf]) -> ExitCode {
-    for path in cases {
+    let files = match floebench::run::batch::case_files(cases) {
+        Ok(f) => f,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut bad = 0;
+    for path in &files {
         match load_case(path) {
             Ok(scn) => println!("ok  {}", describe(&scn)),
             Err(e) => {
                 eprintln!("error: {e}");
-                return ExitCode::FAILURE;
+                bad += 1;
             }
         }
     }
-    ExitCode::SUCCESS
+    if bad > 0 {
+        eprintln!("{} of {} bad", plural(bad, "case file"), files.len());
+        ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 fn run(
@@ -237,8 +278,16 @@ fn run(
     out: Option<PathBuf>,
     integrator: Option<IntegratorKind>,
     dump_lcp: Option<PathBuf>,
+    allow_contacts: bool,
     quiet: bool,
 ) -> ExitCode {
+    let entry = match formulation::entry(name) {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
     let scn = match load_case(case) {
         Ok(s) => s,
         Err(e) => {
@@ -246,7 +295,32 @@ fn run(
             return ExitCode::FAILURE;
         }
     };
+    if dump_lcp.is_some() && !entry.dumps_lcps {
+        eprintln!(
+            "error: --dump-lcp: {} writes no LCP dumps (event-driven and moreau do)",
+            entry.name
+        );
+        return ExitCode::FAILURE;
+    }
+    if !entry.applies(&scn) && !allow_contacts {
+        eprintln!(
+            "error: {} ignores contacts and {} has obstacles or moving floes; --allow-contacts runs it anyway",
+            entry.name,
+            case.display()
+        );
+        return ExitCode::FAILURE;
+    }
     if let Some(dir) = &dump_lcp {
+        if dir.exists() {
+            let empty = std::fs::read_dir(dir).map(|mut d| d.next().is_none());
+            if !matches!(empty, Ok(true)) {
+                eprintln!(
+                    "error: --dump-lcp: {} exists and is not an empty folder (dumps would mix)",
+                    dir.display()
+                );
+                return ExitCode::FAILURE;
+            }
+        }
         if let Err(e) = std::fs::create_dir_all(dir) {
             eprintln!("error: cannot create {}: {e}", dir.display());
             return ExitCode::FAILURE;
@@ -256,14 +330,18 @@ fn run(
         integrator,
         dump_lcp,
     };
-    let mut form = match formulation::build(name, &scn, &opts) {
+    let mut form = match formulation::build(entry.name, &scn, &opts) {
         Ok(f) => f,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
-    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scn.name).join(name));
+    let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scn.name).join(entry.name));
+    if out.exists() && !out.is_dir() {
+        eprintln!("error: {} exists and is not a folder", out.display());
+        return ExitCode::FAILURE;
+    }
     eprintln!("{}", describe(&scn));
     let runner = Runner::new(RunOptions {
         progress: !quiet,
@@ -310,6 +388,10 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
     use floebench::run::batch;
     if !(opts.divergence_threshold > 0.0 && opts.divergence_threshold.is_finite()) {
         eprintln!("error: --threshold must be a positive number");
+        return ExitCode::FAILURE;
+    }
+    if out.exists() && !out.is_dir() {
+        eprintln!("error: -o {}: exists and is not a folder", out.display());
         return ExitCode::FAILURE;
     }
     let result = batch::load_cases(cases)
@@ -427,11 +509,12 @@ fn resolve_lcp(file: &Path) -> ExitCode {
         fmt_num(stored)
     );
     println!(
-        "re-solved:       status {}, {} pivots, residual {}, accepted by {:?}",
+        "re-solved:       status {}, {} pivots, residual {}, accepted by {}",
         sol.status.as_str(),
         sol.pivots,
         fmt_num(sol.residual),
         sol.accepted_by
+            .map_or("no attempt".to_string(), |s| format!("{s:?}"))
     );
     for a in &sol.attempts {
         println!(

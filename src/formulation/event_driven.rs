@@ -80,6 +80,7 @@ pub const ENTRY: Entry = Entry {
     build: |scn, opts| Ok(Box::new(EventDriven::new(scn, opts)?)),
     settings: Some(TABLE),
     resolves_contacts: true,
+    dumps_lcps: true,
     not_claimed: &[
         NotClaimed {
             check: "bouncing_rest",

@@ -7,7 +7,7 @@
 use super::{Entry, Formulation, FormulationError, FormulationOptions};
 use crate::model::Scenario;
 use crate::physics::SmoothIntegrator;
-use crate::record::{Counters, Stage, StageClock};
+use crate::record::{Counters, Settings, Stage, StageClock};
 use crate::state::System;
 
 /// The registry entry (see [`crate::formulation::REGISTRY`]).
@@ -17,6 +17,7 @@ pub const ENTRY: Entry = Entry {
     build: |scn, opts| Ok(Box::new(FreeDrift::new(scn, opts))),
     settings: None,
     resolves_contacts: false,
+    dumps_lcps: false,
     not_claimed: &[],
 };
 
@@ -50,6 +51,10 @@ impl Formulation for FreeDrift {
         })?;
         sys.t = t_end;
         Ok(())
+    }
+
+    fn settings(&self) -> Settings {
+        Settings::default().text("contacts", "ignored")
     }
 
     fn counters(&self) -> Counters {

@@ -115,6 +115,9 @@ pub struct Entry {
     /// Whether it resolves contacts (false: it applies only to cases where
     /// contacts cannot happen, [`Scenario::contact_free`]).
     pub resolves_contacts: bool,
+    /// Whether `--dump-lcp` writes its contact problems (it solves them as
+    /// LCPs by the shared contact solver).
+    pub dumps_lcps: bool,
     /// The checks it does not claim; every other check that applies is
     /// claimed.
     pub not_claimed: &'static [NotClaimed],

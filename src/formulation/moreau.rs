@@ -152,6 +152,7 @@ pub const ENTRY: Entry = Entry {
     build: |scn, opts| Ok(Box::new(Moreau::new(scn, opts, None)?)),
     settings: Some(TABLE),
     resolves_contacts: true,
+    dumps_lcps: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",
@@ -170,6 +171,7 @@ pub const CONE_ENTRY: Entry = Entry {
     build: |scn, opts| Ok(Box::new(Moreau::new(scn, opts, Some(SolverKind::Cone))?)),
     settings: Some(TABLE),
     resolves_contacts: true,
+    dumps_lcps: false,
     not_claimed: &[
         NotClaimed {
             check: "penetration",

@@ -77,9 +77,13 @@ fn a_bad_case_writes_nothing() {
         .arg(&bad)
         .arg("-o")
         .arg(&out)
-        .status()
+        .output()
         .unwrap();
-    assert!(!st.success());
+    assert!(!st.status.success());
+    assert!(
+        String::from_utf8_lossy(&st.stderr).contains("floes_overlap.toml:13"),
+        "the error names the file and line"
+    );
     assert!(!out.exists(), "no partial output for a bad case");
 }
 
@@ -148,4 +152,141 @@ fn check_prints_the_table_and_exits_non_zero_only_on_claimed_failures() {
     let out = floebench().arg("check").arg(&bad).output().unwrap();
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("clockwise.toml:14"));
+}
+
+/// Runs `floebench` with `args`; (success, stdout, stderr).
+fn cli(args: &[&std::ffi::OsStr]) -> (bool, String, String) {
+    let out = floebench().args(args).output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn validate_takes_folders_and_reports_every_bad_file() {
+    let (ok, stdout, _) = cli(&[
+        "validate".as_ref(),
+        case_path("head_on").parent().unwrap().as_os_str(),
+    ]);
+    assert!(ok);
+    assert!(stdout.contains("bouncing_floe: 1 floe ("), "{stdout}");
+    assert!(stdout.contains("1 obstacle,"), "{stdout}");
+    let bad = bad_case("clockwise");
+    let folder = bad.parent().unwrap();
+    let (ok, _, stderr) = cli(&["validate".as_ref(), folder.as_os_str()]);
+    assert!(!ok);
+    let errors = stderr.lines().filter(|l| l.starts_with("error: ")).count();
+    let files = std::fs::read_dir(folder).unwrap().count();
+    assert_eq!(errors, files, "one error per bad file:\n{stderr}");
+    assert!(
+        stderr.contains(&format!("{files} case files of {files} bad")),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn one_grammar_for_formulations_and_jobs() {
+    let dir = tempdir();
+    let md = dir.path().join("t.md");
+    // check takes -f like run and compare, with spaces after the commas.
+    let (ok, stdout, stderr) = cli(&[
+        "check".as_ref(),
+        case_path("head_on").as_os_str(),
+        "-f".as_ref(),
+        "event-driven, moreau".as_ref(),
+        "--quiet".as_ref(),
+        "--markdown".as_ref(),
+        md.as_os_str(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("moreau") && !stdout.contains("rapier"),
+        "{stdout}"
+    );
+    let (ok, _, stderr) = cli(&[
+        "compare".as_ref(),
+        case_path("head_on").as_os_str(),
+        "-j".as_ref(),
+        "0".as_ref(),
+    ]);
+    assert!(!ok && stderr.contains("-j"), "{stderr}");
+}
+
+#[test]
+fn run_refuses_what_would_mislead_before_running() {
+    let dir = tempdir();
+    let out = dir.path().join("o");
+    let head_on = case_path("head_on");
+    // free-drift through a case with contacts: refused unless asked.
+    let (ok, _, stderr) = cli(&[
+        "run".as_ref(),
+        case_path("bouncing_floe").as_os_str(),
+        "-f".as_ref(),
+        "free-drift".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(!ok && stderr.contains("--allow-contacts"), "{stderr}");
+    assert!(!out.exists());
+    let (ok, _, stderr) = cli(&[
+        "run".as_ref(),
+        case_path("bouncing_floe").as_os_str(),
+        "-f".as_ref(),
+        "free-drift".as_ref(),
+        "--allow-contacts".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(ok, "{stderr}");
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"ignored\""),
+        "the summary says contacts were ignored"
+    );
+    // --dump-lcp: a formulation that dumps nothing, and a used folder.
+    let dumps = dir.path().join("d");
+    for f in ["rapier", "moreau-cone", "free-drift"] {
+        let (ok, _, stderr) = cli(&[
+            "run".as_ref(),
+            head_on.as_os_str(),
+            "-f".as_ref(),
+            f.as_ref(),
+            "--dump-lcp".as_ref(),
+            dumps.as_os_str(),
+            "--quiet".as_ref(),
+        ]);
+        assert!(
+            !ok && stderr.contains("writes no LCP dumps"),
+            "{f}: {stderr}"
+        );
+    }
+    std::fs::create_dir_all(&dumps).unwrap();
+    std::fs::write(dumps.join("000000.json"), "{}").unwrap();
+    let (ok, _, stderr) = cli(&[
+        "run".as_ref(),
+        head_on.as_os_str(),
+        "--dump-lcp".as_ref(),
+        dumps.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(!ok && stderr.contains("not an empty folder"), "{stderr}");
+    // An output path that is a file: compare says so before any run.
+    let file = dir.path().join("notes.txt");
+    std::fs::write(&file, "x").unwrap();
+    let (ok, _, stderr) = cli(&[
+        "compare".as_ref(),
+        head_on.as_os_str(),
+        "-o".as_ref(),
+        file.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(!ok && stderr.contains("is not a folder"), "{stderr}");
+    assert!(
+        !stderr.contains("runs at a time"),
+        "refused before loading: {stderr}"
+    );
 }

@@ -449,7 +449,7 @@ fn lexicographic_rule_terminates_where_plain_min_ratio_cycles() {
 
 #[test]
 fn lexicographic_path_equals_plain_path_on_epsilon_perturbed_q() {
-    (unchanged: Cottle–Pang–Stone sections)
+    // Characterisation of the lexicographic rule (CPS §4.9): it follows the
     // path that the plain minimum-ratio rule follows on the perturbed,
     // nondegenerate q(ε) = q + (ε, ε², …, εⁿ) for all small ε > 0, because the
     // right-hand side becomes B⁻¹q(ε) = b + Σ_k ε^k (B⁻¹)_{·k}. We compare the

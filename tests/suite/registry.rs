@@ -64,6 +64,7 @@ const ENTRY: Entry = Entry {
     build: |scn, opts| Ok(Box::new(FrictionlessEventDriven::new(scn, opts)?)),
     settings: None,
     resolves_contacts: true,
+    dumps_lcps: true,
     not_claimed: &[NotClaimed {
         check: "sliding_stop",
         case: None,

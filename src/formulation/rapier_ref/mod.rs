@@ -154,6 +154,7 @@ pub const ENTRY: Entry = Entry {
     build: |scn, opts| Ok(Box::new(RapierReference::new(scn, opts)?)),
     settings: Some(TABLE),
     resolves_contacts: true,
+    dumps_lcps: false,
     not_claimed: &[
         NotClaimed {
             check: "head_on_v1",
