@@ -394,13 +394,26 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         eprintln!("error: -o {}: exists and is not a folder", out.display());
         return ExitCode::FAILURE;
     }
+    if let Some(Err(e)) = opts
+        .formulations
+        .iter()
+        .map(|f| formulation::entry(f))
+        .find(Result::is_err)
+    {
+        eprintln!("error: -f: {e}");
+        return ExitCode::FAILURE;
+    }
     let result = batch::load_cases(cases)
         .map_err(compare::CompareError::from)
         .and_then(|loaded| {
             for (_, scn) in &loaded {
                 eprintln!("{}", describe(scn));
             }
-            eprintln!("{} cases, {} runs at a time", loaded.len(), opts.jobs);
+            eprintln!(
+                "{}, {} runs at a time",
+                plural(loaded.len(), "case"),
+                opts.jobs
+            );
             compare::compare(loaded, opts)
         });
     let comps = match result {
@@ -450,6 +463,15 @@ fn check(
     };
     if let Some(f) = formulations {
         opts.formulations = f;
+    }
+    if let Some(Err(e)) = opts
+        .formulations
+        .iter()
+        .map(|f| formulation::entry(f))
+        .find(Result::is_err)
+    {
+        eprintln!("error: -f: {e}");
+        return ExitCode::FAILURE;
     }
     let done = match batch::load_cases(cases).and_then(|loaded| batch::run_cases(loaded, &opts)) {
         Ok(c) => c,

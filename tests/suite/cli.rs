@@ -290,3 +290,22 @@ fn run_refuses_what_would_mislead_before_running() {
         "refused before loading: {stderr}"
     );
 }
+
+#[test]
+fn an_unknown_formulation_is_named_without_blaming_a_case() {
+    for cmd in ["compare", "check"] {
+        let (ok, _, stderr) = cli(&[
+            cmd.as_ref(),
+            case_path("head_on").as_os_str(),
+            "-f".as_ref(),
+            "rapeir".as_ref(),
+            "--quiet".as_ref(),
+        ]);
+        assert!(!ok);
+        assert!(
+            stderr.contains("error: -f: unknown formulation `rapeir`; known: event-driven"),
+            "{cmd}: {stderr}"
+        );
+        assert!(!stderr.contains("head_on.toml"), "{cmd}: {stderr}");
+    }
+}
