@@ -200,6 +200,12 @@ pub const STEPS_CUT_FOR_FLIGHT: Counter = Counter::sum(
 );
 /// Steps cut at a located event.
 pub const EVENTS_LOCATED: Counter = Counter::sum("events_located", "steps cut at a located event");
+/// Of those, the steps cut by an event of a pair already in contact at the
+/// step start (a sustained contact whose other vertex closes).
+pub const EVENTS_OF_PAIRS_IN_CONTACT: Counter = Counter::sum(
+    "events_of_pairs_in_contact",
+    "steps cut at an event of a pair already in contact at the step start",
+);
 /// Trial steps rejected for a penetration beyond the tolerance.
 pub const STEPS_REJECTED_PENETRATION: Counter = Counter::sum(
     "steps_rejected_penetration",
@@ -225,6 +231,7 @@ const COUNTERS: &[&Counter] = &[
     &IMPACT_INSTANTS,
     &STEPS_CUT_FOR_FLIGHT,
     &EVENTS_LOCATED,
+    &EVENTS_OF_PAIRS_IN_CONTACT,
     &STEPS_REJECTED_PENETRATION,
     &PENETRATIONS_BEYOND_TOLERANCE,
     &MAX_PENETRATION,
@@ -607,9 +614,9 @@ impl EventDriven {
         wrenches: &[Wrench],
         p0: &[Vec<Vec2>],
         p1: &[Vec<Vec2>],
-    ) -> Result<Option<f64>, FormulationError> {
+    ) -> Result<Option<(f64, (usize, usize))>, FormulationError> {
         let delta = self.distance;
-        let mut first: Option<f64> = None;
+        let mut first: Option<(f64, (usize, usize))> = None;
         let _ = end;
         for (i, j) in self.swept_pairs(scn, p0, p1) {
             // Vertices open at the start and closing at the end: (owner, index).
@@ -626,7 +633,7 @@ impl EventDriven {
             if cand.is_empty() {
                 continue;
             }
-            let hi_limit = first.unwrap_or(h).min(h);
+            let hi_limit = first.map_or(h, |f| f.0).min(h);
             // φ(s) = min over candidates of d(s) − 3δ/4.
             let target = 0.75 * delta;
             let phi = |s: f64, me: &mut Self| -> Result<f64, FormulationError> {
@@ -700,7 +707,9 @@ impl EventDriven {
                     break;
                 }
             }
-            first = Some(first.map_or(s, |f: f64| f.min(s)));
+            if first.is_none_or(|f| s < f.0) {
+                first = Some((s, (i, j)));
+            }
         }
         Ok(first)
     }
@@ -759,8 +768,17 @@ impl Formulation for EventDriven {
                     r?
                 };
                 let next = match event {
-                    Some(s) if s < h => {
+                    Some((s, (i, j))) if s < h => {
                         self.counters.add(&EVENTS_LOCATED, 1);
+                        let pair = (i.min(j), i.max(j));
+                        if contacts
+                            .iter()
+                            .any(|c| (c.a.min(c.b), c.a.max(c.b)) == pair)
+                        {
+                            // The pair was already closed at the step start:
+                            // another vertex of a sustained contact closes.
+                            self.counters.add(&EVENTS_OF_PAIRS_IN_CONTACT, 1);
+                        }
                         clock.time(Stage::Integration, || {
                             self.integrate(scn, sys, s, &wrenches)
                         })?

@@ -3,8 +3,8 @@
 //! penetration tolerance, and that no impact gained energy.
 
 use crate::common::{
-    assert_head_on, bouncing_expected, case_text, counter, final_velocity, head_on, rest_time,
-    rest_time_by, scenario, setting, sliding_expected, tempdir, Bouncing, Sliding,
+    assert_head_on, bouncing_expected, case_text, counter, final_velocity, head_on, load,
+    rest_time, rest_time_by, scenario, setting, sliding_expected, tempdir, Bouncing, Sliding,
 };
 use floebench::formulation::event_driven::EventDriven;
 use floebench::formulation::FormulationOptions;
@@ -267,4 +267,24 @@ fn every_lcp_can_be_dumped_and_re_solved() {
         assert_eq!(lcp.n, 4 * d.contacts, "Stewart–Trinkle size 4m");
         assert!(residual(&lcp.m, &lcp.q, &d.z) < 1e-10);
     }
+}
+
+#[test]
+fn events_of_pairs_already_in_contact_are_counted_apart() {
+    // In the narrow channel floes stay pressed on each other and on the
+    // coasts: some located events belong to a pair that was already in
+    // contact at the step start (a sustained contact whose other vertex
+    // closes), a subset of all located events.
+    let (r, _) = run(&load("narrow_channel"));
+    let events = counter(&r, "events_located");
+    let sustained = counter(&r, "events_of_pairs_in_contact");
+    assert!(events > 0.0, "{events}");
+    assert!(
+        sustained > 0.0 && sustained <= events,
+        "{sustained} of {events}"
+    );
+    // A single floe dropping onto a wall never has a pair in contact when
+    // its next impact is located.
+    let (r, _) = run(&load("bouncing_floe"));
+    assert_eq!(counter(&r, "events_of_pairs_in_contact"), 0.0);
 }
