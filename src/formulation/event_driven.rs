@@ -249,6 +249,10 @@ const MAX_IMPACT_ROUNDS: usize = 100;
 /// Halvings of a step that penetrates before it is accepted anyway (counted).
 const MAX_REJECTIONS: usize = 12;
 
+/// The first event of a trial step: its time from the step start (s) and
+/// the pair of bodies it belongs to.
+type Event = (f64, (usize, usize));
+
 /// One resolved impact, for analysis.
 #[derive(Debug, Clone, PartialEq)]
 pub struct ImpactRecord {
@@ -614,9 +618,9 @@ impl EventDriven {
         wrenches: &[Wrench],
         p0: &[Vec<Vec2>],
         p1: &[Vec<Vec2>],
-    ) -> Result<Option<(f64, (usize, usize))>, FormulationError> {
+    ) -> Result<Option<Event>, FormulationError> {
         let delta = self.distance;
-        let mut first: Option<(f64, (usize, usize))> = None;
+        let mut first: Option<Event> = None;
         let _ = end;
         for (i, j) in self.swept_pairs(scn, p0, p1) {
             // Vertices open at the start and closing at the end: (owner, index).
