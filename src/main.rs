@@ -212,6 +212,14 @@ fn main() -> ExitCode {
     }
 }
 
+/// Every name of `names` is a formulation of the registry (else the error
+/// naming the first that is not), checked before any case is loaded.
+fn known_formulations(names: &[String]) -> Result<(), String> {
+    names
+        .iter()
+        .try_for_each(|f| formulation::entry(f).map(|_| ()))
+}
+
 /// `n thing` or `n things`.
 fn plural(n: usize, thing: &str) -> String {
     if n == 1 {
@@ -394,12 +402,7 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         eprintln!("error: -o {}: exists and is not a folder", out.display());
         return ExitCode::FAILURE;
     }
-    if let Some(Err(e)) = opts
-        .formulations
-        .iter()
-        .map(|f| formulation::entry(f))
-        .find(Result::is_err)
-    {
+    if let Err(e) = known_formulations(&opts.formulations) {
         eprintln!("error: -f: {e}");
         return ExitCode::FAILURE;
     }
@@ -464,12 +467,7 @@ fn check(
     if let Some(f) = formulations {
         opts.formulations = f;
     }
-    if let Some(Err(e)) = opts
-        .formulations
-        .iter()
-        .map(|f| formulation::entry(f))
-        .find(Result::is_err)
-    {
+    if let Err(e) = known_formulations(&opts.formulations) {
         eprintln!("error: -f: {e}");
         return ExitCode::FAILURE;
     }

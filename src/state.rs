@@ -129,12 +129,6 @@ impl System {
             .collect()
     }
 
-    /// The world polygons of every body: the floes at their states, then the
-    /// obstacles (body ids as in [`Scenario::body`]).
-    pub fn world_polygons(&self, scn: &Scenario) -> Vec<Vec<Vec2>> {
-        world_polygons(scn, &self.bodies)
-    }
-
     /// Total linear momentum `Σ M Ġ`, kg·m/s.
     pub fn momentum(&self, scn: &Scenario) -> Vec2 {
         self.bodies

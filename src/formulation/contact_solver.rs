@@ -340,7 +340,14 @@ impl ContactSolver {
     /// compression LCP of an impact, a failed cone solve): Lemke with the
     /// fallbacks and the last resort.
     pub fn solve_lcp(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
-        let lcp = &lcp.with_velocity_coulomb_rows();
+        // Only a frictional LCP has Coulomb rows to scale (and to copy).
+        let scaled;
+        let lcp = if lcp.friction {
+            scaled = lcp.with_velocity_coulomb_rows();
+            &scaled
+        } else {
+            lcp
+        };
         let sol = self.lemke(lcp);
         self.record_solve(lcp, &sol, t);
         if sol.status.is_solved() {

@@ -232,11 +232,6 @@ impl Counters {
         }
     }
 
-    /// Whether the run keeps the counter `c`.
-    pub fn keeps(&self, c: &Counter) -> bool {
-        self.entries.contains_key(c.name)
-    }
-
     /// Every kept counter with a value (sums always, figures once set), by
     /// name.
     pub fn iter(&self) -> impl Iterator<Item = (&Counter, f64)> + '_ {

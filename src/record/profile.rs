@@ -67,10 +67,3 @@ impl Default for SolveProfile {
         }
     }
 }
-
-impl SolveProfile {
-    /// Whether no LCP was solved.
-    pub fn is_empty(&self) -> bool {
-        self.buckets.iter().all(|b| b.solves == 0)
-    }
-}
