@@ -95,13 +95,13 @@ pub const ENTRY: Entry = Entry {
     ],
 };
 
-/// `[formulation.event_driven]`.
+/// `[formulation.event-driven]`.
 pub const TABLE: TableSpec = TableSpec {
-    name: "event_driven",
+    name: "event-driven",
     validate: |t| EventDrivenSettings::from_table(t).map(|_| ()),
 };
 
-/// Settings of the event-driven formulation (`[formulation.event_driven]`).
+/// Settings of the event-driven formulation (`[formulation.event-driven]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EventDrivenSettings {
     /// `penetration_tolerance`: penetration tolerated before a step is
@@ -115,7 +115,7 @@ pub struct EventDrivenSettings {
 }
 
 impl EventDrivenSettings {
-    /// Parses `[formulation.event_driven]` (errors name the line and key).
+    /// Parses `[formulation.event-driven]` (errors name the line and key).
     pub fn from_table(t: &SettingsTable) -> Result<EventDrivenSettings, CaseError> {
         let mut r = t.read();
         let s = EventDrivenSettings {
@@ -288,7 +288,7 @@ pub struct EventDriven {
 const MAX_IMPACT_RECORDS: usize = 100_000;
 
 impl EventDriven {
-    /// Sets up the formulation for `scn` with its `[formulation.event_driven]`
+    /// Sets up the formulation for `scn` with its `[formulation.event-driven]`
     /// settings.
     pub fn new(scn: &Scenario, opts: &FormulationOptions) -> Result<EventDriven, String> {
         faer::set_global_parallelism(faer::Par::Seq);

@@ -123,7 +123,7 @@ fn the_event_driven_scheme_can_solve_its_sustained_contacts_by_the_cone() {
     // separates from the wall at μ |u_T| (the relaxation's artefact), so the
     // sustained solve differs from Lemke's.
     let cone = scenario(&format!(
-        "{}\n[formulation.event_driven]\nsolver = \"cone\"\n",
+        "{}\n[formulation.event-driven]\nsolver = \"cone\"\n",
         case_text("sliding_floe")
     ));
     let ed = formulation::entry("event-driven").unwrap();

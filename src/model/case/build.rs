@@ -277,6 +277,14 @@ fn formulation_tables(
             let span = table.span();
             let Some(owner) = tables.iter().find(|t| t.name == name) else {
                 let known: Vec<&str> = tables.iter().map(|t| t.name).collect();
+                // One spelling: a table is named like the formulation on the
+                // command line (`event-driven`, not `event_driven`).
+                let hint = tables
+                    .iter()
+                    .find(|t| t.name == name.replace('_', "-"))
+                    .map_or(String::new(), |t| {
+                        format!(" (did you mean [formulation.{}]? tables take the formulation's name as on the command line)", t.name)
+                    });
                 let line = ctx
                     .key_line(&outer, &name)
                     .or(Some(ctx.line_of(span.start)));
@@ -284,7 +292,7 @@ fn formulation_tables(
                     file: ctx.file.to_path_buf(),
                     line,
                     message: format!(
-                        "unknown table [formulation.{name}]; known: {}",
+                        "unknown table [formulation.{name}]; known: {}{hint}",
                         known.join(", ")
                     ),
                 });

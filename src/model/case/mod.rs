@@ -61,6 +61,34 @@ impl Ctx<'_> {
         }
     }
 
+    /// A TOML syntax or type error at its line; a duplicate key or table is
+    /// named (the parser's own message does not say which).
+    fn toml_err(&self, e: &toml::de::Error) -> CaseError {
+        let span = e.span();
+        let message = e.message().trim_end();
+        let named = span
+            .as_ref()
+            .filter(|_| message.starts_with("duplicate key"))
+            .and_then(|s| self.text.get(s.clone()))
+            .map(|written| {
+                written
+                    .split('=')
+                    .next()
+                    .unwrap_or(written)
+                    .trim()
+                    .trim_matches(|c| c == '[' || c == ']')
+                    .trim()
+            })
+            .filter(|key| !key.is_empty());
+        match named {
+            Some(key) => self.err(
+                span,
+                format!("{message} `{key}` (each key and table is written once)"),
+            ),
+            None => self.err(span, message),
+        }
+    }
+
     /// The line where `key` is written inside `span`, if it can be found.
     fn key_line(&self, span: &Range<usize>, key: &str) -> Option<usize> {
         // A table's span may cover only its header: search on to the next header.
@@ -135,9 +163,9 @@ pub fn parse_case_with(
 ) -> Result<Scenario, CaseError> {
     let ctx = Ctx { file, text };
     // Syntax first, then the version, before any typed rule.
-    let raw: toml::Table = toml::from_str(text).map_err(|e| ctx.err(e.span(), e.message()))?;
+    let raw: toml::Table = toml::from_str(text).map_err(|e| ctx.toml_err(&e))?;
     check_version(&ctx, &raw)?;
-    let case: CaseFile = toml::from_str(text).map_err(|e| ctx.err(e.span(), e.message()))?;
+    let case: CaseFile = toml::from_str(text).map_err(|e| ctx.toml_err(&e))?;
     build(&ctx, case, tables)
 }
 
