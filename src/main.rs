@@ -129,8 +129,15 @@ enum Command {
 
 const DEFAULT_FORMULATION: &str = "event-driven";
 
+/// The exit status of a command stopped by SIGINT or SIGTERM (128 + 2, as
+/// shells report a Ctrl-C).
+const INTERRUPTED: u8 = 130;
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Err(e) = floebench::run::interrupt::install() {
+        eprintln!("warning: Ctrl-C will not end runs cleanly: {e}");
+    }
     match cli.command {
         Command::Validate { cases } => validate(&cases),
         Command::Run {
@@ -383,6 +390,10 @@ fn run(
     );
     match &s.end {
         EndReason::Completed => ExitCode::SUCCESS,
+        EndReason::Interrupted { .. } => {
+            eprintln!("run {}", s.end);
+            ExitCode::from(INTERRUPTED)
+        }
         other => {
             eprintln!("run did not complete: {other}");
             ExitCode::FAILURE
@@ -398,34 +409,56 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         eprintln!("error: --threshold must be a positive number");
         return ExitCode::FAILURE;
     }
-    if out.exists() && !out.is_dir() {
-        eprintln!("error: -o {}: exists and is not a folder", out.display());
-        return ExitCode::FAILURE;
-    }
     if let Err(e) = known_formulations(&opts.formulations) {
         eprintln!("error: -f: {e}");
         return ExitCode::FAILURE;
     }
-    let result = batch::load_cases(cases)
-        .map_err(compare::CompareError::from)
-        .and_then(|loaded| {
-            for (_, scn) in &loaded {
-                eprintln!("{}", describe(scn));
-            }
-            eprintln!(
-                "{}, {} runs at a time",
-                plural(loaded.len(), "case"),
-                opts.jobs
-            );
-            compare::compare(loaded, opts)
-        });
-    let comps = match result {
+    let loaded = match batch::load_cases(cases) {
+        Ok(l) => l,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let names: Vec<String> = loaded.iter().map(|(_, s)| s.name.clone()).collect();
+    let names: Vec<&str> = names.iter().map(String::as_str).collect();
+    // The output folder is checked before any run: a mistake costs nothing.
+    if let Err(e) = report::folder::check(out, &names) {
+        eprintln!("error: -o: {e}");
+        return ExitCode::FAILURE;
+    }
+    for (_, scn) in &loaded {
+        eprintln!("{}", describe(scn));
+    }
+    eprintln!(
+        "{}, {} runs at a time",
+        plural(loaded.len(), "case"),
+        opts.jobs
+    );
+    let comps = match compare::compare(loaded, opts) {
         Ok(c) => c,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
+    let interrupted = floebench::run::interrupt::requested();
+    let reported: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
+    if interrupted {
+        let missing: Vec<&str> = names
+            .iter()
+            .copied()
+            .filter(|n| !reported.contains(n))
+            .collect();
+        eprintln!(
+            "interrupted: {} not reported (runs not finished): {}",
+            plural(missing.len(), "case"),
+            missing.join(", ")
+        );
+        if comps.is_empty() {
+            return ExitCode::from(INTERRUPTED);
+        }
+    }
     let command: Vec<String> = std::env::args()
         .skip(1)
         .map(|a| a.replace(['\n', '`'], " "))
@@ -441,6 +474,24 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
             }
             for p in paths {
                 println!("wrote {}", p.display());
+            }
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    }
+    if interrupted {
+        // The unfinished cases' earlier folders are kept, not cleared.
+        return ExitCode::from(INTERRUPTED);
+    }
+    match report::folder::remove_stale(out, &reported) {
+        Ok(removed) => {
+            for dir in removed {
+                eprintln!(
+                    "removed {} (a case of an earlier report into this folder, not in this one)",
+                    dir.display()
+                );
             }
             ExitCode::SUCCESS
         }
@@ -490,7 +541,13 @@ fn check(
             return ExitCode::FAILURE;
         }
     }
-    if check::claimed_failures(&rows) > 0 {
+    if floebench::run::interrupt::requested() {
+        eprintln!(
+            "interrupted: the table holds the {} whose runs all finished",
+            plural(done.len(), "case")
+        );
+        ExitCode::from(INTERRUPTED)
+    } else if check::claimed_failures(&rows) > 0 {
         ExitCode::FAILURE
     } else {
         ExitCode::SUCCESS

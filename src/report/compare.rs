@@ -11,7 +11,8 @@
 //! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu
 //! ```
 //!
-//! A case's folder is written under a temporary name and swapped into place
+//! A case's folder replaces only a folder of the same report
+//! ([`super::folder`]); it is written under a temporary name and swapped into place
 //! when complete, so a reader never sees a half-written case; the page is
 //! written last. The CSV and JSON files hold every number at full precision
 //! (Rust's shortest round-trip form); the page rounds them with
@@ -193,11 +194,8 @@ pub fn write_report(
     out: &Path,
     command: &str,
 ) -> Result<Vec<PathBuf>, ReportError> {
-    let mut names: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
-    names.sort_unstable();
-    if let Some(w) = names.windows(2).find(|w| w[0] == w[1]) {
-        return Err(ReportError::DuplicateName(w[0].to_string()));
-    }
+    let names: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
+    super::folder::check(out, &names)?;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
     let mut blocks = vec![
         Block::Heading(1, "floebench comparison report".into()),
@@ -262,5 +260,6 @@ pub fn write_report(
         page::html("floebench comparison report", &blocks).as_bytes(),
     )
     .map_err(io_err(&html))?;
+    super::folder::record(out, &names)?;
     Ok(vec![md, html])
 }

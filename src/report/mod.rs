@@ -3,6 +3,8 @@
 //!
 //! - [`compare`]: writes a comparison (`floebench compare`): each case's
 //!   folder (data files, run files, plots), then `index.md` and `index.html`;
+//! - [`folder`]: which case folders of an output folder a report owns (it
+//!   replaces no other);
 //! - [`verdict`]: the verdict sentences on a case;
 //! - `tables` (private): the tables of the report page (headline, runs,
 //!   pairs, checks);
@@ -18,6 +20,7 @@
 pub mod checks;
 pub mod compare;
 pub mod figures;
+pub mod folder;
 pub mod format;
 pub mod page;
 pub mod plot;
@@ -32,6 +35,13 @@ pub enum ReportError {
     /// Two cases have the same name, so their folders would collide.
     #[error("two cases are named `{0}`: their reports would overwrite each other")]
     DuplicateName(String),
+    /// The output path exists and is not a folder.
+    #[error("{0} exists and is not a folder")]
+    NotAFolder(PathBuf),
+    /// A case's folder exists and was not written by a report into this
+    /// output folder ([`folder`]).
+    #[error("{0} exists and is not a case folder of a report in this output folder (another report, or your files): choose another output folder, or move it")]
+    NotOurs(PathBuf),
     /// A folder or file could not be written.
     #[error("{path}: {source}")]
     Io {

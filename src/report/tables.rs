@@ -47,11 +47,7 @@ fn fallbacks(s: &RunSummary) -> String {
 }
 
 pub(super) fn end_text(e: &EndReason) -> String {
-    match e {
-        EndReason::Completed => "completed".into(),
-        EndReason::Failed { message } => format!("failed: {message}"),
-        e @ EndReason::NonFinite { .. } => e.to_string(),
-    }
+    e.to_string()
 }
 
 /// The runs table of a case: one row per formulation.

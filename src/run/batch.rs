@@ -11,10 +11,15 @@
 //! The results come back in the order of the cases and, within a case, of
 //! its formulations, whatever order the runs finish in.
 //!
+//! An interrupt ([`super::interrupt`]) stops the batch: no new run starts,
+//! the runs in progress end at their next output time, and only the cases
+//! whose runs all finished before it are returned (the caller tells which
+//! are missing: [`super::interrupt::requested`] is then true).
+//!
 //! Which formulations run on a case when none are named:
 //! [`default_formulations`], those of the registry that apply to it.
 
-use super::{RunOptions, RunResult, Runner};
+use super::{interrupt, EndReason, RunOptions, RunResult, Runner};
 use crate::formulation::{self, load_case, FormulationOptions};
 use crate::model::{IntegratorKind, Scenario};
 use std::path::PathBuf;
@@ -191,6 +196,9 @@ pub fn run_cases(
     std::thread::scope(|s| {
         for _ in 0..workers {
             s.spawn(|| loop {
+                if interrupt::requested() {
+                    break;
+                }
                 let k = next.fetch_add(1, Ordering::SeqCst);
                 let Some(&(c, f)) = jobs.get(k) else { break };
                 let scn = &cases[c].1;
@@ -210,12 +218,16 @@ pub fn run_cases(
         .into_inner()
         .map_err(|_| BatchError::Panicked("a run panicked".into()))?
         .into_iter();
+    let interrupted = interrupt::requested();
     let mut out = Vec::with_capacity(cases.len());
     for ((path, scenario), list) in cases.into_iter().zip(&lists) {
         let mut runs = Vec::with_capacity(list.len());
         for name in list {
             match results.next().flatten() {
                 Some(Ok(r)) => runs.push(r),
+                // Not started, or stopped, because of an interrupt: the case
+                // is left out (see the module doc).
+                None if interrupted => {}
                 Some(Err(e)) => {
                     return Err(BatchError::Formulation(format!(
                         "{}: {name}: {e}",
@@ -230,11 +242,17 @@ pub fn run_cases(
                 }
             }
         }
-        out.push(CaseRuns {
-            path,
-            scenario,
-            runs,
-        });
+        let finished = runs.len() == list.len()
+            && runs
+                .iter()
+                .all(|r| !matches!(r.summary.end, EndReason::Interrupted { .. }));
+        if finished {
+            out.push(CaseRuns {
+                path,
+                scenario,
+                runs,
+            });
+        }
     }
     Ok(out)
 }

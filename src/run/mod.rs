@@ -11,6 +11,7 @@
 //! several cases on a pool of threads.
 
 pub mod batch;
+pub mod interrupt;
 pub mod output;
 
 use crate::formulation::Formulation;
@@ -84,6 +85,12 @@ pub enum EndReason {
         /// What is not finite (`position`, `kinetic energy`, `work of the air drag`, …).
         quantity: String,
     },
+    /// SIGINT or SIGTERM ([`interrupt`]): the run stopped at the output
+    /// time `t`, its outputs written up to it.
+    Interrupted {
+        /// The last output time reached, s.
+        t: f64,
+    },
 }
 
 impl std::fmt::Display for EndReason {
@@ -93,6 +100,9 @@ impl std::fmt::Display for EndReason {
             EndReason::Failed { message } => write!(f, "failed: {message}"),
             EndReason::NonFinite { floe, t, quantity } => {
                 write!(f, "non-finite {quantity} of floe {floe} at t = {t} s")
+            }
+            EndReason::Interrupted { t } => {
+                write!(f, "interrupted at t = {t} s (outputs written up to it)")
             }
         }
     }
@@ -295,6 +305,10 @@ impl Runner {
         let bar = Progress::new(&self.options, times.len() as u64, scn, label);
         let started = end == EndReason::Completed;
         for (k, &t) in times.iter().enumerate().filter(|_| started) {
+            if interrupt::requested() {
+                end = EndReason::Interrupted { t: sys.t };
+                break;
+            }
             let mut next = sys.clone();
             if let Err(e) = form.advance(scn, &mut next, t, &mut clock) {
                 end = EndReason::Failed {

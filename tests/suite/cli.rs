@@ -26,16 +26,16 @@ fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
     let dir = tempdir();
     let out = dir.path().join("out");
     let dumps = dir.path().join("lcp");
-    let st = floebench()
-        .arg("run")
-        .arg(case_path("head_on"))
-        .args(["--quiet", "-o"])
-        .arg(&out)
-        .arg("--dump-lcp")
-        .arg(&dumps)
-        .status()
-        .unwrap();
-    assert!(st.success());
+    let (ok, _, stderr) = cli(&[
+        "run".as_ref(),
+        case_path("head_on").as_os_str(),
+        "--quiet".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--dump-lcp".as_ref(),
+        dumps.as_os_str(),
+    ]);
+    assert!(ok, "{stderr}");
     let traj = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
     assert!(traj.starts_with("t,floe,x,y,theta,vx,vy,omega\n"));
     assert_eq!(
@@ -308,4 +308,157 @@ fn an_unknown_formulation_is_named_without_blaming_a_case() {
         );
         assert!(!stderr.contains("head_on.toml"), "{cmd}: {stderr}");
     }
+}
+
+/// Starts `floebench args`, waits for a line of its standard error holding
+/// `ready`, waits `after` more, sends `signal`; returns (exit code, stderr).
+fn interrupt_after(
+    args: &[&std::ffi::OsStr],
+    ready: &str,
+    after: std::time::Duration,
+    signal: libc::c_int,
+) -> (Option<i32>, String) {
+    use std::io::{BufRead, Read};
+    let mut child = floebench()
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut seen = String::new();
+    loop {
+        let mut line = String::new();
+        assert!(err.read_line(&mut line).unwrap() > 0, "ended early: {seen}");
+        seen.push_str(&line);
+        if line.contains(ready) {
+            break;
+        }
+    }
+    std::thread::sleep(after);
+    let pid = libc::pid_t::try_from(child.id()).unwrap();
+    // SAFETY: a signal to our own child process.
+    assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
+    err.read_to_string(&mut seen).unwrap();
+    (child.wait().unwrap().code(), seen)
+}
+
+#[test]
+fn sigint_ends_a_run_with_its_outputs_written_up_to_the_last_output_time() {
+    let dir = tempdir();
+    let out = dir.path().join("o");
+    let (code, stderr) = interrupt_after(
+        &[
+            "run".as_ref(),
+            case_path("fields/field_200_coast").as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            "--quiet".as_ref(),
+        ],
+        "field_200_coast:",
+        std::time::Duration::from_millis(1500),
+        libc::SIGINT,
+    );
+    assert_eq!(code, Some(130), "{stderr}");
+    assert!(stderr.contains("run interrupted at t = "), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["end"]["reason"], "interrupted", "{summary}");
+    let reached = summary["t_reached"].as_f64().unwrap();
+    assert!(reached < 21600.0);
+    let trajectory = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let last = trajectory.lines().last().unwrap();
+    let t: f64 = last.split(',').next().unwrap().parse().unwrap();
+    assert_eq!(t, reached, "the last row is the last output time reached");
+    for file in ["trajectory.csv", "energy.csv"] {
+        let text = std::fs::read_to_string(out.join(file)).unwrap();
+        for line in text.lines().skip(1) {
+            for x in line.split(',') {
+                assert!(x.parse::<f64>().unwrap().is_finite(), "{file}: {line}");
+            }
+        }
+    }
+}
+
+#[test]
+fn sigterm_during_compare_keeps_the_cases_that_finished() {
+    let dir = tempdir();
+    let out = dir.path().join("report");
+    let (code, stderr) = interrupt_after(
+        &[
+            "compare".as_ref(),
+            case_path("head_on").as_os_str(),
+            case_path("fields/field_200_coast").as_os_str(),
+            "-f".as_ref(),
+            "event-driven".as_ref(),
+            "-j".as_ref(),
+            "1".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            "--quiet".as_ref(),
+        ],
+        "runs at a time",
+        std::time::Duration::from_millis(2000),
+        libc::SIGTERM,
+    );
+    assert_eq!(code, Some(130), "{stderr}");
+    assert!(
+        stderr.contains("not reported (runs not finished): field_200_coast"),
+        "{stderr}"
+    );
+    assert!(out.join("head_on").join("metrics.csv").is_file());
+    assert!(!out.join("field_200_coast").exists());
+    let page = std::fs::read_to_string(out.join("index.md")).unwrap();
+    assert!(page.contains("head_on") && !page.contains("## field_200_coast"));
+}
+
+#[test]
+fn compare_replaces_only_its_own_case_folders_and_clears_its_stale_ones() {
+    let dir = tempdir();
+    // A folder named like a case that is not one of this report's (here,
+    // another report, as reports/sample is in reports/): refused before any
+    // run, untouched.
+    let out = dir.path().join("reports");
+    let other = out.join("head_on");
+    std::fs::create_dir_all(&other).unwrap();
+    std::fs::write(other.join("index.md"), "another report").unwrap();
+    let compare = |out: &std::path::Path, cases: &[&str]| {
+        let mut args: Vec<std::ffi::OsString> = vec!["compare".into()];
+        args.extend(cases.iter().map(|c| case_path(c).into_os_string()));
+        args.extend(["-f", "event-driven", "--quiet", "-o"].map(Into::into));
+        args.push(out.as_os_str().to_owned());
+        let args: Vec<&std::ffi::OsStr> = args.iter().map(|a| a.as_os_str()).collect();
+        cli(&args)
+    };
+    let (ok, _, stderr) = compare(&out, &["head_on"]);
+    assert!(
+        !ok && stderr.contains("is not a case folder of a report"),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains("runs at a time"),
+        "refused before running: {stderr}"
+    );
+    assert_eq!(
+        std::fs::read_to_string(other.join("index.md")).unwrap(),
+        "another report"
+    );
+    // A report of fewer cases into the same folder removes the case folders
+    // of the earlier report that it no longer has, and nothing else.
+    let out = dir.path().join("mine");
+    let (ok, _, stderr) = compare(&out, &["head_on", "sliding_floe"]);
+    assert!(ok, "{stderr}");
+    std::fs::create_dir_all(out.join("notes")).unwrap();
+    let (ok, _, stderr) = compare(&out, &["head_on"]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("sliding_floe (a case of an earlier report"),
+        "{stderr}"
+    );
+    assert!(!out.join("sliding_floe").exists());
+    assert!(out.join("head_on").join("metrics.csv").is_file());
+    assert!(
+        out.join("notes").is_dir(),
+        "a folder it did not write is kept"
+    );
 }
