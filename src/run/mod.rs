@@ -302,7 +302,7 @@ impl Runner {
         }
 
         let times = output_times(scn.duration, scn.output_interval);
-        let bar = Progress::new(&self.options, times.len() as u64, scn, label);
+        let mut bar = Progress::new(&self.options, times.len() as u64, scn, label);
         let started = end == EndReason::Completed;
         for (k, &t) in times.iter().enumerate().filter(|_| started) {
             if interrupt::requested() {
@@ -438,12 +438,24 @@ fn sample(scn: &Scenario, sys: &System, e0: f64) -> EnergySample {
 }
 
 /// A progress bar that appears only once a run has lasted a second.
+///
+/// Its time estimate follows the measured cost rate: the simulated time
+/// advanced per wall second over the last [`Progress::WINDOW`] of wall time
+/// (or since the start, if shorter), applied to the simulated time left. A
+/// run whose cost per simulated second changes (a pack that jams) is
+/// estimated from how fast it goes now, not from its cheap beginning.
 struct Progress {
     bar: Option<indicatif::ProgressBar>,
     start: Instant,
+    duration: f64,
+    /// (wall time, simulated time) at recent ticks, oldest first.
+    recent: std::collections::VecDeque<(Instant, f64)>,
 }
 
 impl Progress {
+    /// The wall-time window of the rate estimate.
+    const WINDOW: Duration = Duration::from_secs(10);
+
     fn new(options: &RunOptions, len: u64, scn: &Scenario, name: &str) -> Progress {
         let bar = options.progress.then(|| {
             let bar = indicatif::ProgressBar::with_draw_target(
@@ -451,7 +463,7 @@ impl Progress {
                 indicatif::ProgressDrawTarget::hidden(),
             );
             if let Ok(style) = indicatif::ProgressStyle::with_template(
-                "{prefix} [{elapsed_precise}] {bar:30} {msg} (eta {eta})",
+                "{prefix} [{elapsed_precise}] {bar:30} {msg}",
             ) {
                 bar.set_style(style);
             }
@@ -461,25 +473,55 @@ impl Progress {
                 None => bar,
             }
         });
+        let start = Instant::now();
         Progress {
             bar,
-            start: Instant::now(),
+            start,
+            duration: scn.duration,
+            recent: std::collections::VecDeque::from([(start, 0.0)]),
         }
     }
 
-    fn tick(&self, pos: u64, t: f64) {
-        if let Some(bar) = &self.bar {
-            if bar.is_hidden() && self.start.elapsed() > Duration::from_secs(1) {
-                bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-            }
-            bar.set_position(pos);
-            bar.set_message(format!("t = {t:.3} s"));
+    fn tick(&mut self, pos: u64, t: f64) {
+        let Some(bar) = &self.bar else { return };
+        let now = Instant::now();
+        self.recent.push_back((now, t));
+        while self.recent.len() > 2
+            && self
+                .recent
+                .get(1)
+                .is_some_and(|&(w, _)| now.duration_since(w) > Self::WINDOW)
+        {
+            self.recent.pop_front();
         }
+        if bar.is_hidden() && self.start.elapsed() > Duration::from_secs(1) {
+            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        }
+        bar.set_position(pos);
+        let eta = self.recent.front().and_then(|&(w0, t0)| {
+            let wall = now.duration_since(w0).as_secs_f64();
+            let rate = (t - t0) / wall;
+            (wall > 0.0 && rate > 0.0).then(|| (self.duration - t).max(0.0) / rate)
+        });
+        bar.set_message(match eta {
+            Some(s) => format!("t = {t:.3} s, eta {} at the current rate", human_seconds(s)),
+            None => format!("t = {t:.3} s"),
+        });
     }
 
     fn finish(&self) {
         if let Some(bar) = &self.bar {
             bar.finish_and_clear();
         }
+    }
+}
+
+/// `s` seconds as `1h 02m`, `3m 05s` or `12s`.
+fn human_seconds(s: f64) -> String {
+    let s = s.round().min(1e9) as u64;
+    match (s / 3600, s % 3600 / 60, s % 60) {
+        (0, 0, sec) => format!("{sec}s"),
+        (0, m, sec) => format!("{m}m {sec:02}s"),
+        (h, m, _) => format!("{h}h {m:02}m"),
     }
 }
