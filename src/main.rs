@@ -55,6 +55,13 @@ enum Command {
         /// where contacts can happen (floes pass through each other).
         #[arg(long)]
         allow_contacts: bool,
+        /// Start from the state of an earlier run of the same case: its
+        /// trajectory.csv (e.g. a jammed pack); time starts again at 0.
+        #[arg(long, value_name = "TRAJECTORY")]
+        from: Option<PathBuf>,
+        /// The output time of --from to start from, s [default: its last].
+        #[arg(long, value_name = "T", requires = "from")]
+        at: Option<f64>,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
@@ -147,15 +154,20 @@ fn main() -> ExitCode {
             integrator,
             dump_lcp,
             allow_contacts,
+            from,
+            at,
             quiet,
         } => run(
             &case,
             &formulation,
-            out,
-            integrator,
-            dump_lcp,
-            allow_contacts,
-            quiet,
+            RunArgs {
+                out,
+                integrator,
+                dump_lcp,
+                allow_contacts,
+                from: from.map(|f| (f, at)),
+                quiet,
+            },
         ),
         Command::Compare {
             cases,
@@ -287,15 +299,26 @@ fn validate(cases: &[PathBuf]) -> ExitCode {
     }
 }
 
-fn run(
-    case: &Path,
-    name: &str,
+/// The options of `floebench run`.
+struct RunArgs {
     out: Option<PathBuf>,
     integrator: Option<IntegratorKind>,
     dump_lcp: Option<PathBuf>,
     allow_contacts: bool,
+    /// A trajectory file and the output time to start from.
+    from: Option<(PathBuf, Option<f64>)>,
     quiet: bool,
-) -> ExitCode {
+}
+
+fn run(case: &Path, name: &str, args: RunArgs) -> ExitCode {
+    let RunArgs {
+        out,
+        integrator,
+        dump_lcp,
+        allow_contacts,
+        from,
+        quiet,
+    } = args;
     let entry = match formulation::entry(name) {
         Ok(e) => e,
         Err(e) => {
@@ -303,13 +326,30 @@ fn run(
             return ExitCode::FAILURE;
         }
     };
-    let scn = match load_case(case) {
+    let mut scn = match load_case(case) {
         Ok(s) => s,
         Err(e) => {
             eprintln!("error: {e}");
             return ExitCode::FAILURE;
         }
     };
+    if let Some((file, at)) = from {
+        let started = output::read_state(&file, at).and_then(|(t, bodies)| {
+            let restart = floebench::model::Restart { file, t };
+            floebench::state::restart(&mut scn, &bodies, restart)
+        });
+        if let Err(e) = started {
+            eprintln!("error: --from: {e}");
+            return ExitCode::FAILURE;
+        }
+        if let Some(r) = &scn.restart {
+            eprintln!(
+                "starting from {} at t = {} s (time starts again at 0)",
+                r.file.display(),
+                r.t
+            );
+        }
+    }
     if dump_lcp.is_some() && !entry.dumps_lcps {
         eprintln!(
             "error: --dump-lcp: {} writes no LCP dumps (event-driven and moreau do)",

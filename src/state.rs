@@ -186,3 +186,45 @@ pub fn normal_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64
         - body_point_velocity(scn, bodies, c.a, &c.geom.point))
     .dot(&c.geom.normal)
 }
+
+/// Makes `bodies` (one per floe, e.g. an earlier run's state read by
+/// [`crate::run::output::read_state`]) the initial state of `scn`: each
+/// floe's outline is turned by its angle (so the new run's angles start at
+/// 0 from that orientation), its centre of mass, velocity and angular
+/// velocity replaced. Mass properties do not change under a rotation. The
+/// state is taken as an earlier run left it: floes in contact or within
+/// that run's penetration tolerance are not re-checked for overlap.
+/// `restart` records where it comes from.
+pub fn restart(
+    scn: &mut Scenario,
+    bodies: &[BodyState],
+    restart: crate::model::Restart,
+) -> Result<(), String> {
+    if bodies.len() != scn.floes.len() {
+        return Err(format!(
+            "{}: {} floes at t = {} s, but case `{}` has {}",
+            restart.file.display(),
+            bodies.len(),
+            restart.t,
+            scn.name,
+            scn.floes.len()
+        ));
+    }
+    if let Some(i) = bodies.iter().position(|b| !b.is_finite()) {
+        return Err(format!(
+            "{}: floe {i} at t = {} s is not finite",
+            restart.file.display(),
+            restart.t
+        ));
+    }
+    for (f, b) in scn.floes.iter_mut().zip(bodies) {
+        for v in &mut f.shape {
+            *v = crate::geometry::rotate(v, b.angle);
+        }
+        f.position = b.position;
+        f.velocity = b.velocity;
+        f.angular_velocity = b.angular_velocity;
+    }
+    scn.restart = Some(restart);
+    Ok(())
+}

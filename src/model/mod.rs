@@ -308,6 +308,20 @@ pub struct Scenario {
     /// The `[formulation.<name>]` tables as written (validated by their
     /// owners at load), by name.
     pub formulation_settings: BTreeMap<String, SettingsTable>,
+    /// Where the initial state comes from when it is not the case file's:
+    /// the state of an earlier run (`floebench run --from`, see
+    /// [`crate::state::restart`]).
+    pub restart: Option<Restart>,
+}
+
+/// The earlier run a scenario starts from.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Restart {
+    /// The trajectory file read.
+    pub file: std::path::PathBuf,
+    /// The output time of that file whose state is the initial state, s
+    /// (the new run's time starts again at 0).
+    pub t: f64,
 }
 
 impl Scenario {

@@ -205,6 +205,9 @@ pub struct RunSummary {
     pub obstacles: usize,
     /// Requested duration, s.
     pub duration: f64,
+    /// The earlier run this one starts from (`run --from`), if any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restart: Option<crate::model::Restart>,
     /// Time reached, s.
     pub t_reached: f64,
     /// How the run ended.
@@ -375,6 +378,7 @@ impl Runner {
             floes: scn.floes.len(),
             obstacles: scn.obstacles.len(),
             duration: scn.duration,
+            restart: scn.restart.clone(),
             t_reached: sys.t,
             end,
             timing: Timing {

@@ -21,10 +21,14 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> io::Result<()> {
     std::fs::rename(&tmp, path)
 }
 
+/// The first line of `trajectory.csv`.
+pub const TRAJECTORY_HEADER: &str = "t,floe,x,y,theta,vx,vy,omega";
+
 /// The trajectory as CSV: `t,floe,x,y,theta,vx,vy,omega` (s, -, m, m, rad, m/s, m/s, rad/s).
 pub fn trajectory_csv(result: &RunResult) -> String {
     let mut s = String::with_capacity(64 * result.trajectory.len() + 64);
-    s.push_str("t,floe,x,y,theta,vx,vy,omega\n");
+    s.push_str(TRAJECTORY_HEADER);
+    s.push('\n');
     for r in &result.trajectory {
         let _ = writeln!(
             s,
@@ -110,4 +114,86 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
         paths.push(p);
     }
     Ok(paths)
+}
+
+/// The state at one output time of a `trajectory.csv` written by
+/// [`write_run`]: the time and one [`BodyState`] per floe, in floe order.
+/// `at` (s) picks the output time (equal to within 1e-9 relative); `None`
+/// takes the last one. Errors name the file, and the line or the times the
+/// file has.
+pub fn read_state(
+    path: &Path,
+    at: Option<f64>,
+) -> Result<(f64, Vec<crate::state::BodyState>), String> {
+    use crate::geometry::Vec2;
+    let file = path.display();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("{file}: {e}"))?;
+    let mut lines = text.lines().enumerate();
+    match lines.next() {
+        Some((_, h)) if h.trim() == TRAJECTORY_HEADER => {}
+        _ => {
+            return Err(format!(
+                "{file}:1: not a trajectory file (its first line must be `{TRAJECTORY_HEADER}`)"
+            ))
+        }
+    }
+    let mut rows: Vec<(f64, usize, [f64; 6])> = Vec::new();
+    for (k, line) in lines {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let bad = |what: &str| format!("{file}:{}: {what}", k + 1);
+        let fields: Vec<&str> = line.split(',').map(str::trim).collect();
+        if fields.len() != 8 {
+            return Err(bad(&format!("{} values, expected 8", fields.len())));
+        }
+        let num = |i: usize| {
+            fields[i]
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| bad(&format!("`{}` is not a finite number", fields[i])))
+        };
+        let floe = fields[1]
+            .parse::<usize>()
+            .map_err(|_| bad(&format!("floe `{}` is not an index", fields[1])))?;
+        rows.push((
+            num(0)?,
+            floe,
+            [num(2)?, num(3)?, num(4)?, num(5)?, num(6)?, num(7)?],
+        ));
+    }
+    let (Some(first), Some(last)) = (rows.first().map(|r| r.0), rows.last().map(|r| r.0)) else {
+        return Err(format!("{file}: no state (the file has only its header)"));
+    };
+    let t = at.unwrap_or(last);
+    let same = |x: f64| (x - t).abs() <= 1e-9 * t.abs().max(1.0);
+    let mut bodies: Vec<Option<crate::state::BodyState>> = Vec::new();
+    let mut found = None;
+    for &(tr, floe, [x, y, theta, vx, vy, omega]) in rows.iter().filter(|r| same(r.0)) {
+        found = Some(tr);
+        if bodies.len() <= floe {
+            bodies.resize(floe + 1, None);
+        }
+        if bodies[floe].is_some() {
+            return Err(format!("{file}: floe {floe} appears twice at t = {tr} s"));
+        }
+        bodies[floe] = Some(crate::state::BodyState {
+            position: Vec2::new(x, y),
+            angle: theta,
+            velocity: Vec2::new(vx, vy),
+            angular_velocity: omega,
+        });
+    }
+    let Some(tr) = found else {
+        return Err(format!(
+            "{file}: no output at t = {t} s (the file has outputs from {first} s to {last} s)"
+        ));
+    };
+    let bodies = bodies
+        .into_iter()
+        .enumerate()
+        .map(|(i, b)| b.ok_or_else(|| format!("{file}: floe {i} is missing at t = {tr} s")))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok((tr, bodies))
 }

@@ -57,3 +57,73 @@ fn the_writer_refuses_a_non_finite_number_and_names_it() {
         "nothing written"
     );
 }
+
+/// A run restarted from an earlier run's output (`run --from`) goes on as
+/// the earlier run did: head_on restarted at t = 10 s (after the impact, the
+/// floes drifting apart) reaches the earlier run's final state, for every
+/// contact formulation; the new run's angles start at 0 from the restart.
+#[test]
+fn a_run_restarted_from_an_earlier_output_goes_on_as_the_earlier_run() {
+    use floebench::model::Restart;
+    let dir = tempdir();
+    let text = case_text("head_on");
+    for name in ["event-driven", "moreau", "moreau-cone", "rapier"] {
+        let full = run(&scenario(&text), name);
+        assert_eq!(full.summary.end, EndReason::Completed);
+        let out = dir.path().join(name);
+        output::write_run(&out, &full).unwrap();
+        let file = out.join("trajectory.csv");
+        let (t, bodies) = output::read_state(&file, Some(10.0)).unwrap();
+        assert_eq!(t, 10.0);
+        let mut rest = scenario(&text.replacen("duration = 20.0", "duration = 10.0", 1));
+        floebench::state::restart(&mut rest, &bodies, Restart { file, t }).unwrap();
+        let second = run(&rest, name);
+        assert_eq!(second.summary.end, EndReason::Completed);
+        for (a, b) in full
+            .final_state
+            .bodies
+            .iter()
+            .zip(&second.final_state.bodies)
+        {
+            let d = (a.position - b.position).norm();
+            assert!(d < 1e-9 * a.position.norm().max(1.0), "{name}: {d} m");
+            assert!((a.velocity - b.velocity).norm() < 1e-9, "{name}");
+        }
+        assert!(second.summary.restart.is_some());
+        // The state read back is the state written, to the last bit.
+        let k = full.trajectory.iter().position(|r| r.t == 10.0).unwrap();
+        assert_eq!(bodies[0].position.x, full.trajectory[k].x);
+    }
+}
+
+#[test]
+fn a_restart_names_what_does_not_fit() {
+    use floebench::model::Restart;
+    let dir = tempdir();
+    let one = run(&scenario(&case_text("sliding_floe")), "event-driven");
+    output::write_run(dir.path(), &one).unwrap();
+    let file = dir.path().join("trajectory.csv");
+    let err = output::read_state(&file, Some(0.25)).unwrap_err();
+    assert!(err.contains("no output at t = 0.25 s"), "{err}");
+    let (t, bodies) = output::read_state(&file, None).unwrap();
+    let mut two = scenario(&case_text("head_on"));
+    let err = floebench::state::restart(
+        &mut two,
+        &bodies,
+        Restart {
+            file: file.clone(),
+            t,
+        },
+    )
+    .unwrap_err();
+    assert!(err.contains("1 floes") && err.contains("has 2"), "{err}");
+    std::fs::write(&file, "t,floe,x,y,theta,vx,vy,omega\n0,0,1,2,3,4,5\n").unwrap();
+    let err = output::read_state(&file, None).unwrap_err();
+    assert!(
+        err.contains("trajectory.csv:2: 7 values, expected 8"),
+        "{err}"
+    );
+    std::fs::write(&file, "x,y\n").unwrap();
+    let err = output::read_state(&file, None).unwrap_err();
+    assert!(err.contains(":1: not a trajectory file"), "{err}");
+}

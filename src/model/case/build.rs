@@ -51,6 +51,7 @@ pub(super) fn build(
         obstacles,
         integrator,
         formulation_settings,
+        restart: None,
     })
 }
 
