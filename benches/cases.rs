@@ -7,7 +7,19 @@
 //! - `scaling`: the `[[field]]` family `cases/fields/scaling_100.toml`,
 //!   `scaling_1000.toml` (and, behind the filter name `heavy`,
 //!   `field_10000.toml`): the first 600 s of drift of 100, 1,000 and 10,000
-//!   floes at concentration 0.7 with the same floe sizes and forcing.
+//!   floes at concentration 0.7 with the same floe sizes and forcing;
+//! - `dense` (only when the filter names it): the jammed phase of the bay
+//!   jam family `cases/fields/bay_jam_{200,2000,20000}.toml`, each started
+//!   (as `floebench run --from`) from the state at t = 5,000 s of a `rapier`
+//!   run of the case (the pack has reached the coast and jammed: its kinetic
+//!   energy is three orders of magnitude below the drift's) and run for
+//!   [`DENSE_SPAN`] s. Throughput is in simulated seconds, so criterion's
+//!   `elem/s` is simulated seconds per CPU second. The states are read from
+//!   `target/dense/bay_jam_<N>/trajectory.csv`; the 200-floe one is made
+//!   when missing (about 30 s), the others by
+//!   `cargo run --release -- run cases/fields/bay_jam_<N>.toml -f rapier -o target/dense/bay_jam_<N> --quiet`
+//!   (2,000 floes: minutes; 20,000: hours), and skipped with that message
+//!   until they exist.
 //!
 //! The measurement is the thread's CPU time. Every formulation except
 //! `free-drift` runs.
@@ -16,6 +28,7 @@
 //! cargo bench --bench cases                 # small cases and scaling 100, 1000 (a few minutes)
 //! cargo bench --bench cases -- head_on      # one case
 //! cargo bench --bench cases -- heavy        # the scaling group with its 10,000-floe member (long)
+//! cargo bench --bench cases -- dense        # the jammed bay, CPU per simulated second (long)
 //! ```
 
 #[path = "common/thread_cpu.rs"]
@@ -34,6 +47,15 @@ use thread_cpu::ThreadCpu;
 
 /// The simulated span of the scaling benchmarks, s.
 const SCALING_SPAN: f64 = 600.0;
+
+/// The simulated span of the dense benchmarks, s: long enough for many
+/// sustained-contact steps of every formulation, short enough that the
+/// slowest formulation on 200 floes takes seconds per sample.
+const DENSE_SPAN: f64 = 20.0;
+
+/// The output time of the rapier run whose state starts the dense
+/// benchmarks, s.
+const DENSE_START: f64 = 5000.0;
 
 fn cases_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("cases")
@@ -115,9 +137,66 @@ fn scaling(c: &mut Criterion<ThreadCpu>) {
     g.finish();
 }
 
+/// The jammed state of `bay_jam_<n>` (see the module doc): the case
+/// restarted from its rapier run's state at [`DENSE_START`], for
+/// [`DENSE_SPAN`] s.
+fn jammed(n: usize) -> Result<Scenario, String> {
+    use floebench::run::output;
+    let path = cases_dir().join("fields").join(format!("bay_jam_{n}.toml"));
+    let mut scn = load_case(&path).map_err(|e| e.to_string())?;
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("target/dense")
+        .join(format!("bay_jam_{n}"));
+    let file = dir.join("trajectory.csv");
+    if !file.is_file() {
+        if n != 200 {
+            return Err(format!(
+                "skipped: no {}; make it with `cargo run --release -- run {} -f rapier -o {} --quiet`",
+                file.display(),
+                path.display(),
+                dir.display()
+            ));
+        }
+        eprintln!("making the jammed state of {} (rapier, about 30 s)", scn.name);
+        let mut f = build("rapier", &scn, &FormulationOptions::default())?;
+        let r = Runner::new(RunOptions::default()).run(&scn, f.name(), f.formulation.as_mut());
+        output::write_run(&dir, &r).map_err(|e| e.to_string())?;
+    }
+    let (t, bodies) = output::read_state(&file, Some(DENSE_START))?;
+    floebench::state::restart(&mut scn, &bodies, floebench::model::Restart { file, t })?;
+    scn.duration = DENSE_SPAN;
+    scn.output_interval = DENSE_SPAN;
+    Ok(scn)
+}
+
+fn dense(c: &mut Criterion<ThreadCpu>) {
+    if !std::env::args().skip(1).any(|a| a.contains("dense")) {
+        return;
+    }
+    let mut g = c.benchmark_group("dense");
+    g.sample_size(10).warm_up_time(Duration::from_millis(100));
+    g.throughput(Throughput::Elements(DENSE_SPAN as u64));
+    for n in [200, 2000, 20000] {
+        let scn = match jammed(n) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("bay_jam_{n}: {e}");
+                continue;
+            }
+        };
+        for name in contact_formulations() {
+            let id = BenchmarkId::new(&name, n);
+            g.bench_with_input(id, &scn, |b, scn| {
+                b.iter(|| black_box(run_once(scn, &name)))
+            });
+        }
+    }
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots().with_measurement(ThreadCpu);
-    targets = per_case, scaling
+    targets = per_case, scaling, dense
 }
 criterion_main!(benches);
