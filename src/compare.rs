@@ -9,10 +9,11 @@
 //! divergences, every figure in long format and the physical checks of
 //! every run; [`crate::report::compare`] writes it as data, plots and a page.
 
+use crate::analysis::chaos;
 use crate::analysis::comparison::{assess, CaseComparison};
 use crate::analysis::divergence::TimeMismatch;
 use crate::model::{IntegratorKind, Scenario};
-use crate::run::batch::{self, BatchError, BatchOptions};
+use crate::run::batch::{self, BatchError, BatchOptions, CaseJob};
 use std::path::PathBuf;
 
 /// Why a comparison could not be made.
@@ -43,6 +44,14 @@ pub struct CompareOptions {
     pub divergence_threshold: f64,
     /// Override of the cases' smooth integrator.
     pub integrator: Option<IntegratorKind>,
+    /// Runs of each (case, formulation), at least 1 (default 1): CPU times
+    /// are reported as median and spread, and the physics of the repeats
+    /// must be bit-identical.
+    pub repeat: usize,
+    /// Run the reference formulation once more on each case from a
+    /// perturbed initial state, to tell whether the case is chaotic
+    /// ([`crate::analysis::chaos`]); default true.
+    pub chaos_probe: bool,
 }
 
 impl Default for CompareOptions {
@@ -54,12 +63,16 @@ impl Default for CompareOptions {
             progress: b.progress,
             divergence_threshold: 0.1,
             integrator: b.integrator,
+            repeat: b.repeat,
+            chaos_probe: true,
         }
     }
 }
 
 /// Runs every formulation of `opts` on every case (loaded by
-/// [`batch::load_cases`]) and measures the differences.
+/// [`batch::load_cases`]), `opts.repeat` times each, and the chaos probe's
+/// perturbed run of each case's reference in the same pool; then measures
+/// the differences.
 pub fn compare(
     cases: Vec<(PathBuf, Scenario)>,
     opts: &CompareOptions,
@@ -69,10 +82,38 @@ pub fn compare(
         jobs: opts.jobs,
         progress: opts.progress,
         integrator: opts.integrator,
+        repeat: opts.repeat.max(1),
     };
-    batch::run_cases(cases, &bopts)?
-        .into_iter()
-        .map(|c| assess(c.path, c.scenario, c.runs, opts.divergence_threshold))
+    let mut jobs = batch::case_jobs(cases, &bopts);
+    let n = jobs.len();
+    // One perturbed run of the reference per case, after the cases' runs.
+    let probed: Vec<bool> = jobs
+        .iter()
+        .map(|j| opts.chaos_probe && !j.formulations.is_empty())
+        .collect();
+    for k in 0..n {
+        if probed[k] {
+            let j = &jobs[k];
+            jobs.push(CaseJob {
+                path: j.path.clone(),
+                scenario: chaos::perturbed(&j.scenario),
+                formulations: vec![j.formulations[0].clone()],
+                repeat: 1,
+            });
+        }
+    }
+    let mut done = batch::run_jobs(jobs, &bopts)?;
+    let mut probes = done.split_off(n).into_iter();
+    done.into_iter()
+        .zip(probed)
+        .map(|(case, p)| {
+            let perturbed = if p {
+                probes.next().and_then(|c| c.runs.into_iter().next())
+            } else {
+                None
+            };
+            assess(case, perturbed, opts.divergence_threshold)
+        })
         .collect::<Result<_, _>>()
         .map_err(CompareError::from)
 }

@@ -24,10 +24,12 @@ use super::page::{self, Block};
 use super::tables::{checks_table, headline, pairs_table, runs_table};
 use super::verdict::verdict;
 use super::ReportError;
+use crate::analysis::chaos::ChaosProbe;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::{self, PairDivergence};
 use crate::analysis::metrics::MetricRow;
+use crate::analysis::spread::Spread;
 use crate::run::output::{self, write_atomic};
 use crate::run::RunSummary;
 use serde::Serialize;
@@ -88,6 +90,14 @@ struct PairSummary<'a> {
     diverged_at_s: Option<f64>,
 }
 
+/// The CPU time of a run over its repeats.
+#[derive(Debug, Serialize)]
+struct CpuSummary<'a> {
+    formulation: &'a str,
+    #[serde(flatten)]
+    spread: &'a Spread,
+}
+
 /// `summary.json` of a case.
 #[derive(Debug, Serialize)]
 struct CaseSummary<'a> {
@@ -102,6 +112,14 @@ struct CaseSummary<'a> {
     friction: f64,
     mean_diameter_m: f64,
     verdict: Vec<String>,
+    /// Runs of each formulation.
+    repeats: usize,
+    /// The spread of each run's CPU time over its repeats, s.
+    cpu: Vec<CpuSummary<'a>>,
+    /// Repeats whose physics was not bit-identical.
+    findings: &'a [String],
+    /// The chaos probe (`null` when not run).
+    chaos: Option<&'a ChaosProbe>,
     runs: Vec<&'a RunSummary>,
     pairs: Vec<PairSummary<'a>>,
     checks: &'a [CheckOutcome],
@@ -131,6 +149,18 @@ fn write_case(
         friction: comp.scenario.contact.friction,
         mean_diameter_m: divergence::mean_diameter(&comp.scenario),
         verdict: verdict.clone(),
+        repeats: comp.cpu.iter().map(Spread::count).max().unwrap_or(0),
+        cpu: comp
+            .runs
+            .iter()
+            .zip(&comp.cpu)
+            .map(|(r, c)| CpuSummary {
+                formulation: &r.summary.formulation,
+                spread: c,
+            })
+            .collect(),
+        findings: &comp.findings,
+        chaos: comp.chaos.as_ref(),
         runs: comp.runs.iter().map(|r| &r.summary).collect(),
         pairs: comp
             .pairs

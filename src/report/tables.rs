@@ -2,10 +2,11 @@
 //! formulation), and per case the runs, the pairs and the checks.
 
 use super::checks::{table_cells, TABLE_HEADER};
-use super::format::fmt_num;
+use super::format::{fmt_num, fmt_spread, fmt_within};
 use super::page::Block;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
+use crate::analysis::spread::Spread;
 use crate::formulation::contact_solver::{
     CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
     LCP_SOLVES, LCP_UNRESOLVED,
@@ -54,12 +55,34 @@ pub(super) fn end_text(e: &EndReason) -> String {
     }
 }
 
+/// A CPU time cell: `median (min–max)`, with `; IQR q1–q3` from four
+/// repeats on when `iqr`, to the digits the spread supports; the median
+/// alone for one run.
+pub(super) fn cpu_cell(c: &Spread, iqr: bool) -> String {
+    let (m, lo, hi) = fmt_spread(c.median, c.min, c.max);
+    if c.count() < 2 {
+        return m;
+    }
+    let mut s = format!("{m} ({lo}–{hi}");
+    if let Some((q1, q3)) = c.iqr.filter(|_| iqr) {
+        let w = c.max - c.min;
+        let _ = write!(s, "; IQR {}–{}", fmt_within(q1, w), fmt_within(q3, w));
+    }
+    s.push(')');
+    s
+}
+
+/// The width of a spread (0 for one run), s.
+fn width(c: &Spread) -> f64 {
+    c.max - c.min
+}
+
 /// The runs table of a case: one row per formulation.
 pub(super) fn runs_table(comp: &CaseComparison) -> Block {
     let header = [
         "formulation",
         "end",
-        "CPU (s)",
+        "CPU (s): median (range; IQR)",
         "CPU per sim. s",
         "detection / solve / integration (s)",
         "E_k final (J)",
@@ -74,19 +97,22 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
     let rows = comp
         .runs
         .iter()
-        .map(|r| {
+        .zip(&comp.cpu)
+        .map(|(r, c)| {
             let s = &r.summary;
             let t = &s.timing;
+            let w = width(c);
+            let per = s.t_reached.max(1e-300);
             vec![
                 s.formulation.clone(),
                 end_text(&s.end),
-                fmt_num(t.cpu_total),
-                fmt_num(t.cpu_total / s.t_reached.max(1e-300)),
+                cpu_cell(c, true),
+                fmt_within(c.median / per, w / per),
                 format!(
                     "{} / {} / {}",
-                    fmt_num(t.stages.detection),
-                    fmt_num(t.stages.solve),
-                    fmt_num(t.stages.integration)
+                    fmt_within(t.stages.detection, w),
+                    fmt_within(t.stages.solve, w),
+                    fmt_within(t.stages.integration, w)
                 ),
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
@@ -179,22 +205,23 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
         "case",
         "formulation",
         "end",
-        "CPU (s)",
-        "× fastest",
+        "CPU (s): median (range)",
+        "× fastest median",
         "E_k final (J)",
         "dissipated (J)",
-        "max RMS Δx / d̄ vs first",
+        "max divergence from the first (d̄)",
         "checks passed",
     ];
     let mut rows = Vec::new();
     for c in comps {
         let fastest = c
-            .runs
+            .cpu
             .iter()
-            .map(|r| r.summary.timing.cpu_total)
-            .fold(f64::INFINITY, f64::min)
-            .max(1e-9);
-        for (i, r) in c.runs.iter().enumerate() {
+            .min_by(|a, b| a.median.total_cmp(&b.median))
+            .cloned()
+            .unwrap_or_else(|| Spread::of(&[]));
+        let f = fastest.median.max(1e-12);
+        for (i, (r, cpu)) in c.runs.iter().zip(&c.cpu).enumerate() {
             let s = &r.summary;
             let div = if i == 0 {
                 "(reference)".to_string()
@@ -204,12 +231,18 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
                     .find(|p| p.a == c.runs[0].summary.formulation && p.b == s.formulation)
                     .map_or("-".into(), |p| fmt_num(p.max_rms_position_rel))
             };
+            let ratio = fmt_spread(
+                cpu.median / f,
+                cpu.min / fastest.max.max(1e-12),
+                cpu.max / fastest.min.max(1e-12),
+            )
+            .0;
             rows.push(vec![
                 s.case.clone(),
                 s.formulation.clone(),
                 end_text(&s.end),
-                fmt_num(s.timing.cpu_total),
-                fmt_num(s.timing.cpu_total / fastest),
+                cpu_cell(cpu, false),
+                ratio,
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 div,

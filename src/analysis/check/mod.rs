@@ -43,12 +43,15 @@
 //! check). Their public items are re-exported here.
 
 mod checks;
+pub mod curves;
 mod exact;
 mod measure;
+mod setup;
 mod structure;
 
 pub use exact::{head_on_velocities, steady_drift_velocity, wind_acceleration};
 pub use measure::{rest_time, sampled_penetration};
+pub use setup::{Bouncing, Drift, Inertial, Sliding};
 pub use structure::{find_symmetry, mirror_pairing, no_forcing, translation_gap, Axis};
 
 use crate::formulation;
@@ -80,8 +83,32 @@ pub struct CheckOutcome {
     pub pass: bool,
     /// Whether the formulation claims to pass ([`not_claimed`]).
     pub claimed: bool,
-    /// The reason when not claimed, or a detail of the measurement.
+    /// A detail of the measurement; when the check fails and is not
+    /// claimed, the reason first (`reason [detail]`).
     pub note: String,
+    /// For a check against an exact answer (a closed form or a conserved
+    /// quantity, docs/physics.md §6.1), the scale of that answer in `unit`:
+    /// two errors closer than [`crate::analysis::ranking::ROUNDING`] × the
+    /// scale are tied. `None` for a bound a scheme is held to (penetration,
+    /// Coulomb, energy at impacts, the ledger, completion).
+    pub scale: Option<f64>,
+}
+
+impl CheckOutcome {
+    /// The error to the exact answer, in `unit`: `|measured − expected|`,
+    /// or `measured` when there is no expected value (a deviation);
+    /// infinite when not measured (NaN).
+    pub fn error(&self) -> f64 {
+        let e = match self.expected {
+            Some(x) => (self.measured - x).abs(),
+            None => self.measured.abs(),
+        };
+        if e.is_nan() {
+            f64::INFINITY
+        } else {
+            e
+        }
+    }
 }
 
 /// Momentum conserved to this fraction of `Σ M ‖Ġ(0)‖`: impulses are applied
@@ -128,6 +155,15 @@ pub const SLIDING_DISTANCE_TOLERANCE: f64 = 1e-4;
 /// is that slow only in the last 1e-3 of its stopping time.
 pub const REST_SPEED_FRACTION: f64 = 1e-3;
 
+/// The inertial period to this fraction of `2π/|f|`: the velocity turns at
+/// exactly `−f` whatever the water drag (docs/physics.md §2.2), so only the
+/// integration errs: by about 1e-9 at the integrators' tolerance of 1e-10,
+/// by `(f h)²/6` (3e-9 at `h` = 1 s) for Heun's method, by about `c |v| h`
+/// per step for a first-order scheme holding the drag over the step (6e-5
+/// for rapier's 0.1 s step at 0.2 m/s); a wrong Coriolis term (sign, a
+/// factor, the mass) errs at order one.
+pub const INERTIAL_PERIOD_TOLERANCE: f64 = 1e-4;
+
 /// The free-drift velocity to this fraction of the steady speed: the
 /// integrators run at 1e-10 and after 20 drag time constants the transient
 /// is `e^-20` = 2e-9 of the initial gap.
@@ -162,11 +198,14 @@ pub fn check_run(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     for o in &mut out {
         if let Some(reason) = not_claimed(&o.formulation, &o.check, &o.case) {
             o.claimed = false;
-            o.note = if o.note.is_empty() {
-                reason.to_string()
-            } else {
-                format!("{reason} [{}]", o.note)
-            };
+            // The reason explains a failure: a passing row keeps its detail only.
+            if !o.pass {
+                o.note = if o.note.is_empty() {
+                    reason.to_string()
+                } else {
+                    format!("{reason} [{}]", o.note)
+                };
+            }
         }
     }
     out
