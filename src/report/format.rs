@@ -39,45 +39,52 @@ pub fn fmt_sig(v: f64, sig: usize) -> String {
     }
 }
 
-/// A measured figure `v` with its spread `[lo, hi]` (e.g. the median of
-/// repeated CPU times and their range), each printed only to the digits
-/// the spread supports: the last digit printed is at the decade of the
-/// spread's width `hi − lo`, the same for all three (at least one
-/// significant digit of the largest, at most four; four when the width is
-/// zero, as [`fmt_num`]). The notation (fixed or scientific, by the rule of
-/// [`fmt_num`]) is that of the largest of the three, for all three.
-/// Returns `(v, lo, hi)` rounded alike.
-pub fn fmt_spread(v: f64, lo: f64, hi: f64) -> (String, String, String) {
-    let w = hi - lo;
-    let big = v.abs().max(lo.abs()).max(hi.abs());
-    if !(w > 0.0 && w.is_finite() && big.is_finite()) {
-        return (fmt_num(v), fmt_num(lo), fmt_num(hi));
+/// Measured figures that share one spread of width `width` (e.g. the
+/// median, range and quartiles of repeated CPU times, or the parts of a
+/// measured total), each printed only to the digits the spread supports:
+/// the last digit printed is at the decade of `width`, the same for all (at
+/// least one significant digit of the largest, at most four; as [`fmt_num`]
+/// when the width is zero or unknown). The notation (fixed or scientific,
+/// by the rule of [`fmt_num`]) is that of the largest, for all.
+pub fn fmt_measured(values: &[f64], width: f64) -> Vec<String> {
+    let big = values
+        .iter()
+        .map(|v| v.abs())
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    if !(width > 0.0 && width.is_finite() && big > 0.0) {
+        return values.iter().map(|&v| fmt_num(v)).collect();
     }
     let top = big.log10().floor() as i32;
-    let last = (w.log10().floor() as i32).clamp(top - 3, top);
-    let one = |x: f64| -> String {
-        if x == 0.0 {
-            "0".into()
-        } else if (1e-3..1e5).contains(&big) {
-            let decimals = (-last).max(0) as usize;
-            format!("{x:.decimals$}")
-        } else {
-            let sig = (x.abs().log10().floor() as i32 - last + 1).clamp(1, 4) as usize;
-            fmt_sig(x, sig)
-        }
-    };
-    (one(v), one(lo), one(hi))
+    let last = (width.log10().floor() as i32).clamp(top - 3, top);
+    let fixed = (1e-3..1e5).contains(&big);
+    values
+        .iter()
+        .map(|&x| {
+            if x == 0.0 || !x.is_finite() {
+                fmt_num(x)
+            } else if fixed {
+                let decimals = (-last).max(0) as usize;
+                format!("{x:.decimals$}")
+            } else {
+                let sig = (x.abs().log10().floor() as i32 - last + 1).clamp(1, 4) as usize;
+                fmt_sig(x, sig)
+            }
+        })
+        .collect()
 }
 
-/// `v`, a part of a measured figure whose spread has the width `width`,
-/// printed to the digits that spread supports (see [`fmt_spread`]).
-pub fn fmt_within(v: f64, width: f64) -> String {
-    fmt_spread(v, v - 0.5 * width, v + 0.5 * width).0
+/// A measured figure `v` with its spread `[lo, hi]`, rounded alike
+/// ([`fmt_measured`] with the width `hi − lo`): `(v, lo, hi)`.
+pub fn fmt_spread(v: f64, lo: f64, hi: f64) -> (String, String, String) {
+    let mut s = fmt_measured(&[v, lo, hi], hi - lo).into_iter();
+    let mut next = || s.next().unwrap_or_default();
+    (next(), next(), next())
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{fmt_num, fmt_spread, fmt_within};
+    use super::{fmt_measured, fmt_num, fmt_spread};
 
     #[test]
     fn four_significant_digits() {
@@ -112,6 +119,7 @@ mod tests {
         assert_eq!(p(51.3, 12.0, 90.0), "51 (12-90)");
         assert_eq!(p(1.234e-5, 1.2e-5, 1.3e-5), "1.2e-5 (1.2e-5-1.3e-5)");
         assert_eq!(p(9.9e-4, 8.1e-4, 1.02e-3), "0.0010 (0.0008-0.0010)");
-        assert_eq!(fmt_within(0.01234, 0.003), "0.012");
+        assert_eq!(fmt_measured(&[0.01234, 4e-4], 0.003), ["0.012", "0.000"]);
+        assert_eq!(fmt_measured(&[3e-4, 8.3e-4], 1e-4), ["3e-4", "8e-4"]);
     }
 }

@@ -2,7 +2,7 @@
 //! formulation), and per case the runs, the pairs and the checks.
 
 use super::checks::{table_cells, TABLE_HEADER};
-use super::format::{fmt_num, fmt_spread, fmt_within};
+use super::format::{fmt_measured, fmt_num, fmt_spread};
 use super::page::Block;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
@@ -59,17 +59,35 @@ pub(super) fn end_text(e: &EndReason) -> String {
 /// repeats on when `iqr`, to the digits the spread supports; the median
 /// alone for one run.
 pub(super) fn cpu_cell(c: &Spread, iqr: bool) -> String {
-    let (m, lo, hi) = fmt_spread(c.median, c.min, c.max);
+    let (q1, q3) = c.iqr.unwrap_or((c.median, c.median));
+    let v = fmt_measured(&[c.median, c.min, c.max, q1, q3], width(c));
     if c.count() < 2 {
-        return m;
+        return v[0].clone();
     }
-    let mut s = format!("{m} ({lo}–{hi}");
-    if let Some((q1, q3)) = c.iqr.filter(|_| iqr) {
-        let w = c.max - c.min;
-        let _ = write!(s, "; IQR {}–{}", fmt_within(q1, w), fmt_within(q3, w));
+    let mut s = format!("{} ({}–{}", v[0], v[1], v[2]);
+    if c.iqr.is_some() && iqr {
+        let _ = write!(s, "; IQR {}–{}", v[3], v[4]);
     }
     s.push(')');
     s
+}
+
+/// The ratio of `c`'s median to `fastest`'s, to the digits their spreads
+/// support (the range of the ratio is `c.min / fastest.max` to
+/// `c.max / fastest.min`).
+pub(super) fn ratio_text(c: &Spread, fastest: &Spread) -> String {
+    let f = |v: f64| v.max(1e-12);
+    fmt_spread(
+        c.median / f(fastest.median),
+        c.min / f(fastest.max),
+        c.max / f(fastest.min),
+    )
+    .0
+}
+
+/// The spread of smallest median (`None` without any).
+pub(super) fn fastest(cpu: &[Spread]) -> Option<&Spread> {
+    cpu.iter().min_by(|a, b| a.median.total_cmp(&b.median))
 }
 
 /// The width of a spread (0 for one run), s.
@@ -107,13 +125,12 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
                 s.formulation.clone(),
                 end_text(&s.end),
                 cpu_cell(c, true),
-                fmt_within(c.median / per, w / per),
-                format!(
-                    "{} / {} / {}",
-                    fmt_within(t.stages.detection, w),
-                    fmt_within(t.stages.solve, w),
-                    fmt_within(t.stages.integration, w)
-                ),
+                fmt_measured(&[c.median / per], w / per).remove(0),
+                fmt_measured(
+                    &[t.stages.detection, t.stages.solve, t.stages.integration],
+                    w,
+                )
+                .join(" / "),
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 fmt_num(s.energy.max_abs_residual / s.energy.exchanged.max(1e-300)),
@@ -214,13 +231,8 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
     ];
     let mut rows = Vec::new();
     for c in comps {
-        let fastest = c
-            .cpu
-            .iter()
-            .min_by(|a, b| a.median.total_cmp(&b.median))
-            .cloned()
-            .unwrap_or_else(|| Spread::of(&[]));
-        let f = fastest.median.max(1e-12);
+        let none = Spread::of(&[]);
+        let fastest = fastest(&c.cpu).unwrap_or(&none);
         for (i, (r, cpu)) in c.runs.iter().zip(&c.cpu).enumerate() {
             let s = &r.summary;
             let div = if i == 0 {
@@ -231,12 +243,7 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
                     .find(|p| p.a == c.runs[0].summary.formulation && p.b == s.formulation)
                     .map_or("-".into(), |p| fmt_num(p.max_rms_position_rel))
             };
-            let ratio = fmt_spread(
-                cpu.median / f,
-                cpu.min / fastest.max.max(1e-12),
-                cpu.max / fastest.min.max(1e-12),
-            )
-            .0;
+            let ratio = ratio_text(cpu, fastest);
             rows.push(vec![
                 s.case.clone(),
                 s.formulation.clone(),

@@ -18,7 +18,7 @@
 //! - runs that did not complete, and repeats whose physics differed.
 
 use super::format::{fmt_num, fmt_spread};
-use super::tables::end_text;
+use super::tables::{end_text, ratio_text};
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::ranking::{self, within_rounding, CheckRanking};
 use crate::analysis::spread::Spread;
@@ -276,9 +276,7 @@ fn speed(comp: &CaseComparison) -> Option<String> {
         ));
     }
     let (fast, slow) = (&groups[0], &groups[groups.len() - 1]);
-    let (f, s) = (&fast[0].1, &slow[slow.len() - 1].1);
-    let ratio = s.median / f.median.max(1e-12);
-    let (r, _, _) = fmt_spread(ratio, s.min / f.max.max(1e-12), s.max / f.min.max(1e-12));
+    let r = ratio_text(&slow[slow.len() - 1].1, &fast[0].1);
     let tied = if fast.len() > 1 {
         " (tied: their ranges overlap)"
     } else {
