@@ -43,6 +43,7 @@ impl Rows<'_> {
         unit: &str,
         note: String,
     ) -> &mut CheckOutcome {
+        // A check against an exact answer sets `scale` on the row returned.
         let pass = match expected {
             Some(x) => (measured - x).abs() <= tolerance,
             None => measured <= tolerance,
@@ -63,32 +64,6 @@ impl Rows<'_> {
         });
         let last = self.out.len() - 1;
         &mut self.out[last]
-    }
-
-    /// As [`Rows::push`], for a check against an exact answer whose scale
-    /// (in `unit`) is `scale` (see [`CheckOutcome::scale`]).
-    #[allow(clippy::too_many_arguments)]
-    fn exact(
-        &mut self,
-        check: &str,
-        description: &str,
-        measured: f64,
-        expected: Option<f64>,
-        tolerance: f64,
-        unit: &str,
-        note: String,
-        scale: f64,
-    ) {
-        self.push(
-            check,
-            description,
-            measured,
-            expected,
-            tolerance,
-            unit,
-            note,
-        )
-        .scale = Some(scale);
     }
 }
 
@@ -155,7 +130,7 @@ fn momentum(r: &mut Rows) {
             (p - p0).norm() / scale
         })
         .fold(0.0, f64::max);
-    r.exact(
+    r.push(
         "momentum",
         "total momentum conserved across impacts (no forcing, no obstacle)",
         worst,
@@ -163,8 +138,8 @@ fn momentum(r: &mut Rows) {
         MOMENTUM_TOLERANCE,
         "1",
         "max_t |P(t) - P(0)| / sum M |v(0)|".into(),
-        1.0,
-    );
+    )
+    .scale = Some(1.0);
 }
 
 fn impact_energy(r: &mut Rows) {
@@ -215,7 +190,7 @@ fn energy_conserved(r: &mut Rows) {
         .iter()
         .map(|s| (s.kinetic - e0).abs() / e0)
         .fold(0.0, f64::max);
-    r.exact(
+    r.push(
         "energy_conserved",
         "kinetic energy conserved (e = 1, mu = 0, no forcing)",
         worst,
@@ -223,8 +198,8 @@ fn energy_conserved(r: &mut Rows) {
         ENERGY_CONSERVED_TOLERANCE,
         "1",
         "max_t |E(t) - E(0)| / E(0)".into(),
-        1.0,
-    );
+    )
+    .scale = Some(1.0);
 }
 
 fn coulomb(r: &mut Rows) {
@@ -302,7 +277,7 @@ fn symmetry(r: &mut Rows) {
         }
     }
     let scale = extent(scn, &axis.c);
-    r.exact(
+    r.push(
         "symmetry",
         "trajectories stay mirror images",
         worst,
@@ -313,8 +288,8 @@ fn symmetry(r: &mut Rows) {
             "axis through ({:.4}, {:.4}) along ({:.4}, {:.4}); worst at t = {at} s; extent {scale:.4} m",
             axis.c.x, axis.c.y, axis.d.x, axis.d.y
         ),
-        scale,
-    );
+    )
+    .scale = Some(scale);
 }
 
 fn head_on(r: &mut Rows) {
@@ -342,7 +317,7 @@ fn head_on(r: &mut Rows) {
     let tol = HEAD_ON_TOLERANCE * (v1 - v2);
     let (a, b) = (final_velocity(r.run, 0), final_velocity(r.run, 1));
     let note = format!("M1 = {:.6e} kg, M2 = {:.6e} kg, e = {e}", f1.mass, f2.mass);
-    r.exact(
+    r.push(
         "head_on_v1",
         "floe 0 after a central impact: (m1 v1 + m2 v2 - m2 e (v1 - v2))/(m1 + m2)",
         a.dot(&d),
@@ -350,9 +325,9 @@ fn head_on(r: &mut Rows) {
         tol,
         "m/s",
         note.clone(),
-        v1 - v2,
-    );
-    r.exact(
+    )
+    .scale = Some(v1 - v2);
+    r.push(
         "head_on_v2",
         "floe 1 after a central impact: (m1 v1 + m2 v2 + m1 e (v1 - v2))/(m1 + m2)",
         b.dot(&d),
@@ -360,8 +335,8 @@ fn head_on(r: &mut Rows) {
         tol,
         "m/s",
         note,
-        v1 - v2,
-    );
+    )
+    .scale = Some(v1 - v2);
 }
 
 fn bouncing(r: &mut Rows) {
@@ -375,7 +350,7 @@ fn bouncing(r: &mut Rows) {
         // penetration tolerance at the impact speed takes tol / v1.
         let tol = penetration_tolerance(scn) / b.v1;
         let (measured, how) = first_impact(&b, r.run);
-        r.exact(
+        r.push(
             "bouncing_first_impact",
             "first impact at t1 = sqrt(2 d / a)",
             measured,
@@ -386,8 +361,8 @@ fn bouncing(r: &mut Rows) {
                 "{how}; d = {:.6} m, a = {:.6e} m/s^2; tolerance: the penetration tolerance / v1",
                 b.gap, b.a
             ),
-            b.t1,
-        );
+        )
+        .scale = Some(b.t1);
     }
     if let Some(t_inf) = b.rest_time() {
         let v_rest = REST_SPEED_FRACTION * b.v1;
@@ -395,7 +370,7 @@ fn bouncing(r: &mut Rows) {
         // 2 v_rest / (a (1 - e)) of the accumulation: the threshold's own shift.
         let tol = dt + 2.0 * v_rest / (b.a * (1.0 - b.e));
         let rest = rest_time(&r.run.trajectory, 0, v_rest);
-        r.exact(
+        r.push(
             "bouncing_rest",
             "comes to rest at the accumulation time t1 (1 + e)/(1 - e)",
             rest.unwrap_or(f64::NAN),
@@ -405,8 +380,8 @@ fn bouncing(r: &mut Rows) {
             format!(
                 "rest: speed below {v_rest:.3e} m/s from then on; tolerance: one output interval + the threshold's shift"
             ),
-            t_inf,
-        );
+    )
+    .scale = Some(t_inf);
     }
 }
 
@@ -470,7 +445,7 @@ fn sliding(r: &mut Rows) {
         .bodies
         .first()
         .map_or(sl.start, |b| b.position);
-    r.exact(
+    r.push(
         "sliding_distance",
         "slides v0^2 / (2 mu a) along the wall",
         (end - sl.start).dot(&sl.dir),
@@ -478,10 +453,10 @@ fn sliding(r: &mut Rows) {
         SLIDING_DISTANCE_TOLERANCE * sl.distance,
         "m",
         format!("v0 = {} m/s, mu = {}, a = {:.6e} m/s^2", sl.v0, sl.mu, sl.a),
-        sl.distance,
-    );
+    )
+    .scale = Some(sl.distance);
     let v_rest = REST_SPEED_FRACTION * sl.v0;
-    r.exact(
+    r.push(
         "sliding_stop",
         "stops after v0 / (mu a)",
         rest_time(&r.run.trajectory, 0, v_rest).unwrap_or(f64::NAN),
@@ -491,8 +466,8 @@ fn sliding(r: &mut Rows) {
         format!(
             "rest: speed below {v_rest:.3e} m/s from then on; tolerance: one output interval + the threshold's shift"
         ),
-        sl.t_stop,
-    );
+    )
+    .scale = Some(sl.t_stop);
 }
 
 fn cradle(r: &mut Rows) {
@@ -559,7 +534,7 @@ fn cradle(r: &mut Rows) {
     };
     if apart {
         let err = error(&physical);
-        r.exact(
+        r.push(
             "cradle_outcome",
             "with gaps: sequential impacts, the last floe leaves at v0, the others at rest",
             err,
@@ -571,11 +546,11 @@ fn cradle(r: &mut Rows) {
                 finals.join(", "),
                 show(&physical)
             ),
-            1.0,
-        );
+        )
+        .scale = Some(1.0);
     } else {
         let err = error(&lcp);
-        r.exact(
+        r.push(
             "cradle_outcome",
             "touching: the simultaneous LCP answer ((2-n)/n, 2/n, ..., 2/n) v0 (docs/physics.md §6.1)",
             err,
@@ -587,10 +562,10 @@ fn cradle(r: &mut Rows) {
                 finals.join(", "),
                 show(&lcp)
             ),
-            1.0,
-        );
+    )
+    .scale = Some(1.0);
         let err = error(&physical);
-        r.exact(
+        r.push(
             "cradle_physical",
             "touching: the physical answer, the last floe leaves at v0",
             err,
@@ -602,8 +577,8 @@ fn cradle(r: &mut Rows) {
                 finals.join(", "),
                 show(&physical)
             ),
-            1.0,
-        );
+        )
+        .scale = Some(1.0);
     }
 }
 
@@ -646,7 +621,7 @@ fn cannon(r: &mut Rows) {
         .iter()
         .map(|&(i, x)| (final_velocity(r.run, i) - d * x).norm() / v0)
         .fold(0.0, f64::max);
-    r.exact(
+    r.push(
         "cannon_velocities",
         "front floe rebounds at -e v0 from the wall, then fires the rear one (head-on law)",
         err,
@@ -658,8 +633,8 @@ fn cannon(r: &mut Rows) {
             final_velocity(r.run, rear).dot(&d),
             final_velocity(r.run, front).dot(&d)
         ),
-        1.0,
-    );
+    )
+    .scale = Some(1.0);
 }
 
 fn free_drift(r: &mut Rows) {
@@ -668,7 +643,7 @@ fn free_drift(r: &mut Rows) {
     };
     for &(i, u, tau) in &drift.floes {
         let v = final_velocity(r.run, i);
-        r.exact(
+        r.push(
             "free_drift_velocity",
             "reaches the steady free-drift velocity (docs/physics.md §2.2)",
             (v - u).norm() / u.norm(),
@@ -679,8 +654,8 @@ fn free_drift(r: &mut Rows) {
                 "floe {i}: |v - u| / |u|; u = ({:.9}, {:.9}) m/s, got ({:.9}, {:.9}); drag time {tau:.1} s",
                 u.x, u.y, v.x, v.y
             ),
-            1.0,
-        );
+    )
+    .scale = Some(1.0);
     }
 }
 
@@ -689,7 +664,7 @@ fn inertial(r: &mut Rows) {
         return;
     };
     let measured = inertial_period(&inr, &r.run.trajectory);
-    r.exact(
+    r.push(
         "inertial_period",
         "after the wind stops the velocity turns at -f: period 2 pi / |f| (docs/physics.md §2.2)",
         measured.map_or(f64::NAN, |m| m.0),
@@ -703,8 +678,8 @@ fn inertial(r: &mut Rows) {
             ),
             None => "the floe is at rest in the calm: no turning to measure".into(),
         },
-        inr.period,
-    );
+    )
+    .scale = Some(inr.period);
 }
 
 /// The period of the turning of floe 0's velocity over the calm of `inr`:
