@@ -12,9 +12,10 @@
 //!   divergence of the report), against the threshold; on a chaotic case it
 //!   is not a disagreement about the physics;
 //! - **dissipation** in contacts, ranked, ties within rounding;
-//! - **speed**: CPU time ranked by median, two formulations tied when the
-//!   ranges of their repeats overlap, numbers to the digits the spread
-//!   supports;
+//! - **speed**: the fastest by median CPU time, tied with every formulation
+//!   whose range over the repeats overlaps its own, the others given by their
+//!   ratio to it (no claim is made among them), numbers to the digits the
+//!   spread supports;
 //! - runs that did not complete, and repeats whose physics differed.
 
 use super::format::{fmt_num, fmt_spread};
@@ -275,17 +276,22 @@ fn speed(comp: &CaseComparison) -> Option<String> {
             show(&groups[0])
         ));
     }
-    let (fast, slow) = (&groups[0], &groups[groups.len() - 1]);
-    let r = ratio_text(&slow[slow.len() - 1].1, &fast[0].1);
+    let fast = &groups[0];
     let tied = if fast.len() > 1 {
         " (tied: their ranges overlap)"
     } else {
         ""
     };
+    // Only the fastest is claimed; the others are given by their ratio.
+    let others: Vec<String> = groups[1..]
+        .iter()
+        .flatten()
+        .map(|(n, c)| format!("{n} {}×", ratio_text(c, &fast[0].1)))
+        .collect();
     Some(format!(
-        "Fastest: {}{tied}; slowest: {}, {r}× the fastest's median.{note}",
+        "Fastest: {}{tied}; the others' median CPU time, as a multiple of the fastest's: {}.{note}",
         show(fast),
-        show(slow)
+        others.join(", ")
     ))
 }
 
