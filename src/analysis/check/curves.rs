@@ -3,7 +3,8 @@
 //! the bouncing floe (impact times and rest marked), the distance slid
 //! (stop marked), the speed of a drifting floe against its steady drift
 //! speed, and the inertial circles of the calm. Each comes from the set-up
-//! its checks recognise ([`super::setup`]), so a curve is drawn exactly when
+//! its checks recognise ([`super::Bouncing`], [`super::Sliding`],
+//! [`super::Drift`], [`super::Inertial`]), so a curve is drawn exactly when
 //! its checks apply.
 
 use super::setup::{Bouncing, Drift, Inertial, Sliding};

@@ -263,8 +263,8 @@ impl Inertial {
         })
     }
 
-    /// The exact velocity `t − t0` after a velocity `v0` in the calm: speed
-    /// `|v0| / (1 + c |v0| (t − t0))`, turned by `−f (t − t0)`, m/s.
+    /// The exact velocity `s` seconds after the velocity `v0` in the calm:
+    /// speed `|v0| / (1 + c |v0| s)`, turned by `−f s`, m/s.
     pub fn velocity_after(&self, v0: Vec2, s: f64) -> Vec2 {
         let speed = v0.norm() / (1.0 + self.c * v0.norm() * s);
         let phi = v0.y.atan2(v0.x) - self.f * s;
