@@ -91,6 +91,11 @@ enum Command {
         /// Smooth integrator, overriding the cases.
         #[arg(long)]
         integrator: Option<IntegratorKind>,
+        /// Runs of each (case, formulation), at least 1: CPU times are reported
+        /// as median and spread, and the physics of the repeats must be
+        /// bit-identical (a difference is reported as a finding).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+        repeat: u64,
         /// No progress bars.
         #[arg(short, long)]
         quiet: bool,
@@ -108,6 +113,11 @@ enum Command {
         /// Also write the table as Markdown to this file.
         #[arg(long, value_name = "FILE")]
         markdown: Option<PathBuf>,
+        /// Runs of each (case, formulation), at least 1: CPU times are reported
+        /// as median and spread, and the physics of the repeats must be
+        /// bit-identical (a difference is reported as a finding).
+        #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
+        repeat: u64,
         /// No progress bars.
         #[arg(short, long)]
         quiet: bool,
@@ -176,12 +186,14 @@ fn main() -> ExitCode {
             jobs,
             threshold,
             integrator,
+            repeat,
             quiet,
         } => {
             let mut opts = CompareOptions {
                 progress: !quiet,
                 divergence_threshold: threshold,
                 integrator,
+                repeat: usize::try_from(repeat).unwrap_or(usize::MAX),
                 ..CompareOptions::default()
             };
             if let Some(f) = formulations {
@@ -214,8 +226,15 @@ fn main() -> ExitCode {
             cases,
             formulations,
             markdown,
+            repeat,
             quiet,
-        } => check(&cases, formulations, markdown.as_deref(), quiet),
+        } => check(
+            &cases,
+            formulations,
+            markdown.as_deref(),
+            usize::try_from(repeat).unwrap_or(usize::MAX),
+            quiet,
+        ),
 
         Command::Formulations => {
             for formulation::Entry {
@@ -546,6 +565,7 @@ fn check(
     cases: &[PathBuf],
     formulations: Option<Vec<String>>,
     markdown: Option<&Path>,
+    repeat: usize,
     quiet: bool,
 ) -> ExitCode {
     use floebench::analysis::check;
@@ -553,6 +573,7 @@ fn check(
     use floebench::run::batch::{self, BatchOptions};
     let mut opts = BatchOptions {
         progress: !quiet,
+        repeat,
         ..BatchOptions::default()
     };
     if let Some(f) = formulations {
@@ -574,6 +595,9 @@ fn check(
         .flat_map(|c| check::check_runs(&c.scenario, &c.runs))
         .collect();
     print!("{}", format_table(&rows));
+    for f in done.iter().flat_map(|c| &c.findings) {
+        println!("finding: {f}");
+    }
     if let Some(file) = markdown {
         if let Err(e) = floebench::run::output::write_atomic(file, markdown_table(&rows).as_bytes())
         {

@@ -5,9 +5,11 @@
 //! or a new metric without changing its shape: [`run_metrics`] for one run,
 //! [`pair_metrics`] for the divergence of two ([`super::divergence`]).
 
+use super::chaos::ChaosProbe;
 use super::divergence::PairDivergence;
+use super::spread::Spread;
 use crate::record::SettingValue;
-use crate::run::{EndReason, RunResult};
+use crate::run::{EndReason, RunResult, RunSummary};
 use serde::Serialize;
 
 /// One figure, in long format.
@@ -149,5 +151,40 @@ pub fn pair_metrics(case: &str, p: &PairDivergence) -> Vec<MetricRow> {
     if let Some(t) = p.diverged_at {
         push("divergence_time", t, "s");
     }
+    rows
+}
+
+/// The spread of a run's CPU time over its repeats (`cpu_repeats`,
+/// `cpu_median`, `cpu_min`, `cpu_max`, and `cpu_q1`, `cpu_q3` from
+/// [`super::spread::IQR_FROM`] repeats on), s.
+pub fn cpu_spread_metrics(s: &RunSummary, c: &Spread) -> Vec<MetricRow> {
+    let row = |metric: &str, value: f64, unit: &str| {
+        MetricRow::new(&s.case, &s.formulation, "", metric, value, unit)
+    };
+    let mut rows = vec![
+        row("cpu_repeats", c.count() as f64, "count"),
+        row("cpu_median", c.median, "s"),
+        row("cpu_min", c.min, "s"),
+        row("cpu_max", c.max, "s"),
+    ];
+    if let Some((q1, q3)) = c.iqr {
+        rows.push(row("cpu_q1", q1, "s"));
+        rows.push(row("cpu_q3", q3, "s"));
+    }
+    rows
+}
+
+/// The chaos probe of a case (formulation = the probed one, other =
+/// `perturbed`): `perturbation_growth` (`max D / D(0)`),
+/// `perturbation_rate` (1/s, when fitted) and `chaotic`.
+pub fn chaos_metrics(case: &str, c: &ChaosProbe) -> Vec<MetricRow> {
+    let row = |metric: &str, value: f64, unit: &str| {
+        MetricRow::new(case, &c.formulation, "perturbed", metric, value, unit)
+    };
+    let mut rows = vec![row("perturbation_growth", c.growth, "-")];
+    if let Some(rate) = c.rate {
+        rows.push(row("perturbation_rate", rate, "1/s"));
+    }
+    rows.push(row("chaotic", f64::from(u8::from(c.chaotic)), "-"));
     rows
 }

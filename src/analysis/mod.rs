@@ -4,9 +4,16 @@
 //!   that every formulation is held to;
 //! - [`divergence`]: how two runs of the same case differ over time;
 //! - [`metrics`]: every figure of a run and of a pair of runs, in long format;
-//! - [`comparison`]: one case's runs with their divergences, figures and checks.
+//! - [`comparison`]: one case's runs with their divergences, figures and checks;
+//! - [`chaos`]: whether a case is chaotic (the growth of a 1e-12 perturbation);
+//! - [`spread`]: median and spread of repeated measurements (CPU times);
+//! - [`ranking`]: formulations ranked by a figure, with ties (errors to exact
+//!   answers, dissipation, CPU time).
 
+pub mod chaos;
 pub mod check;
 pub mod comparison;
 pub mod divergence;
 pub mod metrics;
+pub mod ranking;
+pub mod spread;

@@ -20,15 +20,18 @@
 
 use super::checks::checks_csv;
 use super::figures::{self, Figure};
-use super::format::fmt_num;
 use super::page::{self, Block};
+use super::parameters::{case_parameters, settings_table};
+use super::provenance::Provenance;
 use super::tables::{checks_table, headline, pairs_table, runs_table};
 use super::verdict::verdict;
 use super::ReportError;
+use crate::analysis::chaos::ChaosProbe;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::{self, PairDivergence};
 use crate::analysis::metrics::MetricRow;
+use crate::analysis::spread::Spread;
 use crate::run::output::{self, write_atomic};
 use crate::run::RunSummary;
 use serde::Serialize;
@@ -89,6 +92,14 @@ struct PairSummary<'a> {
     diverged_at_s: Option<f64>,
 }
 
+/// The CPU time of a run over its repeats.
+#[derive(Debug, Serialize)]
+struct CpuSummary<'a> {
+    formulation: &'a str,
+    #[serde(flatten)]
+    spread: &'a Spread,
+}
+
 /// `summary.json` of a case.
 #[derive(Debug, Serialize)]
 struct CaseSummary<'a> {
@@ -103,6 +114,14 @@ struct CaseSummary<'a> {
     friction: f64,
     mean_diameter_m: f64,
     verdict: Vec<String>,
+    /// Runs of each formulation.
+    repeats: usize,
+    /// The spread of each run's CPU time over its repeats, s.
+    cpu: Vec<CpuSummary<'a>>,
+    /// Repeats whose physics was not bit-identical.
+    findings: &'a [String],
+    /// The chaos probe (`null` when not run).
+    chaos: Option<&'a ChaosProbe>,
     runs: Vec<&'a RunSummary>,
     pairs: Vec<PairSummary<'a>>,
     checks: &'a [CheckOutcome],
@@ -132,6 +151,18 @@ fn write_case(
         friction: comp.scenario.contact.friction,
         mean_diameter_m: divergence::mean_diameter(&comp.scenario),
         verdict: verdict.clone(),
+        repeats: comp.cpu.iter().map(Spread::count).max().unwrap_or(0),
+        cpu: comp
+            .runs
+            .iter()
+            .zip(&comp.cpu)
+            .map(|(r, c)| CpuSummary {
+                formulation: &r.summary.formulation,
+                spread: c,
+            })
+            .collect(),
+        findings: &comp.findings,
+        chaos: comp.chaos.as_ref(),
         runs: comp.runs.iter().map(|r| &r.summary).collect(),
         pairs: comp
             .pairs
@@ -197,14 +228,34 @@ pub fn write_report(
     let names: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
     super::folder::check(out, &names)?;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
+    let prov = Provenance::current();
+    let repeats = comps
+        .iter()
+        .flat_map(|c| c.cpu.iter().map(Spread::count))
+        .max()
+        .unwrap_or(1);
     let mut blocks = vec![
         Block::Heading(1, "floebench comparison report".into()),
         Block::Para(format!(
-            "Produced by `{command}` (floebench {}). CPU times are each run's own thread CPU seconds \
-             (runs go in parallel); Δx is a floe's centre-of-mass distance between two runs at the \
-             same output time, d̄ the mean equal-area floe diameter. Data: each case's \
-             `metrics.csv`, `divergence.csv`, `summary.json` and `<formulation>/` folder.",
-            env!("CARGO_PKG_VERSION")
+            "Produced by `{command}`: floebench {}, commit `{}`, on `{}` ({}, {} cores), {}.",
+            prov.version, prov.commit, prov.host, prov.cpu, prov.cores, prov.date
+        )),
+        Block::Para(format!(
+            "CPU times are each run's own thread CPU seconds (runs go in parallel), over {} of \
+             each run: the median, then the range (min–max) and from four repeats the \
+             interquartile range, every number to the digits that spread supports; two \
+             formulations are tied on speed when their ranges overlap. The physics of the \
+             repeats is bit-identical (checked). Δx is a floe's centre-of-mass distance between \
+             two runs at the same output time, d̄ the mean equal-area floe diameter: every \
+             divergence is in d̄. Verdicts rank formulations by their error to the exact \
+             answers where a check has one; divergence between runs says how much two runs \
+             differ, not which is right. Data: each case's `metrics.csv`, `divergence.csv`, \
+             `checks.csv`, `summary.json` and `<formulation>/` folder.",
+            if repeats > 1 {
+                format!("{repeats} repeats")
+            } else {
+                "a single run (`--repeat N` measures the spread)".to_string()
+            }
         )),
         Block::Heading(2, "Headline".into()),
         headline(comps),
@@ -219,16 +270,14 @@ pub fn write_report(
         swap_into_place(&staged, &out.join(name))?;
         blocks.push(Block::Heading(2, name.clone()));
         blocks.push(Block::Para(format!(
-            "`{}`: {} floes, {} obstacles, {} s, e = {}, μ = {}. {}",
+            "`{}`: {}",
             comp.path.display(),
-            comp.scenario.floes.len(),
-            comp.scenario.obstacles.len(),
-            fmt_num(comp.scenario.duration),
-            comp.scenario.contact.restitution,
-            comp.scenario.contact.friction,
             comp.scenario.description
         )));
-        blocks.push(Block::Para(format!("**Verdict.** {}", verdict.join(" "))));
+        blocks.push(case_parameters(&comp.scenario));
+        blocks.push(Block::Para("**Verdict.**".into()));
+        blocks.push(Block::List(verdict.clone()));
+        blocks.push(settings_table(comp));
         blocks.push(runs_table(comp));
         if !comp.pairs.is_empty() {
             blocks.push(pairs_table(comp));
@@ -249,6 +298,11 @@ pub fn write_report(
                         format!("{name}/{}.svg", f.stem),
                     )
                 })
+                .collect(),
+        ));
+        blocks.push(Block::List(
+            figs.iter()
+                .map(|f| format!("**{}**: {}.", f.stem, f.caption))
                 .collect(),
         ));
     }

@@ -9,13 +9,22 @@
 //!   travel furthest in the reference run), every formulation;
 //! - `snapshots`: the floe field at the start, middle and end, one column
 //!   per formulation;
-//! - `cpu`: CPU time per stage, one stacked bar per formulation.
+//! - `cpu`: CPU time per stage of the run of median CPU time, one stacked bar
+//!   per formulation, its ratio to the fastest median above it;
+//! - `exact_*`: where the checks know the exact motion
+//!   ([`crate::analysis::check::curves`]): the bouncing floe's gap (impact
+//!   times and rest marked), the distance slid (stop marked), a drifting
+//!   floe's speed against the steady drift speed, the inertial circles.
 //!
 //! A formulation keeps its palette colour (its position in the comparison)
-//! on every chart.
+//! on every chart; exact curves and thresholds are black ([`plot::EXACT`]),
+//! dashed so that a run on them stays visible. Every figure has a caption
+//! for the page.
 
 use super::plot::{self, LineChart, Panel, PlanView, Scale, Series, StackedBars};
+use super::tables::{fastest, ratio_text};
 use super::ReportError;
+use crate::analysis::check::curves::exact_curves;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::frames;
 use crate::geometry::Vec2;
@@ -29,6 +38,8 @@ pub struct Figure {
     pub alt: String,
     /// The file stem in the case folder: `<stem>.png`, `<stem>.svg`.
     pub stem: String,
+    /// How to read it, for the page.
+    pub caption: String,
 }
 
 fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
@@ -47,10 +58,12 @@ fn energy_series(comp: &CaseComparison, f: fn(&crate::run::EnergySample) -> f64)
     comp.runs
         .iter()
         .enumerate()
-        .map(|(i, r)| Series {
-            label: r.summary.formulation.clone(),
-            color: i,
-            points: r.energy.iter().map(|e| (e.t, f(e))).collect(),
+        .map(|(i, r)| {
+            Series::new(
+                r.summary.formulation.clone(),
+                i,
+                r.energy.iter().map(|e| (e.t, f(e))).collect(),
+            )
         })
         .collect()
 }
@@ -76,26 +89,32 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
     let name = &scn.name;
     let n = scn.floes.len();
     let mut figs = Vec::new();
-    let mut add = |stem: &str, alt: String| {
+    let mut add = |stem: &str, alt: String, caption: &str| {
         figs.push(Figure {
             alt,
             stem: stem.to_string(),
+            caption: caption.to_string(),
         })
     };
 
     type EnergyOf = fn(&crate::run::EnergySample) -> f64;
-    let energies: [(&str, &str, &str, EnergyOf); 2] = [
-        ("kinetic", "kinetic energy", "kinetic energy (J)", |e| {
-            e.kinetic
-        }),
+    let energies: [(&str, &str, &str, &str, EnergyOf); 2] = [
+        (
+            "kinetic",
+            "kinetic energy",
+            "kinetic energy (J)",
+            "the kinetic energy of all floes at each output",
+            |e| e.kinetic,
+        ),
         (
             "dissipated",
             "energy dissipated by contacts",
             "dissipated energy (J)",
+            "the energy dissipated by contacts since t = 0 (negative: the contacts created energy)",
             |e| e.dissipated,
         ),
     ];
-    for (file, what, y_label, f) in energies {
+    for (file, what, y_label, caption, f) in energies {
         let stem = dir.join(file);
         plot::line_chart(
             &LineChart {
@@ -104,11 +123,12 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 y_label,
                 series: &energy_series(comp, f),
                 y_scale: Scale::Linear,
+                marks: &[],
             },
             &stem,
         )
         .map_err(plot_err(&stem))?;
-        add(file, format!("{what} against time"));
+        add(file, format!("{what} against time"), caption);
     }
 
     if let Some(reference) = comp.runs.first() {
@@ -117,52 +137,91 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             .pairs
             .iter()
             .filter(|p| &p.a == rname)
-            .map(|p| Series {
-                label: format!("{} vs {}", p.b, p.a),
-                color: comp
-                    .runs
-                    .iter()
-                    .position(|r| r.summary.formulation == p.b)
-                    .unwrap_or(0),
-                points: p
-                    .samples
-                    .iter()
-                    .map(|s| (s.t, s.rms_position_rel))
-                    .collect(),
+            .map(|p| {
+                Series::new(
+                    format!("{} vs {}", p.b, p.a),
+                    comp.runs
+                        .iter()
+                        .position(|r| r.summary.formulation == p.b)
+                        .unwrap_or(0),
+                    p.samples
+                        .iter()
+                        .map(|s| (s.t, s.rms_position_rel))
+                        .collect(),
+                )
             })
             .collect();
-        if !series.is_empty() {
-            let thr = comp.pairs[0].threshold;
+        if let Some(c) = &comp.chaos {
             series.push(Series {
-                label: format!("threshold {thr}"),
-                color: 7,
-                points: vec![(0.0, thr), (scn.duration, thr)],
+                dash: Some(2),
+                ..Series::new(
+                    format!("{rname} vs itself from a {:e} perturbation", c.perturbation),
+                    0,
+                    c.samples.clone(),
+                )
+            });
+        }
+        if !series.is_empty() {
+            let thr = comp.pairs.first().map_or(0.1, |p| p.threshold);
+            series.push(Series {
+                dash: Some(1),
+                ..Series::new(
+                    format!("threshold {thr}"),
+                    plot::EXACT,
+                    vec![(0.0, thr), (scn.duration, thr)],
+                )
             });
             let stem = dir.join("divergence");
             plot::line_chart(
                 &LineChart {
-                    title: &format!("{name}: trajectory difference from {rname}"),
+                    title: &format!("{name}: divergence between runs, from {rname}"),
                     x_label: "t (s)",
-                    y_label: "RMS position difference / mean floe diameter (-)",
+                    y_label: "RMS position difference / mean floe diameter d̄ (-)",
                     series: &series,
-                    y_scale: Scale::Linear,
+                    y_scale: Scale::Auto,
+                    marks: &[],
                 },
                 &stem,
             )
             .map_err(plot_err(&stem))?;
-            add("divergence", format!("trajectory difference from {rname}"));
+            add(
+                "divergence",
+                format!("divergence between runs, from {rname}"),
+                &format!(
+                    "the RMS over floes of the distance between a floe's positions in two runs, in mean floe diameters d̄, against the threshold (black dashes); the dotted curve is {rname} against itself started from positions perturbed by 1e-12 d̄: its growth tells whether the case is chaotic"
+                ),
+            );
         }
 
         let chosen = travelling_floes(reference, n, 3);
+        // Colour: the formulation; dash: the floe; legend entries for both.
         let mut paths = Vec::new();
+        let mut labels = Vec::new();
         for (i, r) in comp.runs.iter().enumerate() {
-            for &f in &chosen {
+            for (j, &f) in chosen.iter().enumerate() {
+                let points: Vec<(f64, f64)> = frames(r, n).map(|fr| (fr[f].x, fr[f].y)).collect();
+                if i == 0 {
+                    if let Some(&end) = points.last() {
+                        labels.push((format!("floe {f}"), end));
+                    }
+                }
                 paths.push(Series {
-                    label: format!("{} #{f}", r.summary.formulation),
-                    color: i,
-                    points: frames(r, n).map(|fr| (fr[f].x, fr[f].y)).collect(),
+                    dash: Some(j),
+                    ..Series::new("", i, points)
                 });
             }
+        }
+        for (i, r) in comp.runs.iter().enumerate() {
+            paths.push(Series {
+                dash: Some(0),
+                ..Series::new(r.summary.formulation.clone(), i, Vec::new())
+            });
+        }
+        for (j, &f) in chosen.iter().enumerate() {
+            paths.push(Series {
+                dash: Some(j),
+                ..Series::new(format!("floe {f}"), plot::EXACT, Vec::new())
+            });
         }
         let obstacles: Vec<Vec<(f64, f64)>> = scn
             .obstacles
@@ -175,11 +234,16 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 title: &format!("{name}: paths of floes {chosen:?}"),
                 paths: &paths,
                 obstacles: &obstacles,
+                labels: &labels,
             },
             &stem,
         )
         .map_err(plot_err(&stem))?;
-        add("paths", format!("paths of floes {chosen:?}"));
+        add(
+            "paths",
+            format!("paths of floes {chosen:?}"),
+            "the centre-of-mass paths of the floes that travel furthest in the first run: colour is the formulation, the dash pattern the floe (labelled at the end of its path in the first run); a dot marks the start",
+        );
 
         // Snapshots at the start, the middle and the end of the reference run.
         let count = frames(reference, n).count();
@@ -221,7 +285,12 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             &stem,
         )
         .map_err(plot_err(&stem))?;
-        add("snapshots", "the floes at the start, middle and end".into());
+        add(
+            "snapshots",
+            "the floes at the start, middle and end".into(),
+            "the floes of every run (columns) at the first, middle and last output of the first run (rows)",
+        );
+        exact_figures(comp, dir, &mut add)?;
     }
 
     let categories: Vec<String> = comp
@@ -245,18 +314,102 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         ),
         ("other".to_string(), stage(|r| r.summary.timing.cpu_other)),
     ];
+    let notes: Vec<String> = match fastest(&comp.cpu) {
+        Some(f) => comp
+            .cpu
+            .iter()
+            .map(|c| format!("{}× fastest", ratio_text(c, f)))
+            .collect(),
+        None => Vec::new(),
+    };
     let stem = dir.join("cpu");
     plot::bar_chart(
         &StackedBars {
-            title: &format!("{name}: CPU time per stage"),
+            title: &format!("{name}: CPU time per stage (run of median CPU)"),
             y_label: "thread CPU time (s)",
             categories: &categories,
             segments: &segments,
             y_scale: Scale::Linear,
+            notes: &notes,
         },
         &stem,
     )
     .map_err(plot_err(&stem))?;
-    add("cpu", "CPU time per stage".into());
+    add(
+        "cpu",
+        "CPU time per stage".into(),
+        "thread CPU time of each formulation's run of median CPU time, split into contact detection, contact solve and smooth integration; \"other\" is the rest of the run's CPU time outside those stages (recording the outputs and the energy ledger, the formulation's bookkeeping between stages, the timer's own cost); above each bar its total and its ratio to the fastest median, to the digits the spread of the repeats supports",
+    );
     Ok(figs)
+}
+
+/// The plots of the exact curves of `comp` ([`exact_curves`]): each run's
+/// measurement (its colour) and the exact curve (black dashes), marked
+/// instants as vertical lines.
+fn exact_figures(
+    comp: &CaseComparison,
+    dir: &Path,
+    add: &mut impl FnMut(&str, String, &str),
+) -> Result<(), ReportError> {
+    let name = &comp.scenario.name;
+    for c in exact_curves(&comp.scenario, &comp.runs) {
+        let mut series: Vec<Series> = comp
+            .runs
+            .iter()
+            .zip(&c.measured)
+            .enumerate()
+            .map(|(i, (r, m))| Series::new(r.summary.formulation.clone(), i, m.clone()))
+            .collect();
+        series.push(Series {
+            dash: Some(1),
+            ..Series::new(c.exact_label.clone(), plot::EXACT, c.exact.clone())
+        });
+        let stem = dir.join(c.stem);
+        let title = format!("{name}: {}", c.what);
+        if c.plan {
+            let obstacles: Vec<Vec<(f64, f64)>> = comp
+                .scenario
+                .obstacles
+                .iter()
+                .map(|o| polygon(o.polygon.iter().copied()))
+                .collect();
+            plot::plan_view(
+                &PlanView {
+                    title: &title,
+                    paths: &series,
+                    obstacles: &obstacles,
+                    labels: &[],
+                },
+                &stem,
+            )
+        } else {
+            plot::line_chart(
+                &LineChart {
+                    title: &title,
+                    x_label: &c.x_label,
+                    y_label: &c.y_label,
+                    series: &series,
+                    y_scale: Scale::Linear,
+                    marks: &c.marks,
+                },
+                &stem,
+            )
+        }
+        .map_err(plot_err(&stem))?;
+        add(
+            c.stem,
+            c.what.clone(),
+            &format!(
+                "{}: every run against the exact answer of the checks (black dashes: {}){}",
+                c.what,
+                c.exact_label,
+                if c.marks.is_empty() {
+                    ""
+                } else {
+                    "; vertical lines mark the exact instants"
+                }
+            ),
+        );
+    }
+    Ok(())
 }

@@ -16,23 +16,75 @@
 /// Values quoted from a case file (`e`, `μ`, a threshold, an output time)
 /// are printed as given (`{}`), not through this function.
 pub fn fmt_num(v: f64) -> String {
+    fmt_sig(v, 4)
+}
+
+/// `v` rounded to `sig` significant digits (1 to 4), by the rules of
+/// [`fmt_num`] (fixed notation in `[1e-3, 1e5)`, every integer digit from
+/// `1e4` on, scientific notation outside).
+pub fn fmt_sig(v: f64, sig: usize) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }
+    let sig = sig.clamp(1, 4);
     let a = v.abs();
     if a == 0.0 {
         "0".into()
     } else if (1e-3..1e5).contains(&a) {
-        let decimals = (3 - a.log10().floor() as i32).clamp(0, 6) as usize;
+        let decimals = (sig as i32 - 1 - a.log10().floor() as i32).clamp(0, 6) as usize;
         format!("{v:.decimals$}")
     } else {
-        format!("{v:.3e}")
+        let decimals = sig - 1;
+        format!("{v:.decimals$e}")
     }
+}
+
+/// Measured figures that share one spread of width `width` (e.g. the
+/// median, range and quartiles of repeated CPU times, or the parts of a
+/// measured total), each printed only to the digits the spread supports:
+/// the last digit printed is at the decade of `width`, the same for all (at
+/// least one significant digit of the largest, at most four; as [`fmt_num`]
+/// when the width is zero or unknown). The notation (fixed or scientific,
+/// by the rule of [`fmt_num`]) is that of the largest, for all.
+pub fn fmt_measured(values: &[f64], width: f64) -> Vec<String> {
+    let big = values
+        .iter()
+        .map(|v| v.abs())
+        .filter(|v| v.is_finite())
+        .fold(0.0, f64::max);
+    if !(width > 0.0 && width.is_finite() && big > 0.0) {
+        return values.iter().map(|&v| fmt_num(v)).collect();
+    }
+    let top = big.log10().floor() as i32;
+    let last = (width.log10().floor() as i32).clamp(top - 3, top);
+    let fixed = (1e-3..1e5).contains(&big);
+    values
+        .iter()
+        .map(|&x| {
+            if x == 0.0 || !x.is_finite() {
+                fmt_num(x)
+            } else if fixed {
+                let decimals = (-last).max(0) as usize;
+                format!("{x:.decimals$}")
+            } else {
+                let sig = (x.abs().log10().floor() as i32 - last + 1).clamp(1, 4) as usize;
+                fmt_sig(x, sig)
+            }
+        })
+        .collect()
+}
+
+/// A measured figure `v` with its spread `[lo, hi]`, rounded alike
+/// ([`fmt_measured`] with the width `hi − lo`): `(v, lo, hi)`.
+pub fn fmt_spread(v: f64, lo: f64, hi: f64) -> (String, String, String) {
+    let mut s = fmt_measured(&[v, lo, hi], hi - lo).into_iter();
+    let mut next = || s.next().unwrap_or_default();
+    (next(), next(), next())
 }
 
 #[cfg(test)]
 mod tests {
-    use super::fmt_num;
+    use super::{fmt_measured, fmt_num, fmt_spread};
 
     #[test]
     fn four_significant_digits() {
@@ -53,5 +105,21 @@ mod tests {
         for (v, s) in cases {
             assert_eq!(fmt_num(v), s, "{v}");
         }
+    }
+
+    #[test]
+    fn spread_digits() {
+        let p = |v, lo, hi| {
+            let (a, b, c) = fmt_spread(v, lo, hi);
+            format!("{a} ({b}-{c})")
+        };
+        assert_eq!(p(0.04873, 0.0475, 0.0512), "0.049 (0.048-0.051)");
+        assert_eq!(p(2.345, 2.2, 2.5), "2.3 (2.2-2.5)");
+        assert_eq!(p(2.345, 2.345, 2.345), "2.345 (2.345-2.345)");
+        assert_eq!(p(51.3, 12.0, 90.0), "51 (12-90)");
+        assert_eq!(p(1.234e-5, 1.2e-5, 1.3e-5), "1.2e-5 (1.2e-5-1.3e-5)");
+        assert_eq!(p(9.9e-4, 8.1e-4, 1.02e-3), "0.0010 (0.0008-0.0010)");
+        assert_eq!(fmt_measured(&[0.01234, 4e-4], 0.003), ["0.012", "0.000"]);
+        assert_eq!(fmt_measured(&[3e-4, 8.3e-4], 1e-4), ["3e-4", "8e-4"]);
     }
 }

@@ -12,6 +12,8 @@
 //!   text, Markdown, `checks.csv`;
 //! - [`figures`]: which plots a comparison draws, from its data;
 //! - [`page`]: the page's document model, rendered as Markdown and HTML;
+//! - `parameters` (private): the case's and the runs' parameters on the page;
+//! - [`provenance`]: version, commit, machine and date of a report;
 //! - [`plot`]: the charts (plotters, DejaVu Sans embedded): lines, stacked
 //!   bars, plan views, snapshot grids;
 //! - [`format`](mod@format): the one rounding rule of the numbers printed for
@@ -23,7 +25,9 @@ pub mod figures;
 pub mod folder;
 pub mod format;
 pub mod page;
+mod parameters;
 pub mod plot;
+pub mod provenance;
 mod tables;
 pub mod verdict;
 

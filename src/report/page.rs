@@ -5,7 +5,8 @@
 
 use std::fmt::Write as _;
 
-/// A block of the report page.
+/// A block of the report page. Text may hold Markdown's `**bold**` and
+/// `` `code` `` spans (rendered as `<b>` and `<code>` in HTML).
 #[derive(Debug, Clone, PartialEq)]
 pub enum Block {
     /// A heading of level 1 to 3.
@@ -85,15 +86,31 @@ fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// Escapes `s` for HTML and turns `**bold**` spans into `<b>`.
+/// Escapes `s` for HTML and renders its Markdown spans: `` `code` `` as
+/// `<code>` (taken literally inside), `**bold**` as `<b>`.
 fn inline(s: &str) -> String {
     let mut out = String::new();
-    for (k, part) in esc(s).split("**").enumerate() {
+    let mut bold = false;
+    for (k, piece) in s.split('`').enumerate() {
+        // An unmatched last backtick is literal text.
+        let code = k % 2 == 1 && s.matches('`').count() > k;
+        if code {
+            let _ = write!(out, "<code>{}</code>", esc(piece));
+            continue;
+        }
         if k % 2 == 1 {
-            let _ = write!(out, "<b>{part}</b>");
-        } else {
+            out.push('`');
+        }
+        for (j, part) in esc(piece).split("**").enumerate() {
+            if j > 0 {
+                out.push_str(if bold { "</b>" } else { "<b>" });
+                bold = !bold;
+            }
             out.push_str(part);
         }
+    }
+    if bold {
+        out.push_str("</b>");
     }
     out
 }
@@ -104,7 +121,8 @@ table{border-collapse:collapse;margin:.5em 0 1.2em;font-size:.9em}\
 th,td{border:1px solid #bbb;padding:.2em .5em;text-align:right}\
 th{background:#eee}td:first-child,th:first-child{text-align:left}\
 .figs{display:flex;flex-wrap:wrap;gap:8px}.figs img{width:580px;border:1px solid #ddd}\
-pre{background:#f6f6f6;padding:.5em;overflow-x:auto}";
+pre{background:#f6f6f6;padding:.5em;overflow-x:auto}\
+code{background:#f3f3f3;padding:0 .2em;border-radius:3px;font-size:.92em}";
 
 /// The page as one self-contained HTML document titled `title`.
 pub fn html(title: &str, blocks: &[Block]) -> String {
@@ -170,4 +188,20 @@ pub fn html(title: &str, blocks: &[Block]) -> String {
     }
     s.push_str("</body></html>\n");
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::inline;
+
+    #[test]
+    fn code_and_bold_spans() {
+        assert_eq!(
+            inline("run `floebench check <x>` **now**"),
+            "run <code>floebench check &lt;x&gt;</code> <b>now</b>"
+        );
+        assert_eq!(inline("`a**b`"), "<code>a**b</code>");
+        assert_eq!(inline("odd ` tick"), "odd ` tick");
+        assert_eq!(inline("**open"), "<b>open</b>");
+    }
 }

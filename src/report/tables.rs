@@ -2,10 +2,11 @@
 //! formulation), and per case the runs, the pairs and the checks.
 
 use super::checks::{table_cells, TABLE_HEADER};
-use super::format::fmt_num;
+use super::format::{fmt_measured, fmt_num, fmt_spread};
 use super::page::Block;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
+use crate::analysis::spread::Spread;
 use crate::formulation::contact_solver::{
     CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
     LCP_SOLVES, LCP_UNRESOLVED,
@@ -50,12 +51,52 @@ pub(super) fn end_text(e: &EndReason) -> String {
     e.to_string()
 }
 
+/// A CPU time cell: `median (min–max)`, with `; IQR q1–q3` from four
+/// repeats on when `iqr`, to the digits the spread supports; the median
+/// alone for one run.
+pub(super) fn cpu_cell(c: &Spread, iqr: bool) -> String {
+    let (q1, q3) = c.iqr.unwrap_or((c.median, c.median));
+    let v = fmt_measured(&[c.median, c.min, c.max, q1, q3], width(c));
+    if c.count() < 2 {
+        return v[0].clone();
+    }
+    let mut s = format!("{} ({}–{}", v[0], v[1], v[2]);
+    if c.iqr.is_some() && iqr {
+        let _ = write!(s, "; IQR {}–{}", v[3], v[4]);
+    }
+    s.push(')');
+    s
+}
+
+/// The ratio of `c`'s median to `fastest`'s, to the digits their spreads
+/// support (the range of the ratio is `c.min / fastest.max` to
+/// `c.max / fastest.min`).
+pub(super) fn ratio_text(c: &Spread, fastest: &Spread) -> String {
+    let f = |v: f64| v.max(1e-12);
+    fmt_spread(
+        c.median / f(fastest.median),
+        c.min / f(fastest.max),
+        c.max / f(fastest.min),
+    )
+    .0
+}
+
+/// The spread of smallest median (`None` without any).
+pub(super) fn fastest(cpu: &[Spread]) -> Option<&Spread> {
+    cpu.iter().min_by(|a, b| a.median.total_cmp(&b.median))
+}
+
+/// The width of a spread (0 for one run), s.
+fn width(c: &Spread) -> f64 {
+    c.max - c.min
+}
+
 /// The runs table of a case: one row per formulation.
 pub(super) fn runs_table(comp: &CaseComparison) -> Block {
     let header = [
         "formulation",
         "end",
-        "CPU (s)",
+        "CPU (s): median (range; IQR)",
         "CPU per sim. s",
         "detection / solve / integration (s)",
         "E_k final (J)",
@@ -70,20 +111,22 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
     let rows = comp
         .runs
         .iter()
-        .map(|r| {
+        .zip(&comp.cpu)
+        .map(|(r, c)| {
             let s = &r.summary;
             let t = &s.timing;
+            let w = width(c);
+            let per = s.t_reached.max(1e-300);
             vec![
                 s.formulation.clone(),
                 end_text(&s.end),
-                fmt_num(t.cpu_total),
-                fmt_num(t.cpu_total / s.t_reached.max(1e-300)),
-                format!(
-                    "{} / {} / {}",
-                    fmt_num(t.stages.detection),
-                    fmt_num(t.stages.solve),
-                    fmt_num(t.stages.integration)
-                ),
+                cpu_cell(c, true),
+                fmt_measured(&[c.median / per], w / per).remove(0),
+                fmt_measured(
+                    &[t.stages.detection, t.stages.solve, t.stages.integration],
+                    w,
+                )
+                .join(" / "),
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 fmt_num(s.energy.max_abs_residual / s.energy.exchanged.max(1e-300)),
@@ -175,22 +218,18 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
         "case",
         "formulation",
         "end",
-        "CPU (s)",
-        "× fastest",
+        "CPU (s): median (range)",
+        "× fastest median",
         "E_k final (J)",
         "dissipated (J)",
-        "max RMS Δx / d̄ vs first",
+        "max divergence from the first (d̄)",
         "checks passed",
     ];
     let mut rows = Vec::new();
     for c in comps {
-        let fastest = c
-            .runs
-            .iter()
-            .map(|r| r.summary.timing.cpu_total)
-            .fold(f64::INFINITY, f64::min)
-            .max(1e-9);
-        for (i, r) in c.runs.iter().enumerate() {
+        let none = Spread::of(&[]);
+        let fastest = fastest(&c.cpu).unwrap_or(&none);
+        for (i, (r, cpu)) in c.runs.iter().zip(&c.cpu).enumerate() {
             let s = &r.summary;
             let div = if i == 0 {
                 "(reference)".to_string()
@@ -200,12 +239,13 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
                     .find(|p| p.a == c.runs[0].summary.formulation && p.b == s.formulation)
                     .map_or("-".into(), |p| fmt_num(p.max_rms_position_rel))
             };
+            let ratio = ratio_text(cpu, fastest);
             rows.push(vec![
                 s.case.clone(),
                 s.formulation.clone(),
                 end_text(&s.end),
-                fmt_num(s.timing.cpu_total),
-                fmt_num(s.timing.cpu_total / fastest),
+                cpu_cell(cpu, false),
+                ratio,
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.dissipated),
                 div,

@@ -9,7 +9,11 @@
 //! is its own thread's CPU time ([`crate::record::thread_cpu_seconds`]), so
 //! parallel runs do not distort each other; wall time is kept beside it.
 //! The results come back in the order of the cases and, within a case, of
-//! its formulations, whatever order the runs finish in.
+//! its formulations, whatever order the runs finish in. With a repeat
+//! count `N` every pair runs `N` times (each repeat a run of its own on the
+//! pool); [`super::repeat::merge`] keeps the run of median CPU time, the
+//! timing of every repeat, and a finding for any repeat whose physics is
+//! not bit-identical.
 //!
 //! An interrupt ([`super::interrupt`]) stops the batch: no new run starts,
 //! the runs in progress end at their next output time, and only the cases
@@ -19,7 +23,7 @@
 //! Which formulations run on a case when none are named:
 //! [`default_formulations`], those of the registry that apply to it.
 
-use super::{interrupt, EndReason, RunOptions, RunResult, Runner};
+use super::{interrupt, repeat, EndReason, RunOptions, RunResult, Runner, Timing};
 use crate::formulation::{self, load_case, FormulationOptions};
 use crate::model::{IntegratorKind, Scenario};
 use std::path::PathBuf;
@@ -82,6 +86,8 @@ pub struct BatchOptions {
     pub progress: bool,
     /// Override of the cases' smooth integrator.
     pub integrator: Option<IntegratorKind>,
+    /// Runs of each (case, formulation), at least 1 (default 1).
+    pub repeat: usize,
 }
 
 impl Default for BatchOptions {
@@ -91,6 +97,7 @@ impl Default for BatchOptions {
             jobs: std::thread::available_parallelism().map_or(1, |n| n.get()),
             progress: false,
             integrator: None,
+            repeat: 1,
         }
     }
 }
@@ -102,8 +109,14 @@ pub struct CaseRuns {
     pub path: PathBuf,
     /// The case.
     pub scenario: Scenario,
-    /// One run per formulation, in the order of the options.
+    /// One run per formulation, in the order of the options: of its
+    /// repeats, the one of median CPU time ([`repeat::merge`]).
     pub runs: Vec<RunResult>,
+    /// The timing of every repeat of each run (same order as `runs`).
+    pub timings: Vec<Vec<Timing>>,
+    /// Repeats whose physics was not bit-identical, one line each (a
+    /// finding: every formulation should be deterministic).
+    pub findings: Vec<String>,
 }
 
 /// The case files named by `inputs`: files as given, folders expanded to
@@ -148,51 +161,102 @@ pub fn load_cases(inputs: &[PathBuf]) -> Result<Vec<(PathBuf, Scenario)>, BatchE
         .collect()
 }
 
-/// Runs every formulation of `opts` on every case (see the module doc).
-pub fn run_cases(
-    cases: Vec<(PathBuf, Scenario)>,
-    opts: &BatchOptions,
-) -> Result<Vec<CaseRuns>, BatchError> {
-    for (i, name) in opts.formulations.iter().enumerate() {
-        if opts.formulations[..i].contains(name) {
-            return Err(BatchError::Formulation(format!(
-                "formulation `{name}` is listed twice"
-            )));
-        }
-    }
-    let lists: Vec<Vec<String>> = cases
-        .iter()
-        .map(|(_, scn)| {
-            if opts.formulations.is_empty() {
-                default_formulations(scn)
+/// One case of a batch and what to run on it.
+#[derive(Debug, Clone)]
+pub struct CaseJob {
+    /// The case file.
+    pub path: PathBuf,
+    /// The case.
+    pub scenario: Scenario,
+    /// The formulations to run, in this order.
+    pub formulations: Vec<String>,
+    /// Runs of each formulation (at least 1): the physics of the repeats
+    /// must be bit-identical ([`super::repeat`]), their CPU times give the
+    /// spread.
+    pub repeat: usize,
+}
+
+/// The jobs of `cases` under `opts`: the formulations of `opts` (or each
+/// case's [`default_formulations`]), `opts.repeat` runs each.
+pub fn case_jobs(cases: Vec<(PathBuf, Scenario)>, opts: &BatchOptions) -> Vec<CaseJob> {
+    cases
+        .into_iter()
+        .map(|(path, scenario)| {
+            let formulations = if opts.formulations.is_empty() {
+                default_formulations(&scenario)
                     .into_iter()
                     .map(str::to_string)
                     .collect()
             } else {
                 opts.formulations.clone()
+            };
+            CaseJob {
+                path,
+                scenario,
+                formulations,
+                repeat: opts.repeat.max(1),
             }
         })
-        .collect();
+        .collect()
+}
+
+/// Runs every formulation of `opts` on every case (see the module doc).
+pub fn run_cases(
+    cases: Vec<(PathBuf, Scenario)>,
+    opts: &BatchOptions,
+) -> Result<Vec<CaseRuns>, BatchError> {
+    run_jobs(case_jobs(cases, opts), opts)
+}
+
+/// Runs `jobs` on `opts.jobs` threads (`opts.formulations` and
+/// `opts.repeat` are not read: each job says what it runs). Every
+/// formulation is built on its case before any run; every repeat of every
+/// pair is a run of its own on the pool. The jobs an interrupt left
+/// unfinished are left out.
+pub fn run_jobs(jobs: Vec<CaseJob>, opts: &BatchOptions) -> Result<Vec<CaseRuns>, BatchError> {
+    Ok(run_jobs_aligned(jobs, opts)?
+        .into_iter()
+        .flatten()
+        .collect())
+}
+
+/// [`run_jobs`], one entry per job in the order given: `None` for a job an
+/// interrupt left unfinished.
+pub fn run_jobs_aligned(
+    jobs: Vec<CaseJob>,
+    opts: &BatchOptions,
+) -> Result<Vec<Option<CaseRuns>>, BatchError> {
+    for job in &jobs {
+        let names = &job.formulations;
+        for (i, name) in names.iter().enumerate() {
+            if names[..i].contains(name) {
+                return Err(BatchError::Formulation(format!(
+                    "formulation `{name}` is listed twice"
+                )));
+            }
+        }
+    }
     let fopts = FormulationOptions {
         integrator: opts.integrator,
         dump_lcp: None,
     };
     // Every formulation must accept every case before anything runs.
-    for ((path, scn), list) in cases.iter().zip(&lists) {
-        for name in list {
-            formulation::build(name, scn, &fopts)
-                .map_err(|e| BatchError::Formulation(format!("{}: {name}: {e}", path.display())))?;
+    for job in &jobs {
+        for name in &job.formulations {
+            formulation::build(name, &job.scenario, &fopts).map_err(|e| {
+                BatchError::Formulation(format!("{}: {name}: {e}", job.path.display()))
+            })?;
         }
     }
-    let jobs: Vec<(usize, usize)> = lists
+    let runs: Vec<(usize, usize)> = jobs
         .iter()
         .enumerate()
-        .flat_map(|(c, l)| (0..l.len()).map(move |f| (c, f)))
+        .flat_map(|(c, j)| (0..j.formulations.len() * j.repeat).map(move |k| (c, k / j.repeat)))
         .collect();
-    let results: Mutex<Vec<Option<Result<RunResult, String>>>> = Mutex::new(vec![None; jobs.len()]);
+    let results: Mutex<Vec<Option<Result<RunResult, String>>>> = Mutex::new(vec![None; runs.len()]);
     let next = AtomicUsize::new(0);
     let multi = opts.progress.then(indicatif::MultiProgress::new);
-    let workers = opts.jobs.clamp(1, jobs.len().max(1));
+    let workers = opts.jobs.clamp(1, runs.len().max(1));
     std::thread::scope(|s| {
         for _ in 0..workers {
             s.spawn(|| loop {
@@ -200,13 +264,13 @@ pub fn run_cases(
                     break;
                 }
                 let k = next.fetch_add(1, Ordering::SeqCst);
-                let Some(&(c, f)) = jobs.get(k) else { break };
-                let scn = &cases[c].1;
+                let Some(&(c, f)) = runs.get(k) else { break };
+                let scn = &jobs[c].scenario;
                 let runner = Runner::new(RunOptions {
                     progress: opts.progress,
                     multi: multi.clone(),
                 });
-                let out = formulation::build(&lists[c][f], scn, &fopts)
+                let out = formulation::build(&jobs[c].formulations[f], scn, &fopts)
                     .map(|mut form| runner.run(scn, form.name(), form.formulation.as_mut()));
                 if let Ok(mut r) = results.lock() {
                     r[k] = Some(out);
@@ -219,40 +283,55 @@ pub fn run_cases(
         .map_err(|_| BatchError::Panicked("a run panicked".into()))?
         .into_iter();
     let interrupted = interrupt::requested();
-    let mut out = Vec::with_capacity(cases.len());
-    for ((path, scenario), list) in cases.into_iter().zip(&lists) {
-        let mut runs = Vec::with_capacity(list.len());
-        for name in list {
-            match results.next().flatten() {
-                Some(Ok(r)) => runs.push(r),
-                // Not started, or stopped, because of an interrupt: the case
-                // is left out (see the module doc).
-                None if interrupted => {}
-                Some(Err(e)) => {
-                    return Err(BatchError::Formulation(format!(
-                        "{}: {name}: {e}",
-                        path.display()
-                    )))
-                }
-                None => {
-                    return Err(BatchError::Panicked(format!(
-                        "{}: {name}: the run did not finish (panicked)",
-                        path.display()
-                    )))
+    let mut out = Vec::with_capacity(jobs.len());
+    for job in jobs {
+        let mut case = CaseRuns {
+            runs: Vec::with_capacity(job.formulations.len()),
+            timings: Vec::with_capacity(job.formulations.len()),
+            findings: Vec::new(),
+            path: job.path,
+            scenario: job.scenario,
+        };
+        let mut complete = true;
+        for name in &job.formulations {
+            let mut repeats = Vec::with_capacity(job.repeat);
+            for _ in 0..job.repeat {
+                match results.next().flatten() {
+                    Some(Ok(r)) => repeats.push(r),
+                    // Not started, or stopped, because of an interrupt: the
+                    // case is left out (see the module doc).
+                    None if interrupted => {}
+                    Some(Err(e)) => {
+                        return Err(BatchError::Formulation(format!(
+                            "{}: {name}: {e}",
+                            case.path.display()
+                        )))
+                    }
+                    None => {
+                        return Err(BatchError::Panicked(format!(
+                            "{}: {name}: the run did not finish (panicked)",
+                            case.path.display()
+                        )))
+                    }
                 }
             }
+            let finished = repeats.len() == job.repeat
+                && repeats
+                    .iter()
+                    .all(|r| !matches!(r.summary.end, EndReason::Interrupted { .. }));
+            if !finished {
+                complete = false;
+                continue;
+            }
+            let label = format!("{}: {name}", case.scenario.name);
+            let Some(merged) = repeat::merge(&label, repeats) else {
+                continue;
+            };
+            case.runs.push(merged.result);
+            case.timings.push(merged.timings);
+            case.findings.extend(merged.findings);
         }
-        let finished = runs.len() == list.len()
-            && runs
-                .iter()
-                .all(|r| !matches!(r.summary.end, EndReason::Interrupted { .. }));
-        if finished {
-            out.push(CaseRuns {
-                path,
-                scenario,
-                runs,
-            });
-        }
+        out.push(complete.then_some(case));
     }
     Ok(out)
 }

@@ -8,11 +8,12 @@
 //! is zero for an exact integration.
 //!
 //! [`output`] writes a run's files; [`batch`] runs several formulations on
-//! several cases on a pool of threads.
+//! several cases on a pool of threads; [`repeat`] merges the repeats of a run.
 
 pub mod batch;
 pub mod interrupt;
 pub mod output;
+pub mod repeat;
 
 use crate::formulation::Formulation;
 use crate::model::Scenario;

@@ -278,3 +278,73 @@ fn mirror_symmetry_fails_when_one_image_moves() {
         b.trajectory[i].theta += 1e-5;
     });
 }
+
+#[test]
+fn a_first_impact_at_91_s_fails_for_91_097_s() {
+    // The floe starts closer, so that its free flight reaches the wall at
+    // 91 s: judged against the case's t1 = 91.097 s it must fail, although
+    // it is within one output interval.
+    let scn = load("bouncing_floe");
+    let b = check::Bouncing::of(&scn).unwrap();
+    let good = check_run(&scn, &run(&scn, "event-driven"));
+    let o = find(&good, "bouncing_first_impact");
+    assert!(o.pass && (o.measured - b.t1).abs() < 1e-9, "{o:#?}");
+    let mut early = scn.clone();
+    early.floes[0].position += b.dir * (b.gap - 0.5 * b.a * 91.0 * 91.0);
+    for f in ["event-driven", "moreau"] {
+        let rows = check_run(&scn, &run(&early, f));
+        let o = find(&rows, "bouncing_first_impact");
+        assert!((o.measured - 91.0).abs() < 1e-6, "{f}: {o:#?}");
+        assert!(!o.pass && o.tolerance < b.t1 - 91.0, "{f}: {o:#?}");
+    }
+}
+
+#[test]
+fn inertial_period_is_the_coriolis_period_whatever_the_drag() {
+    let scn = load("inertial_oscillation");
+    let period = std::f64::consts::TAU / scn.environment.coriolis;
+    let o = find(
+        &check_run(&scn, &run(&scn, "event-driven")),
+        "inertial_period",
+    )
+    .clone();
+    assert!(
+        o.pass && (o.measured - period).abs() < 1e-9 * period,
+        "{o:#?}"
+    );
+    // Twice the water drag: smaller circles, the same period.
+    let mut drag = scn.clone();
+    drag.environment.water.drag *= 2.0;
+    let o = find(
+        &check_run(&drag, &run(&drag, "event-driven")),
+        "inertial_period",
+    )
+    .clone();
+    assert!(
+        o.pass && (o.measured - period).abs() < 1e-9 * period,
+        "{o:#?}"
+    );
+    // A Coriolis force 1 % too strong, or turning the wrong way, fails.
+    for factor in [1.01, -1.0] {
+        let mut wrong = scn.clone();
+        wrong.environment.coriolis *= factor;
+        let rows = check_run(&scn, &run(&wrong, "event-driven"));
+        let o = find(&rows, "inertial_period");
+        assert!(!o.pass, "f × {factor}: {o:#?}");
+    }
+}
+
+#[test]
+fn reasons_explain_failing_rows_only() {
+    let scn = load("bouncing_floe");
+    let rows = check_run(&scn, &run(&scn, "rapier"));
+    let entry = formulation::entry("rapier").unwrap();
+    for o in rows.iter().filter(|o| !o.claimed) {
+        let reason = entry.not_claimed(&o.check, &o.case).unwrap();
+        assert_eq!(o.note.contains(reason), !o.pass, "{o:#?}");
+    }
+    // rapier's penetration stays within the tolerance here: a pass without
+    // its reason; its symmetry fails, with it.
+    assert!(find(&rows, "penetration").pass);
+    assert!(!find(&rows, "symmetry").pass);
+}

@@ -3,9 +3,41 @@
 //! for runs that must differ.
 
 use crate::common::{bad_case, case_path, floebench, load, run, tempdir};
+use floebench::analysis::comparison::CaseComparison;
 use floebench::analysis::divergence;
+use floebench::analysis::spread::Spread;
 use floebench::compare::{self, CompareOptions};
+use floebench::report::verdict::verdict;
+use floebench::run::repeat::{merge, physics_difference};
 use std::path::Path;
+
+/// `compare` on the bundled cases `names` with `opts`.
+fn compare_cases(names: &[&str], opts: &CompareOptions) -> Vec<CaseComparison> {
+    let cases = names.iter().map(|n| (case_path(n), load(n))).collect();
+    compare::compare(cases, opts).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The verdict line that starts with `start`.
+fn line<'a>(lines: &'a [String], start: &str) -> &'a str {
+    lines
+        .iter()
+        .find(|l| l.starts_with(start))
+        .unwrap_or_else(|| panic!("no verdict line `{start}…` in {lines:#?}"))
+}
+
+/// The formulations a `Fastest: a (…), b (…) (tied…); the others…` line names fastest.
+fn fastest_named(line: &str, names: &[String]) -> Vec<String> {
+    let head = line
+        .strip_prefix("Fastest: ")
+        .and_then(|l| l.split("; the others").next())
+        .or_else(|| line.strip_prefix("CPU time: all tied"))
+        .unwrap_or_else(|| panic!("not a speed line: {line}"));
+    names
+        .iter()
+        .filter(|n| head.contains(&format!("{n} (")))
+        .cloned()
+        .collect()
+}
 
 /// The header of a CSV file and its rows, each checked to have as many fields.
 fn read_csv(path: &Path) -> (Vec<String>, Vec<Vec<String>>) {
@@ -156,15 +188,34 @@ fn compare_writes_every_promised_file_and_each_parses() {
     }
     let html = std::fs::read_to_string(out.join("index.html")).unwrap();
     assert!(md.contains("## head_on") && md.contains("**Verdict.**"));
+    // Provenance and the case's parameters on the page; code spans as <code>.
+    for text in [
+        "commit `",
+        "UTC",
+        "wind (air):",
+        "initial velocities:",
+        "settings (defaults resolved)",
+    ] {
+        assert!(md.contains(text), "index.md lacks {text:?}");
+    }
+    assert!(
+        html.contains("<code>metrics.csv</code>"),
+        "code spans in HTML"
+    );
+    assert!(!html.contains("`metrics.csv`"));
     assert!(html.starts_with("<!DOCTYPE html>") && html.trim_end().ends_with("</html>"));
     assert!(
         !html.contains("http://") && !html.contains("https://"),
         "not self-contained"
     );
-    // No temporary folder left behind.
+    // No temporary folder left behind; the list of the report's case
+    // folders is the one hidden file.
     for e in std::fs::read_dir(&out).unwrap() {
         let n = e.unwrap().file_name().to_string_lossy().into_owned();
-        assert!(!n.starts_with('.'), "left {n}");
+        assert!(
+            !n.starts_with('.') || n == floebench::report::folder::MANIFEST,
+            "left {n}"
+        );
     }
 }
 
@@ -232,4 +283,176 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
         .find(|m| m.metric == "diverged" && m.other == "rapier")
         .unwrap();
     assert_eq!(diverged.value, 1.0);
+}
+
+#[test]
+fn repeats_are_bit_identical_and_give_a_spread() {
+    let opts = CompareOptions {
+        formulations: vec!["event-driven".into(), "moreau".into()],
+        repeat: 3,
+        chaos_probe: false,
+        ..CompareOptions::default()
+    };
+    let comps = compare_cases(&["head_on"], &opts);
+    let c = &comps[0];
+    assert!(c.findings.is_empty(), "{:?}", c.findings);
+    assert!(c.chaos.is_none());
+    for (r, (cpu, t)) in c.runs.iter().zip(c.cpu.iter().zip(&c.timings)) {
+        assert_eq!((cpu.count(), t.len()), (3, 3));
+        assert!(cpu.min <= cpu.median && cpu.median <= cpu.max);
+        // The run kept is the repeat of median CPU time.
+        assert_eq!(r.summary.timing.cpu_total, cpu.median);
+        let metric = |m: &str| {
+            c.metrics
+                .iter()
+                .find(|x| x.metric == m && x.formulation == r.summary.formulation)
+                .unwrap_or_else(|| panic!("no {m}"))
+                .value
+        };
+        assert_eq!(metric("cpu_repeats"), 3.0);
+        assert_eq!(metric("cpu_median"), cpu.median);
+        assert_eq!((metric("cpu_min"), metric("cpu_max")), (cpu.min, cpu.max));
+    }
+}
+
+#[test]
+fn a_physics_difference_between_repeats_is_a_finding_and_timing_is_not() {
+    let scn = load("head_on");
+    let a = run(&scn, "event-driven");
+    let mut b = a.clone();
+    b.summary.timing.cpu_total *= 2.0;
+    b.summary.timing.wall *= 3.0;
+    assert_eq!(physics_difference(&a, &b), None);
+    let mut c = a.clone();
+    c.trajectory[7].vy = f64::from_bits(c.trajectory[7].vy.to_bits() ^ 1);
+    let d = physics_difference(&a, &c).expect("one bit of a velocity differs");
+    assert!(d.contains("trajectory") && d.contains("vy"), "{d}");
+    let mut e = a.clone();
+    e.energy[3].dissipated = f64::from_bits(e.energy[3].dissipated.to_bits() ^ 1);
+    assert!(physics_difference(&a, &e).unwrap().contains("dissipated"));
+    let merged = merge("head_on: event-driven", vec![a.clone(), b, c]).unwrap();
+    assert_eq!(merged.findings.len(), 1, "{:?}", merged.findings);
+    assert!(merged.findings[0].contains("repeat 3 of 3"));
+    assert_eq!(merged.timings.len(), 3);
+}
+
+#[test]
+fn verdicts_judge_against_the_exact_answers_with_ties_and_label_chaos() {
+    let opts = CompareOptions {
+        progress: false,
+        ..CompareOptions::default()
+    };
+    let comps = compare_cases(&["head_on", "elastic_pool"], &opts);
+    let (head_on, pool) = (&comps[0], &comps[1]);
+    let v = verdict(head_on);
+    let truth = line(&v, "Against the exact answers");
+    // rapier misses the closed form: last, after the tie of the exact ones.
+    let v1 = truth
+        .split("; ")
+        .find(|s| s.starts_with("head_on_v1"))
+        .unwrap_or_else(|| panic!("{truth}"));
+    assert!(v1.contains("< rapier ("), "{v1}");
+    assert!(
+        v1.matches(" = ").count() == 2,
+        "three exact runs tied: {v1}"
+    );
+    // The dissipations of the exact runs differ by rounding only: a tie.
+    let diss = line(&v, "Dissipation in contacts");
+    assert!(diss.matches(" = ").count() == 2, "{diss}");
+    for l in &v {
+        assert!(!l.contains("agree"), "no agreement wording: {l}");
+    }
+    assert!(v.iter().any(|l| l.starts_with("Not chaotic")));
+    assert!(!head_on.chaos.as_ref().unwrap().chaotic);
+    // The elastic pool is chaotic; its divergence is said not to be a disagreement.
+    let probe = pool.chaos.as_ref().unwrap();
+    assert!(probe.chaotic, "{probe:?}");
+    assert!(probe.rate.unwrap() > 0.0 && probe.growth > 1e6);
+    let v = verdict(pool);
+    assert!(line(&v, "Chaotic case").contains("not a disagreement"));
+    assert!(line(&v, "Divergence between runs").contains("d̄"));
+}
+
+#[test]
+fn speed_is_a_tie_when_the_ranges_of_the_repeats_overlap() {
+    let opts = CompareOptions {
+        formulations: vec!["event-driven".into(), "moreau".into(), "rapier".into()],
+        chaos_probe: false,
+        ..CompareOptions::default()
+    };
+    let mut c = compare_cases(&["head_on"], &opts).remove(0);
+    c.cpu = vec![
+        Spread::of(&[1.0, 1.2, 1.1]),
+        Spread::of(&[1.15, 1.3, 1.25]),
+        Spread::of(&[5.0, 5.1, 5.2]),
+    ];
+    let v = verdict(&c);
+    let speed = line(&v, "Fastest");
+    assert!(speed.contains("tied"), "{speed}");
+    let names: Vec<String> = c
+        .runs
+        .iter()
+        .map(|r| r.summary.formulation.clone())
+        .collect();
+    assert_eq!(fastest_named(speed, &names), ["event-driven", "moreau"]);
+    c.cpu[1] = Spread::of(&[1.25, 1.3, 1.35]);
+    let v = verdict(&c);
+    let speed = line(&v, "Fastest");
+    assert!(!speed.contains("tied"), "{speed}");
+    assert_eq!(fastest_named(speed, &names), ["event-driven"]);
+    // 5.1 / 1.1 = 4.6, from 5.0 / 1.2 = 4.2 to 5.2 / 1.0 = 5.2: one digit.
+    assert!(speed.contains("rapier 5×"), "{speed}");
+}
+
+#[test]
+fn two_compare_runs_give_the_same_verdicts() {
+    // Every verdict but the speed one is physics, bit-identical between
+    // runs; the speed line may differ in its figures but never names a
+    // different fastest (a tie absorbs the noise). No wall-clock bound.
+    let opts = CompareOptions {
+        repeat: 3,
+        ..CompareOptions::default()
+    };
+    let a = compare_cases(&["bouncing_floe"], &opts).remove(0);
+    let b = compare_cases(&["bouncing_floe"], &opts).remove(0);
+    let (va, vb) = (verdict(&a), verdict(&b));
+    assert_eq!(va.len(), vb.len());
+    let names: Vec<String> = a
+        .runs
+        .iter()
+        .map(|r| r.summary.formulation.clone())
+        .collect();
+    for (la, lb) in va.iter().zip(&vb) {
+        if la.starts_with("Fastest") || la.starts_with("CPU time") {
+            let (fa, fb) = (fastest_named(la, &names), fastest_named(lb, &names));
+            assert!(
+                fa.iter().any(|f| fb.contains(f)),
+                "contradicting speed verdicts:\n{la}\n{lb}"
+            );
+        } else {
+            assert_eq!(la, lb);
+        }
+    }
+}
+
+#[test]
+fn check_and_compare_take_a_repeat_count() {
+    let out = floebench()
+        .args(["check", "--repeat", "2", "-f", "event-driven", "--quiet"])
+        .arg(case_path("head_on"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(!stdout.contains("finding:"), "{stdout}");
+    let bad = floebench()
+        .args(["compare", "--repeat", "0", "--quiet"])
+        .arg(case_path("head_on"))
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
 }

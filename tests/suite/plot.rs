@@ -33,11 +33,7 @@ fn check(paths: [PathBuf; 2], title: &str) {
 }
 
 fn series(label: &str, color: usize, points: Vec<(f64, f64)>) -> Series {
-    Series {
-        label: label.into(),
-        color,
-        points,
-    }
+    Series::new(label, color, points)
 }
 
 /// A regular hexagon of radius `r` around `(x, y)`.
@@ -57,6 +53,7 @@ fn line(dir: &Path, name: &str, s: &[Series], y_scale: Scale) -> Result<[PathBuf
         y_label: "kinetic energy (J)",
         series: s,
         y_scale,
+        marks: &[(10.0, "t1".into()), (50.0, "rest".into())],
     };
     line_chart(&chart, &dir.join(name))
 }
@@ -123,6 +120,7 @@ fn bar_charts_including_degenerate_ones() {
             categories: &cats,
             segments: &segs,
             y_scale: scale,
+            notes: &["1×".into(), "100×".into(), "1000×".into()],
         };
         check(bar_chart(&chart, &d.join(name)).unwrap(), name);
     }
@@ -133,6 +131,7 @@ fn bar_charts_including_degenerate_ones() {
         categories: &cats,
         segments: &zero,
         y_scale: Scale::Auto,
+        notes: &[],
     };
     check(bar_chart(&chart, &d.join("zero")).unwrap(), "zero bars");
     let chart = StackedBars {
@@ -141,6 +140,7 @@ fn bar_charts_including_degenerate_ones() {
         categories: &[],
         segments: &[],
         y_scale: Scale::Log,
+        notes: &[],
     };
     check(bar_chart(&chart, &d.join("nobars")).unwrap(), "no bars");
     let bad = vec![("detection".to_string(), vec![1.0])];
@@ -173,12 +173,14 @@ fn plan_views_and_grids_including_degenerate_ones() {
         title: "paths",
         paths: &paths,
         obstacles: &coast,
+        labels: &[("floe 1".into(), (30.0, 60.0))],
     };
     check(plan_view(&chart, &d.join("paths")).unwrap(), "paths");
     let chart = PlanView {
         title: "empty plan",
         paths: &[],
         obstacles: &[],
+        labels: &[],
     };
     check(
         plan_view(&chart, &d.join("emptyplan")).unwrap(),
@@ -267,6 +269,7 @@ fn demo_images() {
         y_label: "kinetic energy (J)",
         series: &s,
         y_scale: Scale::Linear,
+        marks: &[(3000.0, "t1".into())],
     };
     println!("{:?}", line_chart(&chart, &out.join("energy")).unwrap());
     let chart = LineChart {
@@ -294,6 +297,7 @@ fn demo_images() {
         y_label: "energy error (J)",
         series: &small,
         y_scale: Scale::Linear,
+        marks: &[],
     };
     println!("{:?}", line_chart(&chart, &out.join("many")).unwrap());
 
@@ -320,6 +324,7 @@ fn demo_images() {
             categories: &cats,
             segments: &segs,
             y_scale: scale,
+            notes: &["1×", "0.07×", "0.01×", "1e-5×", "0.3×"].map(String::from),
         };
         println!("{:?}", bar_chart(&chart, &out.join(name)).unwrap());
     }
@@ -351,6 +356,7 @@ fn demo_images() {
         title: "Floe paths, case coast-drift",
         paths: &paths,
         obstacles: &coast,
+        labels: &[("floe 1".into(), (5988.0, 2000.0))],
     };
     println!("{:?}", plan_view(&chart, &out.join("plan")).unwrap());
 

@@ -3,15 +3,16 @@
 //! tolerance it is held to (see the table of the module doc of
 //! [`super`]).
 
-use super::exact::{head_on_velocities, steady_drift_velocity, wind_acceleration};
+use super::exact::head_on_velocities;
 use super::measure::{final_velocity, rest_time, sampled_penetration};
+use super::setup::{Bouncing, Drift, Inertial, Sliding};
 use super::structure::{
     extent, find_symmetry, in_a_row, initial_polygon, no_forcing, self_symmetric, translation_gap,
-    wind_as_gravity, GEOMETRY_MATCH,
+    GEOMETRY_MATCH,
 };
 use super::{
-    CheckOutcome, CRADLE_TOLERANCE, ENERGY_CONSERVED_TOLERANCE, FREE_DRIFT_TIME_CONSTANTS,
-    FREE_DRIFT_TOLERANCE, HEAD_ON_TOLERANCE, IMPACT_ENERGY_TOLERANCE, LEDGER_TOLERANCE,
+    CheckOutcome, CRADLE_TOLERANCE, ENERGY_CONSERVED_TOLERANCE, FREE_DRIFT_TOLERANCE,
+    HEAD_ON_TOLERANCE, IMPACT_ENERGY_TOLERANCE, INERTIAL_PERIOD_TOLERANCE, LEDGER_TOLERANCE,
     MOMENTUM_TOLERANCE, REST_SPEED_FRACTION, SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
 };
 use crate::contact::signed_distance;
@@ -22,7 +23,7 @@ use crate::formulation::event_driven::{
 use crate::geometry::{cross, Vec2};
 use crate::model::Scenario;
 use crate::record::counters::common::MAX_PENETRATION;
-use crate::run::{EndReason, RunResult};
+use crate::run::{EndReason, RunResult, TrajectoryRow};
 
 struct Rows<'a> {
     scn: &'a Scenario,
@@ -41,7 +42,8 @@ impl Rows<'_> {
         tolerance: f64,
         unit: &str,
         note: String,
-    ) {
+    ) -> &mut CheckOutcome {
+        // A check against an exact answer sets `scale` on the row returned.
         let pass = match expected {
             Some(x) => (measured - x).abs() <= tolerance,
             None => measured <= tolerance,
@@ -58,7 +60,10 @@ impl Rows<'_> {
             pass,
             claimed: true,
             note,
+            scale: None,
         });
+        let last = self.out.len() - 1;
+        &mut self.out[last]
     }
 }
 
@@ -95,6 +100,7 @@ pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     cradle(&mut r);
     cannon(&mut r);
     free_drift(&mut r);
+    inertial(&mut r);
     ledger(&mut r);
     r.out
 }
@@ -132,7 +138,8 @@ fn momentum(r: &mut Rows) {
         MOMENTUM_TOLERANCE,
         "1",
         "max_t |P(t) - P(0)| / sum M |v(0)|".into(),
-    );
+    )
+    .scale = Some(1.0);
 }
 
 fn impact_energy(r: &mut Rows) {
@@ -148,10 +155,23 @@ fn impact_energy(r: &mut Rows) {
         None,
         IMPACT_ENERGY_TOLERANCE,
         "1",
-        format!(
-            "largest gain {gain:.3e} J over {} events / {scale:.3e} J exchanged",
-            log.event_count()
-        ),
+        if gain > 0.0 {
+            format!(
+                "largest gain {gain:.3e} J over {} events / {scale:.3e} J exchanged",
+                log.event_count()
+            )
+        } else if gain == 0.0 {
+            format!(
+                "no event gained energy (the largest change is 0 J) over {} events / {scale:.3e} J exchanged",
+                log.event_count()
+            )
+        } else {
+            format!(
+                "every event lost energy: the smallest loss is {:.3e} J over {} events / {scale:.3e} J exchanged",
+                -gain,
+                log.event_count()
+            )
+        },
     );
 }
 
@@ -178,7 +198,8 @@ fn energy_conserved(r: &mut Rows) {
         ENERGY_CONSERVED_TOLERANCE,
         "1",
         "max_t |E(t) - E(0)| / E(0)".into(),
-    );
+    )
+    .scale = Some(1.0);
 }
 
 fn coulomb(r: &mut Rows) {
@@ -218,10 +239,7 @@ fn penetration(r: &mut Rows) {
         .value(&MAX_PENETRATION)
         .ok()
         .flatten();
-    let tol = EventDrivenSettings::of(scn)
-        .map_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn), |s| {
-            s.penetration_tolerance(scn)
-        });
+    let tol = penetration_tolerance(scn);
     r.push(
         "penetration",
         "deepest overlap, at the outputs and as the formulation saw it",
@@ -270,7 +288,8 @@ fn symmetry(r: &mut Rows) {
             "axis through ({:.4}, {:.4}) along ({:.4}, {:.4}); worst at t = {at} s; extent {scale:.4} m",
             axis.c.x, axis.c.y, axis.d.x, axis.d.y
         ),
-    );
+    )
+    .scale = Some(scale);
 }
 
 fn head_on(r: &mut Rows) {
@@ -306,7 +325,8 @@ fn head_on(r: &mut Rows) {
         tol,
         "m/s",
         note.clone(),
-    );
+    )
+    .scale = Some(v1 - v2);
     r.push(
         "head_on_v2",
         "floe 1 after a central impact: (m1 v1 + m2 v2 + m1 e (v1 - v2))/(m1 + m2)",
@@ -315,48 +335,40 @@ fn head_on(r: &mut Rows) {
         tol,
         "m/s",
         note,
-    );
+    )
+    .scale = Some(v1 - v2);
 }
 
 fn bouncing(r: &mut Rows) {
     let scn = r.scn;
-    let Some(d) = wind_as_gravity(scn) else {
+    let Some(b) = Bouncing::of(scn) else {
         return;
     };
-    let f = &scn.floes[0];
-    if f.velocity.norm() != 0.0 || f.angular_velocity != 0.0 || !self_symmetric(scn, f.position, d)
-    {
-        return;
-    }
-    let Some((gap, _)) = translation_gap(scn, 0, &d) else {
-        return;
-    };
-    if gap <= GEOMETRY_MATCH * f.radius {
-        return;
-    }
-    let e = scn.contact.restitution;
-    let a = wind_acceleration(scn, 0);
-    let t1 = (2.0 * gap / a).sqrt();
-    let v1 = a * t1;
     let dt = scn.output_interval;
-    let first = r.run.contacts.events.first().map(|ev| ev.t);
     if r.run.contacts.records_events {
+        // Located to the position accuracy contacts are held to: crossing the
+        // penetration tolerance at the impact speed takes tol / v1.
+        let tol = penetration_tolerance(scn) / b.v1;
+        let (measured, how) = first_impact(&b, r.run);
         r.push(
             "bouncing_first_impact",
             "first impact at t1 = sqrt(2 d / a)",
-            first.unwrap_or(f64::NAN),
-            Some(t1),
-            dt,
+            measured,
+            Some(b.t1),
+            tol,
             "s",
-            format!("d = {gap:.6} m, a = {a:.6e} m/s^2; tolerance: one output interval"),
-        );
+            format!(
+                "{how}; d = {:.6} m, a = {:.6e} m/s^2; tolerance: the penetration tolerance / v1",
+                b.gap, b.a
+            ),
+        )
+        .scale = Some(b.t1);
     }
-    if e < 1.0 {
-        let t_inf = t1 * (1.0 + e) / (1.0 - e);
-        let v_rest = REST_SPEED_FRACTION * v1;
+    if let Some(t_inf) = b.rest_time() {
+        let v_rest = REST_SPEED_FRACTION * b.v1;
         // Decelerating at a, the floe is below v_rest during the last
         // 2 v_rest / (a (1 - e)) of the accumulation: the threshold's own shift.
-        let tol = dt + 2.0 * v_rest / (a * (1.0 - e));
+        let tol = dt + 2.0 * v_rest / (b.a * (1.0 - b.e));
         let rest = rest_time(&r.run.trajectory, 0, v_rest);
         r.push(
             "bouncing_rest",
@@ -368,62 +380,94 @@ fn bouncing(r: &mut Rows) {
             format!(
                 "rest: speed below {v_rest:.3e} m/s from then on; tolerance: one output interval + the threshold's shift"
             ),
+    )
+    .scale = Some(t_inf);
+    }
+}
+
+/// The time the bouncing floe of `b` reaches the obstacle in `run`, and how
+/// it was found: from the last output before the formulation's first
+/// contact event, the exact free flight (uniform acceleration `a` along the
+/// wind, docs/physics.md §2.3) continued to gap 0. NaN without a contact
+/// event; the event's own time when the floe had already crossed the
+/// obstacle's face at that output (the contact came late).
+fn first_impact(b: &Bouncing, run: &RunResult) -> (f64, String) {
+    let Some(event) = run.contacts.events.first() else {
+        return (f64::NAN, "no contact event".into());
+    };
+    let Some(row) = run
+        .trajectory
+        .iter()
+        .rev()
+        .find(|row| row.floe == 0 && row.t <= event.t)
+    else {
+        return (event.t, format!("first contact event at {} s", event.t));
+    };
+    let gap = b.gap_of(Vec2::new(row.x, row.y));
+    let v = Vec2::new(row.vx, row.vy).dot(&b.dir);
+    if gap < 0.0 {
+        return (
+            event.t,
+            format!(
+                "the floe crossed the face before its first contact event at {} s",
+                event.t
+            ),
         );
     }
+    // gap = v s + a s^2 / 2, the positive root in the stable form.
+    let s = 2.0 * gap / (v + (v * v + 2.0 * b.a * gap).sqrt());
+    (
+        row.t + s,
+        format!(
+            "free flight from the output at {} s (gap {gap:.6e} m) to the face; first contact event at {} s",
+            row.t, event.t
+        ),
+    )
+}
+
+/// The event-driven penetration tolerance of the case, m (the bound of the
+/// `penetration` check).
+fn penetration_tolerance(scn: &Scenario) -> f64 {
+    EventDrivenSettings::of(scn)
+        .map_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn), |s| {
+            s.penetration_tolerance(scn)
+        })
 }
 
 fn sliding(r: &mut Rows) {
     let scn = r.scn;
-    let Some(d) = wind_as_gravity(scn) else {
+    let Some(sl) = Sliding::of(scn) else {
         return;
     };
-    let f = &scn.floes[0];
-    let mu = scn.contact.friction;
-    let v0 = f.velocity.norm();
-    if mu <= 0.0 || v0 == 0.0 || f.angular_velocity != 0.0 || f.velocity.dot(&d).abs() > 1e-12 * v0
-    {
-        return;
-    }
-    let Some((gap, rays)) = translation_gap(scn, 0, &d) else {
-        return;
-    };
-    if gap > GEOMETRY_MATCH * f.radius || rays < 2 {
-        return;
-    }
-    let a = wind_acceleration(scn, 0);
-    let t_stop = v0 / (mu * a);
-    let dist = v0 * v0 / (2.0 * mu * a);
-    if scn.duration < t_stop + scn.output_interval {
-        return;
-    }
-    let dir = f.velocity / v0;
     let end = r
         .run
         .final_state
         .bodies
         .first()
-        .map_or(f.position, |b| b.position);
+        .map_or(sl.start, |b| b.position);
     r.push(
         "sliding_distance",
         "slides v0^2 / (2 mu a) along the wall",
-        (end - f.position).dot(&dir),
-        Some(dist),
-        SLIDING_DISTANCE_TOLERANCE * dist,
+        (end - sl.start).dot(&sl.dir),
+        Some(sl.distance),
+        SLIDING_DISTANCE_TOLERANCE * sl.distance,
         "m",
-        format!("v0 = {v0} m/s, mu = {mu}, a = {a:.6e} m/s^2"),
-    );
-    let v_rest = REST_SPEED_FRACTION * v0;
+        format!("v0 = {} m/s, mu = {}, a = {:.6e} m/s^2", sl.v0, sl.mu, sl.a),
+    )
+    .scale = Some(sl.distance);
+    let v_rest = REST_SPEED_FRACTION * sl.v0;
     r.push(
         "sliding_stop",
         "stops after v0 / (mu a)",
         rest_time(&r.run.trajectory, 0, v_rest).unwrap_or(f64::NAN),
-        Some(t_stop),
-        scn.output_interval + REST_SPEED_FRACTION * t_stop,
+        Some(sl.t_stop),
+        scn.output_interval + REST_SPEED_FRACTION * sl.t_stop,
         "s",
         format!(
             "rest: speed below {v_rest:.3e} m/s from then on; tolerance: one output interval + the threshold's shift"
         ),
-    );
+    )
+    .scale = Some(sl.t_stop);
 }
 
 fn cradle(r: &mut Rows) {
@@ -502,7 +546,8 @@ fn cradle(r: &mut Rows) {
                 finals.join(", "),
                 show(&physical)
             ),
-        );
+        )
+        .scale = Some(1.0);
     } else {
         let err = error(&lcp);
         r.push(
@@ -517,7 +562,8 @@ fn cradle(r: &mut Rows) {
                 finals.join(", "),
                 show(&lcp)
             ),
-        );
+    )
+    .scale = Some(1.0);
         let err = error(&physical);
         r.push(
             "cradle_physical",
@@ -531,7 +577,8 @@ fn cradle(r: &mut Rows) {
                 finals.join(", "),
                 show(&physical)
             ),
-        );
+        )
+        .scale = Some(1.0);
     }
 }
 
@@ -586,26 +633,15 @@ fn cannon(r: &mut Rows) {
             final_velocity(r.run, rear).dot(&d),
             final_velocity(r.run, front).dot(&d)
         ),
-    );
+    )
+    .scale = Some(1.0);
 }
 
 fn free_drift(r: &mut Rows) {
-    let scn = r.scn;
-    if !scn.obstacles.is_empty() {
+    let Some(drift) = Drift::of(r.scn) else {
         return;
-    }
-    let kw = scn.environment.water.drag_factor();
-    for i in 0..scn.floes.len() {
-        let Some(u) = steady_drift_velocity(scn, i) else {
-            return;
-        };
-        let uw = scn.environment.water.velocity.at(0.0);
-        let rel = (u - uw).norm();
-        // Linearised drag time constant ρ_i h / (2 ρ_w C_w |u − U_w|).
-        let tau = scn.floes[i].surface_density() / (2.0 * kw * rel.max(f64::MIN_POSITIVE));
-        if scn.duration < FREE_DRIFT_TIME_CONSTANTS * tau || u.norm() == 0.0 {
-            continue;
-        }
+    };
+    for &(i, u, tau) in &drift.floes {
         let v = final_velocity(r.run, i);
         r.push(
             "free_drift_velocity",
@@ -618,8 +654,64 @@ fn free_drift(r: &mut Rows) {
                 "floe {i}: |v - u| / |u|; u = ({:.9}, {:.9}) m/s, got ({:.9}, {:.9}); drag time {tau:.1} s",
                 u.x, u.y, v.x, v.y
             ),
-        );
+    )
+    .scale = Some(1.0);
     }
+}
+
+fn inertial(r: &mut Rows) {
+    let Some(inr) = Inertial::of(r.scn) else {
+        return;
+    };
+    let measured = inertial_period(&inr, &r.run.trajectory);
+    r.push(
+        "inertial_period",
+        "after the wind stops the velocity turns at -f: period 2 pi / |f| (docs/physics.md §2.2)",
+        measured.map_or(f64::NAN, |m| m.0),
+        Some(inr.period),
+        INERTIAL_PERIOD_TOLERANCE * inr.period,
+        "s",
+        match measured {
+            Some((_, turns, t0, t1)) => format!(
+                "2 pi (t1 - t0) / (turned angle), {turns:.3} turns from t0 = {t0} s to t1 = {t1} s, f = {} 1/s",
+                inr.f
+            ),
+            None => "the floe is at rest in the calm: no turning to measure".into(),
+        },
+    )
+    .scale = Some(inr.period);
+}
+
+/// The period of the turning of floe 0's velocity over the calm of `inr`:
+/// `2π (t1 − t0) / Δφ`, with `Δφ` the angle the velocity turned in the
+/// sense of the Coriolis force (clockwise for `f > 0`), unwrapped from one
+/// output to the next; negative when it turns the wrong way. Returns the
+/// period, the turns, `t0` and `t1`; `None` if the floe does not move.
+fn inertial_period(inr: &Inertial, rows: &[TrajectoryRow]) -> Option<(f64, f64, f64, f64)> {
+    let calm: Vec<&TrajectoryRow> = rows
+        .iter()
+        .filter(|row| row.floe == 0 && row.t >= inr.t_calm)
+        .collect();
+    let (first, last) = (calm.first()?, calm.last()?);
+    if calm.iter().any(|row| row.vx.hypot(row.vy) == 0.0) || last.t <= first.t {
+        return None;
+    }
+    let mut turned = 0.0;
+    for w in calm.windows(2) {
+        let (a, b) = (w[0].vy.atan2(w[0].vx), w[1].vy.atan2(w[1].vx));
+        let mut d = b - a;
+        d -= std::f64::consts::TAU * (d / std::f64::consts::TAU).round();
+        turned += d;
+    }
+    // Coriolis turns the velocity by −f t: the turned angle in its sense.
+    let along = -turned * inr.f.signum();
+    let turns = along / std::f64::consts::TAU;
+    Some((
+        std::f64::consts::TAU * (last.t - first.t) / along,
+        turns,
+        first.t,
+        last.t,
+    ))
 }
 
 fn ledger(r: &mut Rows) {

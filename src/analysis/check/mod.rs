@@ -15,11 +15,12 @@
 //! | `penetration` | an obstacle or two floes | deepest overlap at the output times (minimum translation distance) and the formulation's own `max_penetration_m` | the event-driven tolerance of the case |
 //! | `symmetry` | the initial configuration is a mirror image of itself about an axis, forcing parallel to it, `f = 0` | `max_t,i ‖G_P(i) − S G_i‖ + r_i \|θ_P(i) + θ_i\|` | [`SYMMETRY_TOLERANCE`] × extent |
 //! | `head_on_v1`, `head_on_v2` | two floes, no forcing, no obstacle, no spin, velocities along the line of centres and approaching, symmetric about it | final velocities along the line | [`HEAD_ON_TOLERANCE`] × approach speed |
-//! | `bouncing_first_impact`, `bouncing_rest` | one floe at rest at a gap `d > 0` from an obstacle, constant wind, no water drag, `f = 0`, symmetric about the wind line | first contact event; rest time | one output interval (+ rest threshold) |
+//! | `bouncing_first_impact`, `bouncing_rest` | one floe at rest at a gap `d > 0` from an obstacle, constant wind, no water drag, `f = 0`, symmetric about the wind line | time the free flight from the last output before the first contact event reaches the obstacle; rest time | penetration tolerance / `v1`; one output interval (+ rest threshold) |
 //! | `sliding_distance`, `sliding_stop` | one floe touching an obstacle face, wind into it, velocity across the wind, `μ > 0`, no water drag, `f = 0` | distance along `v0`; stop time | [`SLIDING_DISTANCE_TOLERANCE`]; one output interval |
 //! | `cradle_outcome` (and `cradle_physical` when touching) | ≥ 3 equal floes in a row along the first one's velocity, the others at rest, `e = 1`, no forcing, no obstacle, symmetric | final velocities | [`CRADLE_TOLERANCE`] × `v0` |
 //! | `cannon_velocities` | two floes in a row at the same velocity toward an obstacle, no forcing, symmetric; the front one rebounds before they meet and leaves the wall for good | final velocities | [`CRADLE_TOLERANCE`] × `v0` |
 //! | `free_drift_velocity` | no obstacle, constant wind and current, water drag, duration ≥ 20 drag time constants | final velocity of each floe | [`FREE_DRIFT_TOLERANCE`] |
+//! | `inertial_period` | one floe, no obstacle or spin, still ocean, `f ≠ 0`, a calm of at least one period after the wind stops | `2π Δt / Δφ` of the velocity's turning in the calm | [`INERTIAL_PERIOD_TOLERANCE`] × `2π/\|f\|` |
 //! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
 //!
 //! Whether a formulation *claims* a check is decided by one table,
@@ -38,17 +39,25 @@
 //! This file holds the outcome, the tolerances, the claims and
 //! [`check_run`]; the parts behind it are `structure.rs` (what a case's
 //! structure is: forcing, mirror axes and pairings, rows of floes, gaps,
-//! wind as gravity), `exact.rs` (the closed forms), `measure.rs`
-//! (measurements on a run shared by several checks) and `checks.rs` (each
-//! check). Their public items are re-exported here.
+//! wind as gravity), `setup.rs` (the set-ups with a closed-form motion:
+//! bouncing, sliding, drifting, inertial; recognising one is the
+//! applicability rule of its checks), `exact.rs` (the closed forms),
+//! `measure.rs` (measurements on a run shared by several checks),
+//! `checks.rs` (each check) and [`curves`] (the exact curves of the set-ups
+//! beside the runs, for the report's plots). Their public items are
+//! re-exported here. A check against an exact answer carries its scale
+//! ([`CheckOutcome::scale`]), on which the verdicts rank and tie.
 
 mod checks;
+pub mod curves;
 mod exact;
 mod measure;
+mod setup;
 mod structure;
 
 pub use exact::{head_on_velocities, steady_drift_velocity, wind_acceleration};
 pub use measure::{rest_time, sampled_penetration};
+pub use setup::{Bouncing, Drift, Inertial, Sliding};
 pub use structure::{find_symmetry, mirror_pairing, no_forcing, translation_gap, Axis};
 
 use crate::formulation;
@@ -80,8 +89,32 @@ pub struct CheckOutcome {
     pub pass: bool,
     /// Whether the formulation claims to pass ([`not_claimed`]).
     pub claimed: bool,
-    /// The reason when not claimed, or a detail of the measurement.
+    /// A detail of the measurement; when the check fails and is not
+    /// claimed, the reason first (`reason [detail]`).
     pub note: String,
+    /// For a check against an exact answer (a closed form or a conserved
+    /// quantity, docs/physics.md §6.1), the scale of that answer in `unit`:
+    /// two errors closer than [`crate::analysis::ranking::ROUNDING`] × the
+    /// scale are tied. `None` for a bound a scheme is held to (penetration,
+    /// Coulomb, energy at impacts, the ledger, completion).
+    pub scale: Option<f64>,
+}
+
+impl CheckOutcome {
+    /// The error to the exact answer, in `unit`: `|measured − expected|`,
+    /// or `measured` when there is no expected value (a deviation);
+    /// infinite when not measured (NaN).
+    pub fn error(&self) -> f64 {
+        let e = match self.expected {
+            Some(x) => (self.measured - x).abs(),
+            None => self.measured.abs(),
+        };
+        if e.is_nan() {
+            f64::INFINITY
+        } else {
+            e
+        }
+    }
 }
 
 /// Momentum conserved to this fraction of `Σ M ‖Ġ(0)‖`: impulses are applied
@@ -128,6 +161,16 @@ pub const SLIDING_DISTANCE_TOLERANCE: f64 = 1e-4;
 /// is that slow only in the last 1e-3 of its stopping time.
 pub const REST_SPEED_FRACTION: f64 = 1e-3;
 
+/// The inertial period to this fraction of `2π/|f|`: the velocity turns at
+/// exactly `−f` whatever the water drag (docs/physics.md §2.2), so only the
+/// integration errs: by about 1e-9 at the integrators' tolerance of 1e-10,
+/// by `(f h)²/6` (3e-9 at `h` = 1 s) for Heun's method, by about `c |v| h`
+/// per step for a first-order scheme holding the drag over the step (6e-5
+/// for rapier's 0.1 s step at 0.2 m/s; measured on `inertial_oscillation`:
+/// 4.4e-6); a wrong Coriolis term (sign, a factor, the mass) errs at order
+/// one.
+pub const INERTIAL_PERIOD_TOLERANCE: f64 = 1e-4;
+
 /// The free-drift velocity to this fraction of the steady speed: the
 /// integrators run at 1e-10 and after 20 drag time constants the transient
 /// is `e^-20` = 2e-9 of the initial gap.
@@ -162,11 +205,14 @@ pub fn check_run(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     for o in &mut out {
         if let Some(reason) = not_claimed(&o.formulation, &o.check, &o.case) {
             o.claimed = false;
-            o.note = if o.note.is_empty() {
-                reason.to_string()
-            } else {
-                format!("{reason} [{}]", o.note)
-            };
+            // The reason explains a failure: a passing row keeps its detail only.
+            if !o.pass {
+                o.note = if o.note.is_empty() {
+                    reason.to_string()
+                } else {
+                    format!("{reason} [{}]", o.note)
+                };
+            }
         }
     }
     out

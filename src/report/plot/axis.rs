@@ -182,7 +182,8 @@ impl Ranged for Axis {
     }
 
     /// Linear: plotters' round steps. Log: decades, or 1-2-5 or 1..9 times
-    /// the decades when there are too few decades in the range.
+    /// the decades when there are too few decades in the range, or every
+    /// k-th decade when there are too many.
     fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
         let linear = || RangedCoordf64::from(self.range.clone()).key_points(hint.max_num_points());
         if !self.log {
@@ -209,6 +210,15 @@ impl Ranged for Axis {
                 break;
             }
             best = pts;
+        }
+        if best.is_empty() {
+            // Too many decades: every k-th one, enough to stay within `max`.
+            let stride = ((b - a + 1) as usize).div_ceil(max.max(1)).max(1);
+            best = (a..=b)
+                .filter(|e| e.rem_euclid(stride as i32) == 0)
+                .map(|e| 10f64.powi(e))
+                .filter(|v| (self.range.start..=self.range.end).contains(v))
+                .collect();
         }
         if best.len() < 2 {
             linear()

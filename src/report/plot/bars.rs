@@ -1,5 +1,6 @@
 //! Stacked bar charts: one bar per category, one segment per stage, the
-//! values printed inside the segments and the totals above the bars.
+//! values printed inside the segments, the totals above the bars and a
+//! note (e.g. the ratio to the fastest) above each total.
 
 use super::axis::{is_log, log_bounds, mesh, y_area, Axis, Fmt};
 use super::legend::legend_row;
@@ -135,6 +136,14 @@ impl Bars<'_> {
                 chart.draw_series(std::iter::once(
                     EmptyElement::at((xi, total)) + Text::new(yf_value(total), (0, -4), style),
                 ))?;
+                if let Some(note) = c.notes.get(i).filter(|n| !n.is_empty()) {
+                    let style = value_font
+                        .color(&BLACK)
+                        .pos(Pos::new(HPos::Center, VPos::Bottom));
+                    chart.draw_series(std::iter::once(
+                        EmptyElement::at((xi, total)) + Text::new(note.clone(), (0, -22), style),
+                    ))?;
+                }
             }
         }
         Ok(())
@@ -160,14 +169,16 @@ impl Figure for Bars<'_> {
             // From a whole decade (slightly below, so that it is labelled),
             // with room above the tallest bar for its total.
             let (lo, hi) = (r.start.log10().floor(), r.end.log10());
-            let hi = (hi + 0.12 * (hi - lo).max(1.0)).max(lo + 1.0);
+            let room = if self.0.notes.is_empty() { 0.12 } else { 0.2 };
+            let hi = (hi + room * (hi - lo).max(1.0)).max(lo + 1.0);
             Axis {
                 range: 0.999 * 10f64.powf(lo)..10f64.powf(hi),
                 log: true,
             }
         } else {
             let top = totals.iter().copied().fold(0.0, f64::max);
-            Axis::linear(0.0..if top > 0.0 { 1.12 * top } else { 1.0 })
+            let room = if self.0.notes.is_empty() { 1.12 } else { 1.2 };
+            Axis::linear(0.0..if top > 0.0 { room * top } else { 1.0 })
         };
         let w = y_area(&area, y.labels())?;
         let base = if y.log { y.range.start } else { 0.0 };

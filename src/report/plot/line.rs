@@ -5,12 +5,14 @@ use super::axis::{bounds, is_log, log_bounds, mesh, y_area, Axis};
 use super::legend::{legend, Rect};
 use super::render::Figure;
 use super::style::{
-    color, finite, polygons, titled, DASHES, MARGIN, OBSTACLE, OBSTACLE_EDGE, X_AREA,
+    color, finite, font, polygons, titled, DASHES, MARGIN, MARK, OBSTACLE, OBSTACLE_EDGE, X_AREA,
 };
 use super::{PlotError, Scale, Series, PALETTE};
 use plotters::coord::Shift;
 use plotters::element::DashedPathElement;
 use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+use plotters::style::FontStyle;
 use std::ops::Range;
 
 /// A line chart or (with `plan`) a plan view.
@@ -23,6 +25,10 @@ pub(super) struct Xy<'a> {
     /// Equal aspect ratio, start markers, padded x range.
     pub(super) plan: bool,
     pub(super) y_scale: Scale,
+    /// Vertical lines at these x values, labelled at the top.
+    pub(super) marks: &'a [(f64, String)],
+    /// Text labels at data points.
+    pub(super) labels: &'a [(String, (f64, f64))],
 }
 
 impl Xy<'_> {
@@ -80,7 +86,7 @@ impl Xy<'_> {
         for (k, s) in self.series.iter().enumerate() {
             let style = color(s.color).stroke_width(2);
             // Vary the dash also when the palette wraps around.
-            let dash = DASHES[(k + s.color / PALETTE.len()) % DASHES.len()];
+            let dash = DASHES[s.dash.unwrap_or(k + s.color / PALETTE.len()) % DASHES.len()];
             if !s.label.is_empty() {
                 entries.push(s.label.as_str());
                 chart
@@ -116,6 +122,45 @@ impl Xy<'_> {
                         Circle::new(*p, 6, BLACK.stroke_width(1)),
                     ])?;
                 }
+            }
+        }
+        let (x_range, y_range) = (chart.x_range(), chart.y_range());
+        let mark_style = font(13).color(&MARK).pos(Pos::new(HPos::Left, VPos::Top));
+        for (k, (x, label)) in self.marks.iter().enumerate() {
+            if !x_range.contains(x) {
+                continue;
+            }
+            let (top, bottom) = (y_range.end, y_range.start);
+            let px: Vec<(i32, i32)> = [(*x, top), (*x, bottom)]
+                .iter()
+                .map(|p| {
+                    let q = chart.backend_coord(p);
+                    (q.0 - xr.start, q.1 - yr.start)
+                })
+                .collect();
+            for piece in strokes(&px, Some((3.0, 4.0))) {
+                plot.draw(&PathElement::new(piece, MARK.stroke_width(1)))?;
+            }
+            // Staggered so that close marks keep readable labels.
+            let dy = 4 + 16 * (k % 3) as i32;
+            plot.draw(&Text::new(
+                label.clone(),
+                (px[0].0 + 3, dy),
+                mark_style.clone(),
+            ))?;
+            let q = chart.backend_coord(&(*x, top));
+            occupied.push((q.0, q.1, q.0 + 40, q.1 + 50));
+        }
+        let label_style = font(14)
+            .style(FontStyle::Bold)
+            .color(&BLACK)
+            .pos(Pos::new(HPos::Left, VPos::Bottom));
+        for (text, p) in self.labels {
+            if ok(p) {
+                let q = chart.backend_coord(p);
+                let at = (q.0 - xr.start + 6, q.1 - yr.start - 4);
+                plot.draw(&Text::new(text.clone(), at, label_style.clone()))?;
+                occupied.push((q.0, q.1 - 20, q.0 + 60, q.1));
             }
         }
         if self.plan && !self.series.is_empty() {

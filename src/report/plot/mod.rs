@@ -80,6 +80,10 @@ impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotE
     }
 }
 
+/// Palette index of exact curves and thresholds (black), kept apart from
+/// the formulations' colours (the first indices).
+pub const EXACT: usize = 6;
+
 /// One named curve (or floe path) with its palette colour.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
@@ -89,6 +93,21 @@ pub struct Series {
     pub color: usize,
     /// The points `(x, y)` in the caller's units; non-finite points are skipped.
     pub points: Vec<(f64, f64)>,
+    /// Dash pattern (index into the chart's patterns, 0 solid), or `None`
+    /// for the pattern of the series' position in the chart.
+    pub dash: Option<usize>,
+}
+
+impl Series {
+    /// A series dashed by its position in the chart.
+    pub fn new(label: impl Into<String>, color: usize, points: Vec<(f64, f64)>) -> Series {
+        Series {
+            label: label.into(),
+            color,
+            points,
+            dash: None,
+        }
+    }
 }
 
 /// Scale of a value axis.
@@ -117,6 +136,9 @@ pub struct LineChart<'a> {
     pub series: &'a [Series],
     /// Scale of the y axis.
     pub y_scale: Scale,
+    /// Marked x values (vertical lines, e.g. exact impact times), with a
+    /// label drawn at the top of each.
+    pub marks: &'a [(f64, String)],
 }
 
 /// Stacked bars: one bar per category (e.g. formulation), one segment per
@@ -135,6 +157,9 @@ pub struct StackedBars<'a> {
     pub segments: &'a [(String, Vec<f64>)],
     /// Scale of the y axis ([`Scale::Auto`] makes small bars visible next to large ones).
     pub y_scale: Scale,
+    /// A note per category printed under its total (e.g. its ratio to the
+    /// fastest); empty for none.
+    pub notes: &'a [String],
 }
 
 /// Floe paths in the plane (metres), at equal aspect ratio, with a start
@@ -147,6 +172,9 @@ pub struct PlanView<'a> {
     pub paths: &'a [Series],
     /// Obstacle polygons (vertices in metres).
     pub obstacles: &'a [Vec<(f64, f64)>],
+    /// Text labels at points (metres), e.g. a floe's number at the end of
+    /// its path.
+    pub labels: &'a [(String, (f64, f64))],
 }
 
 /// One panel of a [`snapshot_grid`]: the floes at one time of one run.
@@ -171,6 +199,8 @@ pub fn line_chart(chart: &LineChart, stem: &Path) -> Result<[PathBuf; 2], PlotEr
             obstacles: &[],
             plan: false,
             y_scale: chart.y_scale,
+            marks: chart.marks,
+            labels: &[],
         },
         stem,
     )
@@ -180,6 +210,13 @@ pub fn line_chart(chart: &LineChart, stem: &Path) -> Result<[PathBuf; 2], PlotEr
 ///
 /// Fails with [`PlotError::Input`] when a segment does not have one value per category.
 pub fn bar_chart(chart: &StackedBars, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    if !chart.notes.is_empty() && chart.notes.len() != chart.categories.len() {
+        return Err(PlotError::Input(format!(
+            "{} notes for {} categories",
+            chart.notes.len(),
+            chart.categories.len()
+        )));
+    }
     if let Some((name, v)) = chart
         .segments
         .iter()
@@ -205,6 +242,8 @@ pub fn plan_view(chart: &PlanView, stem: &Path) -> Result<[PathBuf; 2], PlotErro
             obstacles: chart.obstacles,
             plan: true,
             y_scale: Scale::Linear,
+            marks: &[],
+            labels: chart.labels,
         },
         stem,
     )

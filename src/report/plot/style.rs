@@ -33,6 +33,9 @@ pub(super) const DASHES: [Option<(f32, f32)>; 4] =
 /// Fill of obstacles.
 pub(super) const OBSTACLE: RGBColor = RGBColor(0xA0, 0xA0, 0xA0);
 
+/// Marked x values (vertical lines) and their labels.
+pub(super) const MARK: RGBColor = RGBColor(0x55, 0x55, 0x55);
+
 /// Outline of obstacles.
 pub(super) const OBSTACLE_EDGE: RGBColor = RGBColor(0x60, 0x60, 0x60);
 

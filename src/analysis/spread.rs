@@ -1,0 +1,86 @@
+//! The spread of a figure measured several times (the CPU time of the
+//! repeats of a run): median, range and, from four repeats on, the
+//! interquartile range.
+//!
+//! Quantiles interpolate linearly between the sorted samples (the
+//! "type 7" definition: the `p`-quantile of `n` sorted samples is at the
+//! fractional index `p (n − 1)`), so the median of an even count is the
+//! mean of the two middle samples. Two figures are *tied* when their ranges
+//! (min–max) overlap: the repeats cannot tell them apart.
+
+use serde::Serialize;
+
+/// Repeats from which the interquartile range is given.
+pub const IQR_FROM: usize = 4;
+
+/// The spread of repeated measurements of one figure.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Spread {
+    /// The samples, in measurement order.
+    pub samples: Vec<f64>,
+    /// Median.
+    pub median: f64,
+    /// Smallest sample.
+    pub min: f64,
+    /// Largest sample.
+    pub max: f64,
+    /// First and third quartiles, from [`IQR_FROM`] samples on.
+    pub iqr: Option<(f64, f64)>,
+}
+
+impl Spread {
+    /// The spread of `samples` (non-finite samples are kept in `samples`
+    /// but not in the statistics); all statistics are NaN without a finite
+    /// sample.
+    pub fn of(samples: &[f64]) -> Spread {
+        let mut s: Vec<f64> = samples.iter().copied().filter(|v| v.is_finite()).collect();
+        s.sort_by(f64::total_cmp);
+        let q = |p: f64| -> f64 {
+            if s.is_empty() {
+                return f64::NAN;
+            }
+            let x = p * (s.len() - 1) as f64;
+            let (i, f) = (x.floor() as usize, x - x.floor());
+            if i + 1 < s.len() {
+                s[i] + f * (s[i + 1] - s[i])
+            } else {
+                s[i]
+            }
+        };
+        Spread {
+            samples: samples.to_vec(),
+            median: q(0.5),
+            min: q(0.0),
+            max: q(1.0),
+            iqr: (s.len() >= IQR_FROM).then(|| (q(0.25), q(0.75))),
+        }
+    }
+
+    /// Number of samples.
+    pub fn count(&self) -> usize {
+        self.samples.len()
+    }
+
+    /// Whether the ranges of `self` and `other` overlap (the repeats cannot
+    /// tell the two figures apart).
+    pub fn overlaps(&self, other: &Spread) -> bool {
+        self.min <= other.max && other.min <= self.max
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quantiles_interpolate() {
+        let s = Spread::of(&[3.0, 1.0, 2.0]);
+        assert_eq!((s.median, s.min, s.max, s.iqr), (2.0, 1.0, 3.0, None));
+        let s = Spread::of(&[4.0, 1.0, 3.0, 2.0]);
+        assert_eq!(s.median, 2.5);
+        assert_eq!(s.iqr, Some((1.75, 3.25)));
+        assert!(Spread::of(&[1.0, 2.0]).overlaps(&Spread::of(&[2.0, 3.0])));
+        assert!(!Spread::of(&[1.0, 2.0]).overlaps(&Spread::of(&[2.5, 3.0])));
+        assert!(Spread::of(&[]).median.is_nan());
+    }
+}
