@@ -157,7 +157,10 @@ fn jammed(n: usize) -> Result<Scenario, String> {
                 dir.display()
             ));
         }
-        eprintln!("making the jammed state of {} (rapier, about 30 s)", scn.name);
+        eprintln!(
+            "making the jammed state of {} (rapier, about 30 s)",
+            scn.name
+        );
         let mut f = build("rapier", &scn, &FormulationOptions::default())?;
         let r = Runner::new(RunOptions::default()).run(&scn, f.name(), f.formulation.as_mut());
         output::write_run(&dir, &r).map_err(|e| e.to_string())?;

@@ -14,6 +14,8 @@
 //! - [`page`]: the page's document model, rendered as Markdown and HTML;
 //! - [`plot`]: the charts (plotters, DejaVu Sans embedded): lines, stacked
 //!   bars, plan views, snapshot grids;
+//! - [`sweep`]: writes a sweep's report (`floebench sweep`): `sweep.csv`,
+//!   `orders.csv`, the work–precision and error-against-setting plots, the page;
 //! - [`format`](mod@format): the one rounding rule of the numbers printed for
 //!   people ([`format::fmt_num`]).
 
@@ -24,6 +26,7 @@ pub mod folder;
 pub mod format;
 pub mod page;
 pub mod plot;
+pub mod sweep;
 mod tables;
 pub mod verdict;
 

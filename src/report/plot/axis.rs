@@ -182,7 +182,8 @@ impl Ranged for Axis {
     }
 
     /// Linear: plotters' round steps. Log: decades, or 1-2-5 or 1..9 times
-    /// the decades when there are too few decades in the range.
+    /// the decades when there are too few decades in the range, or every
+    /// k-th decade when there are more decades than ticks.
     fn key_points<H: KeyPointHint>(&self, hint: H) -> Vec<f64> {
         let linear = || RangedCoordf64::from(self.range.clone()).key_points(hint.max_num_points());
         if !self.log {
@@ -210,6 +211,15 @@ impl Ranged for Axis {
             }
             best = pts;
         }
+        if best.is_empty() && max >= 2 {
+            // More decades than ticks: every k-th decade.
+            let k = ((b - a + 1) as usize).div_ceil(max);
+            best = (a..=b)
+                .step_by(k.max(1))
+                .map(|e| 10f64.powi(e))
+                .filter(|v| (self.range.start..=self.range.end).contains(v))
+                .collect();
+        }
         if best.len() < 2 {
             linear()
         } else {
@@ -225,9 +235,25 @@ impl Ranged for Axis {
 /// Draws the mesh (grid, axes, tick labels and axis descriptions).
 pub(super) fn mesh<DB, X, Y>(
     chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
+    x: (&str, &dyn Fn(&f64) -> String),
+    y: (&str, &dyn Fn(&f64) -> String),
+    x_grid: bool,
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    mesh_with_ticks(chart, x, y, x_grid, TICKS)
+}
+
+/// [`mesh`] with at most `x_ticks` tick labels on the x axis (narrow panels).
+pub(super) fn mesh_with_ticks<DB, X, Y>(
+    chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
     (x_label, xf): (&str, &dyn Fn(&f64) -> String),
     (y_label, yf): (&str, &dyn Fn(&f64) -> String),
     x_grid: bool,
+    x_ticks: usize,
 ) -> Result<(), PlotError>
 where
     DB: DrawingBackend,
@@ -239,7 +265,7 @@ where
         .y_desc(y_label)
         .axis_desc_style(font(16))
         .label_style(font(14))
-        .x_labels(TICKS)
+        .x_labels(x_ticks)
         .y_labels(TICKS)
         .x_label_formatter(xf)
         .y_label_formatter(yf)
@@ -273,6 +299,17 @@ mod tests {
         assert_eq!(Fmt::log().fmt(1234.4), "1234");
         assert_eq!(Fmt::log().fmt(0.5), "0.5");
         assert_eq!(Fmt::log().fmt(1e5), "1e5");
+    }
+
+    #[test]
+    fn a_log_axis_over_many_decades_ticks_every_few_decades() {
+        let axis = Axis {
+            range: 1e-17..1.0,
+            log: true,
+        };
+        let ticks = axis.key_points(TICKS);
+        assert!(ticks.len() >= 2 && ticks.len() <= TICKS, "{ticks:?}");
+        assert!(ticks.windows(2).all(|w| w[1] / w[0] >= 100.0), "{ticks:?}");
     }
 
     #[test]
