@@ -530,6 +530,26 @@ fn check_version(at: &At, raw: &toml::Table) -> Result<(), CaseError> {
     }
 }
 
+/// `path` with its `.` and `dir/..` components taken out, without reading
+/// the file system (so messages name `cases/x.toml`, not
+/// `plans/../cases/x.toml`).
+fn lexical(path: &Path) -> PathBuf {
+    use std::path::Component;
+    let mut out = PathBuf::new();
+    for c in path.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir
+                if matches!(out.components().next_back(), Some(Component::Normal(_))) =>
+            {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
 /// The cases of `[sweep] cases`, relative to the plan (folders expanded).
 fn load_plan_cases(
     at: &At,
@@ -550,7 +570,8 @@ fn load_plan_cases(
                 format!("[sweep] cases: \"{}\": {m}", p.get_ref()),
             )
         };
-        let files = case_files(&[base.join(p.get_ref())]).map_err(|e| here(e.to_string()))?;
+        let files =
+            case_files(&[lexical(&base.join(p.get_ref()))]).map_err(|e| here(e.to_string()))?;
         for path in files {
             let text = std::fs::read_to_string(&path).map_err(|e| {
                 here(format!(
@@ -736,8 +757,8 @@ fn plan_formulation(
                 {
                     return Err(here("not one of [sweep] cases (write it as there)".into()));
                 }
-                let files =
-                    case_files(&[base.join(p.get_ref())]).map_err(|e| here(e.to_string()))?;
+                let files = case_files(&[lexical(&base.join(p.get_ref()))])
+                    .map_err(|e| here(e.to_string()))?;
                 for path in files {
                     let Some(c) = cases.iter().position(|c| c.path == path) else {
                         return Err(here(format!(
