@@ -111,8 +111,9 @@ pub fn lines(plan: &Plan, first_key_only: bool) -> Vec<Line> {
 /// `(s_a, e_a)` and `(s_b, e_b)` (see the module doc); `None` unless both
 /// values and both errors are positive and the values differ.
 pub fn observed_order((sa, ea): (f64, f64), (sb, eb): (f64, f64)) -> Option<f64> {
+    // `+ 0.0`: equal errors give an order of 0, not -0.
     (sa > 0.0 && sb > 0.0 && ea > 0.0 && eb > 0.0 && sa != sb)
-        .then(|| (ea / eb).ln() / (sa / sb).ln())
+        .then(|| (ea / eb).ln() / (sa / sb).ln() + 0.0)
 }
 
 /// A point of a line: (value of the key, error).
