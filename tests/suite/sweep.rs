@@ -3,7 +3,9 @@
 //! interrupted point; the tasks of a cluster job against the local run;
 //! bad plans.
 
-use crate::common::{bouncing_expected, case_path, case_text, floebench, scenario, tempdir};
+use crate::common::{
+    bouncing_expected, case_path, case_text, floebench, interrupt_after, scenario, tempdir,
+};
 use floebench::analysis::check::wind_acceleration;
 use floebench::sweep::execute::{run_local, run_task, ExecOptions, Executed};
 use floebench::sweep::orders::{Order, Span};
@@ -229,37 +231,22 @@ fn an_interrupted_point_leaves_no_result_file() {
         "reference = \"exact\"\n\n[[formulation]]\nname = \"event-driven\"",
     );
     let out = dir.path().join("out");
-    use std::io::{BufRead, Read};
-    let mut child = floebench()
-        .args([
+    // The field's point runs after head_on's (one at a time): interrupted
+    // 1.5 s into it.
+    let (code, seen) = interrupt_after(
+        &[
             "sweep".as_ref(),
             path.as_os_str(),
             "-o".as_ref(),
             out.as_os_str(),
             "-j".as_ref(),
             "1".as_ref(),
-        ])
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
-    let mut seen = String::new();
-    loop {
-        let mut line = String::new();
-        assert!(err.read_line(&mut line).unwrap() > 0, "ended early: {seen}");
-        seen.push_str(&line);
-        if line.contains("head_on / event-driven") {
-            break;
-        }
-    }
-    // The field's point is running now (one at a time).
-    std::thread::sleep(std::time::Duration::from_millis(1500));
-    let pid = libc::pid_t::try_from(child.id()).unwrap();
-    // SAFETY: a signal to our own child process.
-    assert_eq!(unsafe { libc::kill(pid, libc::SIGINT) }, 0);
-    err.read_to_string(&mut seen).unwrap();
-    assert_eq!(child.wait().unwrap().code(), Some(130), "{seen}");
+        ],
+        "head_on / event-driven",
+        std::time::Duration::from_millis(1500),
+        libc::SIGINT,
+    );
+    assert_eq!(code, Some(130), "{seen}");
     assert!(seen.contains("interrupted"), "{seen}");
     let points = out.join("points");
     assert!(points
