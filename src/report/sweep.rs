@@ -4,7 +4,8 @@
 //! ```text
 //! <out>/sweep.csv                     case,formulation,settings,metric,value,unit (long format)
 //! <out>/orders.csv                    case,formulation,key,fixed,metric,span,s_from,s_to,e_from,e_to,order
-//! <out>/<case>/work_precision.*       per error measure: error against CPU time (log-log), one line
+//! <out>/<case>/work_precision.*       per error measure: error against CPU time (log-log; a linear
+//!                                     error axis where the errors are within a factor 1.5), one line
 //!                                     per formulation (along its first grid key), settings marked
 //! <out>/<case>/setting_<key>.*        per error measure: error against the key's value (log-log),
 //!                                     each point after the first marked with the observed order
@@ -170,12 +171,27 @@ fn panels(
         if !plotted.iter().flat_map(|l| &l.points).any(|p| p.1 > 0.0) {
             continue;
         }
+        // Log–log shows an order as a slope; errors within a factor 1.5 of
+        // each other (a measure the setting does not move) read better on a
+        // linear axis, whose labels tell them apart.
+        let ys = || {
+            plotted
+                .iter()
+                .flat_map(|l| &l.points)
+                .map(|p| p.1)
+                .filter(|y| *y > 0.0)
+        };
+        let (lo, hi) = (ys().fold(f64::INFINITY, f64::min), ys().fold(0.0, f64::max));
         out.push(MarkedPanel {
             title: metric.clone(),
             x_label: x_label.to_string(),
             y_label: metric_label(&metric, &unit),
             x_scale: Scale::Log,
-            y_scale: Scale::Log,
+            y_scale: if hi < 1.5 * lo {
+                Scale::Linear
+            } else {
+                Scale::Log
+            },
             lines: plotted,
         });
     }
