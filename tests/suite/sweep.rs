@@ -202,6 +202,20 @@ fn a_resumed_sweep_recomputes_nothing_and_a_removed_point_is_run_again() {
         "{first}"
     );
     let csv = std::fs::read_to_string(out.join("sweep.csv")).unwrap();
+    assert!(csv
+        .starts_with("case,formulation,settings,metric,value,unit\nhead_on,moreau,step=0.5,cpu,"));
+    // The page and its plots.
+    let page = std::fs::read_to_string(out.join("index.md")).unwrap();
+    for case in ["head_on", "bouncing_floe"] {
+        for stem in ["work_precision", "setting_step"] {
+            for ext in ["png", "svg"] {
+                let f = format!("{case}/{stem}.{ext}");
+                assert!(out.join(&f).is_file(), "{f}");
+            }
+            assert!(page.contains(&format!("{case}/{stem}.png")), "{page}");
+        }
+    }
+    assert!(page.contains("4 of 4 points finished"), "{page}");
     let file = out.join("points").join("head_on__moreau__step=0.5.json");
     let written = std::fs::metadata(&file).unwrap().modified().unwrap();
     let again = run(&[]);
