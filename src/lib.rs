@@ -30,6 +30,8 @@
 //! - [`analysis`]: what the runs say: the physical checks ([`analysis::check`]), the divergence
 //!   of two runs, every figure in long format, the comparison of one case;
 //! - [`compare`]: the comparison harness (the batch, then each case's comparison);
+//! - [`sweep`]: work–precision sweeps (plans of cases × formulations × settings, their
+//!   points run locally or as a Slurm job array, error measures, convergence orders);
 //! - [`report`]: everything written for people: the comparison report (data files, plots,
 //!   page), verdicts, tables, the one number formatter ([`report::format::fmt_num`]).
 //!
@@ -50,3 +52,4 @@ pub mod report;
 pub mod rng;
 pub mod run;
 pub mod state;
+pub mod sweep;

@@ -140,6 +140,43 @@ enum Command {
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
     },
+    /// Run a sweep plan (docs/sweep-format.md): every point of cases x
+    /// formulations x settings, measured against the reference; writes
+    /// points/<id>.json, sweep.csv, orders.csv, plots and index.md/html.
+    /// A finished point is never recomputed.
+    Sweep {
+        /// The plan file (.toml).
+        plan: PathBuf,
+        /// Output folder [default: sweeps/<plan name>].
+        #[arg(short, long)]
+        out: Option<PathBuf>,
+        /// Runs at a time, at least 1 [default: the number of cores].
+        #[arg(short, long, value_parser = clap::value_parser!(u64).range(1..))]
+        jobs: Option<u64>,
+        /// Write a Slurm job array into DIR (sweep.sbatch, submit.sh, logs/)
+        /// and the manifest into the output folder, instead of running.
+        #[arg(long, value_name = "DIR", conflicts_with_all = ["task", "collect"])]
+        slurm: Option<PathBuf>,
+        /// Points per array task (with --slurm).
+        #[arg(long, default_value_t = 1, requires = "slurm", value_parser = clap::value_parser!(u64).range(1..))]
+        chunk: u64,
+        /// Time limit of each array task (with --slurm).
+        #[arg(long, default_value = "01:00:00", requires = "slurm")]
+        slurm_time: String,
+        /// Memory of each array task (with --slurm).
+        #[arg(long, default_value = "2G", requires = "slurm")]
+        slurm_mem: String,
+        /// Run array task K of the manifest in the output folder (what
+        /// sweep.sbatch does), and nothing else.
+        #[arg(long, value_name = "K", conflicts_with = "collect")]
+        task: Option<u64>,
+        /// Run nothing: merge the finished points and write the report.
+        #[arg(long)]
+        collect: bool,
+        /// No line per finished point.
+        #[arg(short, long)]
+        quiet: bool,
+    },
     /// List the formulations.
     Formulations,
 }
@@ -235,6 +272,40 @@ fn main() -> ExitCode {
             usize::try_from(repeat).unwrap_or(usize::MAX),
             quiet,
         ),
+        Command::Sweep {
+            plan,
+            out,
+            jobs,
+            slurm,
+            chunk,
+            slurm_time,
+            slurm_mem,
+            task,
+            collect,
+            quiet,
+        } => sweep(
+            &plan,
+            SweepArgs {
+                out,
+                jobs: jobs.map_or_else(
+                    || std::thread::available_parallelism().map_or(1, |n| n.get()),
+                    |j| usize::try_from(j).unwrap_or(usize::MAX),
+                ),
+                slurm: slurm.map(|dir| {
+                    (
+                        dir,
+                        floebench::sweep::slurm::SlurmOptions {
+                            chunk: usize::try_from(chunk).unwrap_or(usize::MAX),
+                            time: slurm_time,
+                            mem: slurm_mem,
+                        },
+                    )
+                }),
+                task: task.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
+                collect,
+                quiet,
+            },
+        ),
 
         Command::Formulations => {
             for formulation::Entry {
@@ -256,6 +327,15 @@ fn known_formulations(names: &[String]) -> Result<(), String> {
     names
         .iter()
         .try_for_each(|f| formulation::entry(f).map(|_| ()))
+}
+
+/// The command line, for the report pages (newlines and backquotes as spaces).
+fn command_line() -> String {
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .map(|a| a.replace(['\n', '`'], " "))
+        .collect();
+    format!("floebench {}", args.join(" "))
 }
 
 /// `n thing` or `n things`.
@@ -518,11 +598,7 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
             return ExitCode::from(INTERRUPTED);
         }
     }
-    let command: Vec<String> = std::env::args()
-        .skip(1)
-        .map(|a| a.replace(['\n', '`'], " "))
-        .collect();
-    let command = format!("floebench {}", command.join(" "));
+    let command = command_line();
     match report::compare::write_report(&comps, out, &command) {
         Ok(paths) => {
             for c in &comps {
@@ -613,6 +689,142 @@ fn check(
         ExitCode::from(INTERRUPTED)
     } else if check::claimed_failures(&rows) > 0 {
         ExitCode::FAILURE
+    } else {
+        ExitCode::SUCCESS
+    }
+}
+
+/// The options of `floebench sweep`.
+struct SweepArgs {
+    out: Option<PathBuf>,
+    jobs: usize,
+    slurm: Option<(PathBuf, floebench::sweep::slurm::SlurmOptions)>,
+    task: Option<usize>,
+    collect: bool,
+    quiet: bool,
+}
+
+fn sweep(plan_file: &Path, args: SweepArgs) -> ExitCode {
+    use floebench::sweep::{self, execute, plan, points, slurm};
+    let plan = match plan::load_plan(plan_file) {
+        Ok(p) => p,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let points = points::points(&plan);
+    let out = args.out.unwrap_or_else(|| sweep::default_out(&plan));
+    if out.exists() && !out.is_dir() {
+        eprintln!("error: -o: {} exists and is not a folder", out.display());
+        return ExitCode::FAILURE;
+    }
+    let fail = |e: &dyn std::fmt::Display| {
+        eprintln!("error: {e}");
+        ExitCode::FAILURE
+    };
+    if let Some((dir, opts)) = &args.slurm {
+        let exe = match std::env::current_exe() {
+            Ok(e) => e,
+            Err(e) => return fail(&format!("cannot find the floebench binary: {e}")),
+        };
+        return match slurm::write_slurm(&plan, &points, &out, dir, &exe, opts) {
+            Ok(w) => {
+                for f in &w.files {
+                    println!("wrote {}", f.display());
+                }
+                println!(
+                    "{} array tasks ({} reference runs, then {} points, {} per task): submit with `sh {}`",
+                    w.tasks,
+                    w.references,
+                    points.len(),
+                    opts.chunk,
+                    dir.join("submit.sh").display()
+                );
+                if w.tasks > slurm::DEFAULT_MAX_ARRAY_INDEX + 1 {
+                    eprintln!(
+                        "warning: {} tasks exceed Slurm's default MaxArraySize (1001): use a larger --chunk",
+                        w.tasks
+                    );
+                }
+                ExitCode::SUCCESS
+            }
+            Err(e) => fail(&e),
+        };
+    }
+    let interrupted = |done: &execute::Executed| {
+        if done.interrupted {
+            eprintln!("interrupted: the points not finished have no result file; run the same command again to go on");
+        }
+        done.interrupted
+    };
+    if let Some(k) = args.task {
+        let done = slurm::manifest_task(&plan, &points, &out, k)
+            .and_then(|t| execute::run_task(&plan, &points, &out, &t));
+        return match done {
+            Ok(d) => {
+                println!(
+                    "task {k}: {} run, {} skipped (already finished), {}",
+                    plural(d.run, "point"),
+                    d.skipped,
+                    plural(d.references, "reference run")
+                );
+                if interrupted(&d) {
+                    ExitCode::from(INTERRUPTED)
+                } else {
+                    ExitCode::SUCCESS
+                }
+            }
+            Err(e) => fail(&e),
+        };
+    }
+    let mut stopped = false;
+    if !args.collect {
+        eprintln!(
+            "{}: {} on {}, reference {}, {} at a time",
+            plan.file.display(),
+            plural(points.len(), "point"),
+            plural(plan.cases.len(), "case"),
+            plan.reference.label(),
+            args.jobs
+        );
+        let opts = execute::ExecOptions {
+            jobs: args.jobs,
+            progress: !args.quiet,
+        };
+        match execute::run_local(&plan, &points, &out, opts) {
+            Ok(d) => {
+                println!(
+                    "sweep: {} run, {} skipped (already finished), {}",
+                    plural(d.run, "point"),
+                    d.skipped,
+                    plural(d.references, "reference run")
+                );
+                stopped = interrupted(&d);
+            }
+            Err(e) => return fail(&e),
+        }
+    }
+    let collected = sweep::collect(&plan, points, &out);
+    let missing = collected.missing().len();
+    let command = command_line();
+    match floebench::report::sweep::write_report(&collected, &out, &command) {
+        Ok(files) => {
+            for f in files {
+                println!("wrote {}", f.display());
+            }
+        }
+        Err(e) => return fail(&e),
+    }
+    if missing > 0 {
+        eprintln!(
+            "{} of {} not finished (not in the report)",
+            plural(missing, "point"),
+            collected.points.len()
+        );
+    }
+    if stopped {
+        ExitCode::from(INTERRUPTED)
     } else {
         ExitCode::SUCCESS
     }

@@ -80,9 +80,12 @@ pub fn mean_diameter(scn: &Scenario) -> f64 {
 
 /// The trajectory cut into frames: one slice of `n` rows per output time.
 pub fn frames(run: &RunResult, n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
-    run.trajectory
-        .chunks(n.max(1))
-        .filter(move |c| c.len() == n)
+    row_frames(&run.trajectory, n)
+}
+
+/// [`frames`] of trajectory rows.
+fn row_frames(rows: &[TrajectoryRow], n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
+    rows.chunks(n.max(1)).filter(move |c| c.len() == n)
 }
 
 /// The divergence between runs `a` and `b` of `scn`, over the output times
@@ -94,15 +97,31 @@ pub fn divergence(
     b: &RunResult,
     threshold: f64,
 ) -> Result<PairDivergence, TimeMismatch> {
+    divergence_of_rows(
+        scn,
+        (&a.summary.formulation, &a.trajectory),
+        (&b.summary.formulation, &b.trajectory),
+        threshold,
+    )
+}
+
+/// [`divergence`] of two trajectories given as (run label, rows), e.g. a
+/// reference read back from a file (`floebench sweep`).
+pub fn divergence_of_rows(
+    scn: &Scenario,
+    (a, rows_a): (&str, &[TrajectoryRow]),
+    (b, rows_b): (&str, &[TrajectoryRow]),
+    threshold: f64,
+) -> Result<PairDivergence, TimeMismatch> {
     let n = scn.floes.len();
     let d = mean_diameter(scn);
     let mut samples = Vec::new();
-    for (fa, fb) in frames(a, n).zip(frames(b, n)) {
+    for (fa, fb) in row_frames(rows_a, n).zip(row_frames(rows_b, n)) {
         let t = fa[0].t;
         if (t - fb[0].t).abs() > 1e-9 * t.abs().max(1.0) {
             return Err(TimeMismatch {
-                a: a.summary.formulation.clone(),
-                b: b.summary.formulation.clone(),
+                a: a.to_string(),
+                b: b.to_string(),
                 t_a: t,
                 t_b: fb[0].t,
             });
@@ -127,8 +146,8 @@ pub fn divergence(
     }
     let max_of = |f: fn(&DivergenceSample) -> f64| samples.iter().map(f).fold(0.0, f64::max);
     Ok(PairDivergence {
-        a: a.summary.formulation.clone(),
-        b: b.summary.formulation.clone(),
+        a: a.to_string(),
+        b: b.to_string(),
         max_rms_position_rel: max_of(|s| s.rms_position_rel),
         max_position_m: max_of(|s| s.max_position_m),
         max_angle_rad: max_of(|s| s.max_angle_rad),

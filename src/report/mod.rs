@@ -16,6 +16,8 @@
 //! - [`provenance`]: version, commit, machine and date of a report;
 //! - [`plot`]: the charts (plotters, DejaVu Sans embedded): lines, stacked
 //!   bars, plan views, snapshot grids;
+//! - [`sweep`]: writes a sweep's report (`floebench sweep`): `sweep.csv`,
+//!   `orders.csv`, the work–precision and error-against-setting plots, the page;
 //! - [`format`](mod@format): the one rounding rule of the numbers printed for
 //!   people ([`format::fmt_num`]).
 
@@ -28,6 +30,7 @@ pub mod page;
 mod parameters;
 pub mod plot;
 pub mod provenance;
+pub mod sweep;
 mod tables;
 pub mod verdict;
 

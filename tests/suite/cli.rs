@@ -1,6 +1,6 @@
 //! The command line: `validate`, `run` (outputs, dumps), `lcp`.
 
-use crate::common::{bad_case, case_path, floebench, tempdir};
+use crate::common::{bad_case, case_path, floebench, interrupt_after, tempdir};
 
 #[test]
 fn validate_accepts_good_cases_and_names_the_fault_in_bad_ones() {
@@ -308,39 +308,6 @@ fn an_unknown_formulation_is_named_without_blaming_a_case() {
         );
         assert!(!stderr.contains("head_on.toml"), "{cmd}: {stderr}");
     }
-}
-
-/// Starts `floebench args`, waits for a line of its standard error holding
-/// `ready`, waits `after` more, sends `signal`; returns (exit code, stderr).
-fn interrupt_after(
-    args: &[&std::ffi::OsStr],
-    ready: &str,
-    after: std::time::Duration,
-    signal: libc::c_int,
-) -> (Option<i32>, String) {
-    use std::io::{BufRead, Read};
-    let mut child = floebench()
-        .args(args)
-        .stdout(std::process::Stdio::null())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
-    let mut seen = String::new();
-    loop {
-        let mut line = String::new();
-        assert!(err.read_line(&mut line).unwrap() > 0, "ended early: {seen}");
-        seen.push_str(&line);
-        if line.contains(ready) {
-            break;
-        }
-    }
-    std::thread::sleep(after);
-    let pid = libc::pid_t::try_from(child.id()).unwrap();
-    // SAFETY: a signal to our own child process.
-    assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
-    err.read_to_string(&mut seen).unwrap();
-    (child.wait().unwrap().code(), seen)
 }
 
 #[test]

@@ -2,7 +2,7 @@
 //! text, scenarios, runs of a formulation by name, the command-line binary,
 //! reads of a run (final velocities, rest time, counters, settings), the
 //! closed forms of docs/physics.md §6 that several formulations are held
-//! to, and a temporary folder.
+//! to, a temporary folder, and a signal to the binary once it says it is ready.
 
 use floebench::analysis::check;
 use floebench::formulation::{build, load_case, parse_case, FormulationOptions};
@@ -75,6 +75,39 @@ pub fn run_with(scn: &Scenario, name: &str, opts: &FormulationOptions) -> RunRes
 /// The `floebench` binary of this build, as a command to give arguments.
 pub fn floebench() -> Command {
     Command::new(env!("CARGO_BIN_EXE_floebench"))
+}
+
+/// Starts `floebench args`, waits for a line of its standard error holding
+/// `ready`, waits `after` more, sends `signal`; returns (exit code, stderr).
+pub fn interrupt_after(
+    args: &[&std::ffi::OsStr],
+    ready: &str,
+    after: std::time::Duration,
+    signal: libc::c_int,
+) -> (Option<i32>, String) {
+    use std::io::{BufRead, Read};
+    let mut child = floebench()
+        .args(args)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut seen = String::new();
+    loop {
+        let mut line = String::new();
+        assert!(err.read_line(&mut line).unwrap() > 0, "ended early: {seen}");
+        seen.push_str(&line);
+        if line.contains(ready) {
+            break;
+        }
+    }
+    std::thread::sleep(after);
+    let pid = libc::pid_t::try_from(child.id()).unwrap();
+    // SAFETY: a signal to our own child process.
+    assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
+    err.read_to_string(&mut seen).unwrap();
+    (child.wait().unwrap().code(), seen)
 }
 
 /// A temporary folder, removed when the value is dropped: keep it alive for

@@ -21,3 +21,4 @@ mod rapier;
 mod registry;
 mod runner;
 mod sample_report;
+mod sweep;

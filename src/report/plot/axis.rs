@@ -235,9 +235,25 @@ impl Ranged for Axis {
 /// Draws the mesh (grid, axes, tick labels and axis descriptions).
 pub(super) fn mesh<DB, X, Y>(
     chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
+    x: (&str, &dyn Fn(&f64) -> String),
+    y: (&str, &dyn Fn(&f64) -> String),
+    x_grid: bool,
+) -> Result<(), PlotError>
+where
+    DB: DrawingBackend,
+    X: Ranged<ValueType = f64> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    mesh_with_ticks(chart, x, y, x_grid, TICKS)
+}
+
+/// [`mesh`] with at most `x_ticks` tick labels on the x axis (narrow panels).
+pub(super) fn mesh_with_ticks<DB, X, Y>(
+    chart: &mut ChartContext<DB, Cartesian2d<X, Y>>,
     (x_label, xf): (&str, &dyn Fn(&f64) -> String),
     (y_label, yf): (&str, &dyn Fn(&f64) -> String),
     x_grid: bool,
+    x_ticks: usize,
 ) -> Result<(), PlotError>
 where
     DB: DrawingBackend,
@@ -249,7 +265,7 @@ where
         .y_desc(y_label)
         .axis_desc_style(font(16))
         .label_style(font(14))
-        .x_labels(TICKS)
+        .x_labels(x_ticks)
         .y_labels(TICKS)
         .x_label_formatter(xf)
         .y_label_formatter(yf)
@@ -283,6 +299,17 @@ mod tests {
         assert_eq!(Fmt::log().fmt(1234.4), "1234");
         assert_eq!(Fmt::log().fmt(0.5), "0.5");
         assert_eq!(Fmt::log().fmt(1e5), "1e5");
+    }
+
+    #[test]
+    fn a_log_axis_over_many_decades_ticks_every_few_decades() {
+        let axis = Axis {
+            range: 1e-17..1.0,
+            log: true,
+        };
+        let ticks = axis.key_points(TICKS);
+        assert!(ticks.len() >= 2 && ticks.len() <= TICKS, "{ticks:?}");
+        assert!(ticks.windows(2).all(|w| w[1] / w[0] > 99.9), "{ticks:?}");
     }
 
     #[test]

@@ -6,7 +6,9 @@
 //! - [`line_chart`]: curves against a common axis (energy against time, ...);
 //! - [`bar_chart`]: stacked bars, one bar per category, one segment per stage;
 //! - [`plan_view`]: floe paths in the plane at equal aspect ratio, obstacles in grey;
-//! - [`snapshot_grid`]: panels of floe polygons sharing the same bounds.
+//! - [`snapshot_grid`]: panels of floe polygons sharing the same bounds;
+//! - [`marked_panels`]: panels of lines through marked, labelled points on
+//!   linear or log axes (a sweep's work–precision plots).
 //!
 //! Colours come from the colour-blind-safe Okabe–Ito [`PALETTE`], indexed by
 //! [`Series::color`] so one formulation keeps its colour across charts. Text
@@ -27,12 +29,14 @@ mod bars;
 mod grid;
 mod legend;
 mod line;
+mod marked;
 mod render;
 mod style;
 
 use bars::Bars;
 use grid::Grid;
 use line::Xy;
+use marked::Marked;
 use plotters::prelude::*;
 use plotters::style::RGBColor;
 use render::render;
@@ -186,6 +190,60 @@ pub struct Panel {
     pub floes: Vec<Vec<(f64, f64)>>,
     /// Obstacle polygons (vertices in metres).
     pub obstacles: Vec<Vec<(f64, f64)>>,
+}
+
+/// A line through marked points, each with a label (e.g. the setting it
+/// was run at), for [`marked_panels`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MarkedLine {
+    /// Legend label; an empty label gives no legend entry.
+    pub label: String,
+    /// Index into [`PALETTE`] (modulo its length).
+    pub color: usize,
+    /// The marker shape: circle, triangle, square, cross (modulo 4).
+    pub marker: usize,
+    /// The points `(x, y, label)`, joined in this order; points that the
+    /// axes cannot show (non-finite, or not positive on a log axis) are
+    /// skipped.
+    pub points: Vec<(f64, f64, String)>,
+}
+
+/// One panel of [`marked_panels`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MarkedPanel {
+    /// Panel title.
+    pub title: String,
+    /// x axis label with its unit.
+    pub x_label: String,
+    /// y axis label with its unit.
+    pub y_label: String,
+    /// Scale of the x axis.
+    pub x_scale: Scale,
+    /// Scale of the y axis.
+    pub y_scale: Scale,
+    /// The lines (a line with the same label in several panels is one
+    /// legend entry: give it the same colour and marker in each).
+    pub lines: Vec<MarkedLine>,
+}
+
+/// Draws `panels`, `cols` per row, under `title` and one legend of every
+/// labelled line, into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
+/// A point label is not written where the same label (or any label) is
+/// already written at nearly the same place.
+pub fn marked_panels(
+    title: &str,
+    cols: usize,
+    panels: &[MarkedPanel],
+    stem: &Path,
+) -> Result<[PathBuf; 2], PlotError> {
+    render(
+        &Marked {
+            title,
+            cols,
+            panels,
+        },
+        stem,
+    )
 }
 
 /// Draws `chart` into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
