@@ -4,10 +4,12 @@
 //! polygons with exact mass properties), the fixed obstacles, the environment
 //! (wind, current, Coriolis), the contact law and the settings of the
 //! integrator and of each formulation. Loading and validation of case files
-//! live in [`case`]; the seeded random floe field in [`field`].
+//! live in [`case`], the documented bounds of every number in [`limits`]; the
+//! seeded random floe field in [`field`].
 
 pub mod case;
 pub mod field;
+pub mod limits;
 pub mod settings;
 
 use crate::geometry::{area_properties, radius_about, rotate, Vec2};
