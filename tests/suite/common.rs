@@ -58,6 +58,45 @@ pub fn with_formulation_table(text: &str, formulation: &str, settings: &str) -> 
 }
 
 // ---------------------------------------------------------------------------
+// LCPs
+
+/// The largest magnitude of `v` (0 when empty).
+pub fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
+}
+
+/// Why `z` does not solve LCP(M, q) (M row-major n×n), or `None` when it
+/// does up to `rel_tol` relative to `s = max(‖q‖∞, ‖M‖∞ ‖z‖∞)`: `z ≥ 0`,
+/// `w ≥ −rel_tol s`, `|zᵀw| ≤ rel_tol s ‖z‖₁`, with `w = M z + q` computed
+/// here, independently of the library's (compensated) `compute_w`.
+pub fn lcp_violation(m: &[f64], q: &[f64], z: &[f64], rel_tol: f64) -> Option<String> {
+    let n = q.len();
+    if z.len() != n || m.len() != n * n {
+        return Some(format!("sizes: z {}, q {n}, M {}", z.len(), m.len()));
+    }
+    let w: Vec<f64> = (0..n)
+        .map(|i| (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>() + q[i])
+        .collect();
+    let s = max_abs(q)
+        .max(max_abs(m) * max_abs(z))
+        .max(f64::MIN_POSITIVE);
+    for (i, (&zi, &wi)) in z.iter().zip(w.iter()).enumerate() {
+        if zi.is_nan() || zi < 0.0 {
+            return Some(format!("z[{i}] = {zi} < 0"));
+        }
+        if wi.is_nan() || wi < -rel_tol * s {
+            return Some(format!("w[{i}] = {wi} < -{rel_tol}*{s}"));
+        }
+    }
+    let ztw: f64 = z.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
+    let z1: f64 = z.iter().sum();
+    if ztw.is_nan() || ztw.abs() > rel_tol * s * z1.max(f64::MIN_POSITIVE) {
+        return Some(format!("zᵀw = {ztw} too large (s = {s}, ‖z‖₁ = {z1})"));
+    }
+    None
+}
+
+// ---------------------------------------------------------------------------
 // Runs
 
 /// Runs the formulation `name` of the registry on `scn` with the default

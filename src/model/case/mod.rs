@@ -168,7 +168,9 @@ pub fn parse_case_with(
     let case: CaseFile = toml::from_str(text).map_err(|e| {
         let message = match e.span().and_then(|s| ctx.key_at(s.start)) {
             // Name the key when serde's message does not (`invalid length 3`).
-            Some(key) if !e.message().contains('`') => format!("`{key}`: {}", e.message()),
+            Some(key) if !e.message().contains(&format!("`{key}`")) => {
+                format!("`{key}`: {}", e.message())
+            }
             _ => e.message().to_string(),
         };
         ctx.err(e.span(), message)
