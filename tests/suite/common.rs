@@ -2,15 +2,19 @@
 //! text, scenarios, runs of a formulation by name, the command-line binary,
 //! reads of a run (final velocities, rest time, counters, settings), the
 //! closed forms of docs/physics.md §6 that several formulations are held
-//! to, and a temporary folder.
+//! to, a temporary folder, the check of an LCP solution, and the guards
+//! against panics and hangs of the fuzz harness.
 
 use floebench::analysis::check;
 use floebench::formulation::{build, load_case, parse_case, FormulationOptions};
 use floebench::geometry::Vec2;
 use floebench::model::Scenario;
 use floebench::run::{RunOptions, RunResult, Runner, TrajectoryRow};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
 
 // ---------------------------------------------------------------------------
 // Case files and scenarios
@@ -55,6 +59,51 @@ pub fn scenario(text: &str) -> Scenario {
 /// lines) appended.
 pub fn with_formulation_table(text: &str, formulation: &str, settings: &str) -> String {
     format!("{text}\n[formulation.{formulation}]\n{settings}\n")
+}
+
+// ---------------------------------------------------------------------------
+// Panics and hangs
+
+/// What broke an assertion of an input (a panic, a hang, a wrong answer).
+pub type Defect = String;
+
+/// An input that takes longer is a hang: a generous bound (inputs take
+/// milliseconds), for detection only, never a measure of speed.
+pub const TIME_BOUND: Duration = Duration::from_secs(30);
+
+/// The text of a panic's payload.
+fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(no message)".into())
+}
+
+/// `f()`, or the panic it raised as a defect naming `stage`.
+pub fn guarded<T>(stage: &str, f: impl FnOnce() -> T) -> Result<T, Defect> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|p| format!("panic in {stage}: {}", panic_text(p)))
+}
+
+/// Runs `f` on a thread of its own and waits for it at most
+/// [`TIME_BOUND`]; a longer wait is a hang (the thread is left behind).
+pub fn within_bound<T: Send + 'static>(
+    f: impl FnOnce() -> Result<T, Defect> + Send + 'static,
+) -> Result<T, Defect> {
+    let (tx, rx) = mpsc::channel();
+    let spawned = std::thread::Builder::new()
+        .stack_size(32 << 20)
+        .spawn(move || {
+            let r = guarded("the input's thread", f).and_then(|r| r);
+            let _ = tx.send(r);
+        });
+    if let Err(e) = spawned {
+        return Err(format!("cannot start a thread: {e}"));
+    }
+    match rx.recv_timeout(TIME_BOUND) {
+        Ok(r) => r,
+        Err(RecvTimeoutError::Timeout) => Err(format!("hang: no answer within {TIME_BOUND:?}")),
+        Err(RecvTimeoutError::Disconnected) => Err("the input's thread died".into()),
+    }
 }
 
 // ---------------------------------------------------------------------------

@@ -35,7 +35,7 @@
 //! (`FLOEBENCH_FUZZ_SEED` changes the seed.) An input that breaks an
 //! assertion is saved in `target/tmp/fuzz/` with its index and seed.
 
-use crate::common::{cases_dir, lcp_violation, tempdir};
+use crate::common::{cases_dir, guarded, lcp_violation, tempdir, within_bound, Defect};
 use floebench::formulation::moreau::MoreauSettings;
 use floebench::formulation::rapier_ref::RapierSettings;
 use floebench::formulation::{build, parse_case, FormulationOptions, REGISTRY};
@@ -44,18 +44,13 @@ use floebench::model::{IntegratorKind, Scenario};
 use floebench::rng::SplitMix64;
 use floebench::run::{output, EndReason, RunOptions, RunResult, Runner};
 use std::collections::BTreeMap;
-use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 /// Inputs per test in CI (`FLOEBENCH_FUZZ_COUNT` overrides).
 const CI_COUNT: usize = 2000;
 /// The seed of the mutations (`FLOEBENCH_FUZZ_SEED` overrides).
 const SEED: u64 = 17;
-/// An input that takes longer is a hang: a generous bound (inputs take
-/// milliseconds), for detection only.
-const TIME_BOUND: Duration = Duration::from_secs(30);
 /// Accepted cases with more floes are loaded but not run (their runs would
 /// dominate the budget; the generator and the loader still see them).
 const MAX_RUN_FLOES: usize = 300;
@@ -262,44 +257,6 @@ fn mutate(rng: &mut SplitMix64, text: &str, json: bool) -> String {
 
 // ---------------------------------------------------------------------------
 // Running one input within the time bound
-
-/// What broke an assertion.
-type Defect = String;
-
-/// The text of a panic's payload.
-fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
-    p.downcast_ref::<&str>()
-        .map(|s| s.to_string())
-        .or_else(|| p.downcast_ref::<String>().cloned())
-        .unwrap_or_else(|| "(no message)".into())
-}
-
-/// `f()`, or the panic it raised as a defect naming `stage`.
-fn guarded<T>(stage: &str, f: impl FnOnce() -> T) -> Result<T, Defect> {
-    catch_unwind(AssertUnwindSafe(f)).map_err(|p| format!("panic in {stage}: {}", panic_text(p)))
-}
-
-/// Runs `f` on a thread of its own and waits for it at most
-/// [`TIME_BOUND`]; a longer wait is a hang (the thread is left behind).
-fn within_bound<T: Send + 'static>(
-    f: impl FnOnce() -> Result<T, Defect> + Send + 'static,
-) -> Result<T, Defect> {
-    let (tx, rx) = mpsc::channel();
-    let spawned = std::thread::Builder::new()
-        .stack_size(32 << 20)
-        .spawn(move || {
-            let r = guarded("the input's thread", f).and_then(|r| r);
-            let _ = tx.send(r);
-        });
-    if let Err(e) = spawned {
-        return Err(format!("cannot start a thread: {e}"));
-    }
-    match rx.recv_timeout(TIME_BOUND) {
-        Ok(r) => r,
-        Err(RecvTimeoutError::Timeout) => Err(format!("hang: no answer within {TIME_BOUND:?}")),
-        Err(RecvTimeoutError::Disconnected) => Err("the input's thread died".into()),
-    }
-}
 
 /// A message must be one line, not empty, and no Debug dump.
 fn one_line(what: &str, m: &str) -> Result<(), Defect> {
