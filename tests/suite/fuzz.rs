@@ -12,7 +12,9 @@
 //! formulation of the registry (rotating among those that apply), its
 //! duration cut to a few outputs and steps so that every run is cheap, and
 //! its files are written by the library's writer into a fresh folder and
-//! read back. A dump mutant goes through the strict dump reader and, when
+//! read back; one refused case in [`CLI_EVERY`] also goes through
+//! `floebench run`, which must exit with one error line and no output
+//! folder. A dump mutant goes through the strict dump reader and, when
 //! read, through the LCP driver. The assertions:
 //!
 //! - no panic (validate, build, run, write, read, solve);
@@ -35,12 +37,13 @@
 //! (`FLOEBENCH_FUZZ_SEED` changes the seed.) An input that breaks an
 //! assertion is saved in `target/tmp/fuzz/` with its index and seed.
 
-use crate::common::{cases_dir, guarded, lcp_violation, tempdir, within_bound, Defect};
+use crate::common::{cases_dir, floebench, guarded, lcp_violation, tempdir, within_bound, Defect};
 use floebench::formulation::moreau::MoreauSettings;
 use floebench::formulation::rapier_ref::RapierSettings;
 use floebench::formulation::{build, parse_case, FormulationOptions, REGISTRY};
 use floebench::lcp::{residual, solve, LcpDump, SolveOptions};
 use floebench::model::{IntegratorKind, Scenario};
+use floebench::record::SettingValue;
 use floebench::rng::SplitMix64;
 use floebench::run::{output, EndReason, RunOptions, RunResult, Runner};
 use std::collections::BTreeMap;
@@ -58,6 +61,8 @@ const MAX_RUN_FLOES: usize = 300;
 const RUN_OUTPUTS: f64 = 3.0;
 /// …and at most this many fixed steps (Moreau–Jean, rapier, explicit Euler).
 const RUN_STEPS: f64 = 50.0;
+/// One refused case in this many also goes through `floebench run`.
+const CLI_EVERY: u64 = 25;
 /// The event-driven runs skipped as a known defect: from about 290 s of
 /// output interval on, the event-driven scheme spins without progress
 /// (issue 17, "output-independent physics, no hang", owned by the
@@ -434,6 +439,22 @@ fn finite_result(r: &RunResult) -> Result<(), Defect> {
     if let Some((c, v)) = s.counters.iter().find(|(_, v)| !v.is_finite()) {
         return bad(&format!("counter {} = {v}", c.name));
     }
+    for setting in &s.settings.0 {
+        if let SettingValue::Number(v) = setting.value {
+            if !v.is_finite() {
+                return bad(&format!("setting {} = {v}", setting.name));
+            }
+        }
+    }
+    let stages = &s.timing.stages;
+    let mut times = vec![stages.total(), s.timing.cpu_other, s.timing.timer_overhead];
+    if let Some(p) = &s.lcp_profile {
+        times.push(p.timer_overhead);
+        times.extend(p.buckets.iter().map(|b| b.seconds));
+    }
+    if !times.iter().all(|x| x.is_finite()) {
+        return bad("timing");
+    }
     Ok(())
 }
 
@@ -491,6 +512,41 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
     Ok(())
 }
 
+/// A case the library refuses, through the binary: `floebench run` exits
+/// with an error of one line and writes nothing (no output folder).
+fn refused_by_the_command(text: &str) -> Result<(), Defect> {
+    let dir = tempdir();
+    let case = dir.path().join("mutant.toml");
+    let out = dir.path().join("out");
+    std::fs::write(&case, text).map_err(|e| format!("cannot write the mutant: {e}"))?;
+    let done = floebench()
+        .arg("run")
+        .arg(&case)
+        .arg("-o")
+        .arg(&out)
+        .arg("--quiet")
+        .output()
+        .map_err(|e| format!("cannot start floebench: {e}"))?;
+    let stderr = String::from_utf8_lossy(&done.stderr);
+    if done.status.success() {
+        return Err(format!(
+            "`floebench run` accepted a case validate refuses: {stderr}"
+        ));
+    }
+    let lines: Vec<&str> = stderr.lines().collect();
+    if stderr.contains("panicked") || lines.len() != 1 || !lines[0].starts_with("error: ") {
+        return Err(format!(
+            "`floebench run` did not end with one error line: {stderr:?}"
+        ));
+    }
+    if out.exists() {
+        return Err(
+            "partial file: `floebench run` created its output folder for a refused case".into(),
+        );
+    }
+    Ok(())
+}
+
 /// One case mutant: validate, then (when accepted and small) a short run
 /// by the formulation `pick` selects, written and read back.
 fn check_case(text: String, pick: u64) -> Result<String, Defect> {
@@ -498,6 +554,10 @@ fn check_case(text: String, pick: u64) -> Result<String, Defect> {
     let mut scn = match loaded {
         Err(e) => {
             one_line("the validate error", &e.to_string())?;
+            if pick % CLI_EVERY == 0 {
+                refused_by_the_command(&text)?;
+                return Ok("rejected by validate, and by `floebench run`".into());
+            }
             return Ok("rejected by validate".into());
         }
         Ok(scn) => scn,
