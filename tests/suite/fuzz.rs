@@ -554,7 +554,7 @@ fn check_case(text: String, pick: u64) -> Result<String, Defect> {
     let mut scn = match loaded {
         Err(e) => {
             one_line("the validate error", &e.to_string())?;
-            if pick % CLI_EVERY == 0 {
+            if pick.is_multiple_of(CLI_EVERY) {
                 refused_by_the_command(&text)?;
                 return Ok("rejected by validate, and by `floebench run`".into());
             }
