@@ -57,21 +57,6 @@ impl Limit {
         }
     }
 
-    /// A number in `(min, max]`.
-    pub const fn above(
-        key: &'static str,
-        tables: &'static str,
-        min: f64,
-        max: f64,
-        unit: &'static str,
-        why: &'static str,
-    ) -> Limit {
-        Limit {
-            min_open: true,
-            ..Limit::range(key, tables, min, max, unit, why)
-        }
-    }
-
     /// A number or a vector of length at most `max`.
     pub const fn magnitude(
         key: &'static str,
@@ -87,18 +72,19 @@ impl Limit {
         }
     }
 
-    /// An integer in `[min, max]`.
-    pub const fn integer(
-        key: &'static str,
-        tables: &'static str,
-        min: f64,
-        max: f64,
-        unit: &'static str,
-        why: &'static str,
-    ) -> Limit {
+    /// The same bound with `min` itself refused: `(min, max]`.
+    pub const fn exclusive_min(self) -> Limit {
+        Limit {
+            min_open: true,
+            ..self
+        }
+    }
+
+    /// The same bound on an integer.
+    pub const fn integers(self) -> Limit {
         Limit {
             integer: true,
-            ..Limit::range(key, tables, min, max, unit, why)
+            ..self
         }
     }
 
@@ -244,45 +230,49 @@ pub fn show(v: f64) -> String {
 // The limits of the case file, table by table.
 
 /// `[case] duration`, s.
-pub const DURATION: Limit = Limit::above(
+pub const DURATION: Limit = Limit::range(
     "duration",
     "[case]",
     0.0,
     1e8,
     "s",
     "about three years, longer than any sea-ice season a contact benchmark covers",
-);
+)
+.exclusive_min();
 
 /// `[case] output_interval`, s.
-pub const OUTPUT_INTERVAL: Limit = Limit::above(
+pub const OUTPUT_INTERVAL: Limit = Limit::range(
     "output_interval",
     "[case]",
     0.0,
     1e8,
     "s",
     "the duration limit: a longer interval keeps only the final state",
-);
+)
+.exclusive_min();
 
 /// The number of outputs `duration / output_interval`.
-pub const OUTPUTS: Limit = Limit::integer(
+pub const OUTPUTS: Limit = Limit::range(
     "duration / output_interval",
     "[case]",
     1.0,
     1e6,
     "outputs",
     "a million samples per floe are more than any figure or metric reads, and each costs memory",
-);
+)
+.integers();
 
 /// The number of steps `duration / step` of a fixed-step formulation (and
 /// `duration / max_step` of the integrator).
-pub const STEPS: Limit = Limit::integer(
+pub const STEPS: Limit = Limit::range(
     "duration / step",
     "[formulation.moreau], [formulation.rapier], [integrator] max_step",
     1.0,
     1e9,
     "steps",
     "a billion steps take hours of CPU even for one floe",
-);
+)
+.integers();
 
 /// A step of a fixed-step formulation or the integrator's largest step, s.
 pub const STEP: Limit = Limit::range(
@@ -381,14 +371,15 @@ pub const COORDINATE: Limit = Limit::magnitude(
 );
 
 /// Vertices of a polygon (listed, or a field's `sides`).
-pub const VERTICES: Limit = Limit::integer(
+pub const VERTICES: Limit = Limit::range(
     "vertices",
     "[[floe]], [[obstacle]] polygon; [[field]] sides",
     3.0,
     64.0,
     "",
     "more sides do not change a floe's contacts but every contact test costs O(sides)",
-);
+)
+.integers();
 
 /// The circumradius of a polygon about its centroid (a field's `radius`), m.
 pub const RADIUS: Limit = Limit::range(
@@ -439,24 +430,25 @@ pub const ANGULAR_VELOCITY: Limit = Limit::magnitude(
 );
 
 /// Floes of one `[[field]]` (`count`), and of the whole case.
-pub const FLOES: Limit = Limit::integer(
+pub const FLOES: Limit = Limit::range(
     "count",
     "[[field]]; and every floe of the case",
     1.0,
     1e5,
     "floes",
     "ten times the largest bundled field; its generation takes about a second and every run grows with the floes",
-);
+).integers();
 
 /// `[[field]] concentration`.
-pub const CONCENTRATION: Limit = Limit::above(
+pub const CONCENTRATION: Limit = Limit::range(
     "concentration",
     "[[field]]",
     0.0,
     0.9,
     "",
     "the tessellation's shrunk cells cannot cover more",
-);
+)
+.exclusive_min();
 
 /// `[integrator] tolerance`.
 pub const TOLERANCE: Limit = Limit::range(
@@ -469,24 +461,26 @@ pub const TOLERANCE: Limit = Limit::range(
 );
 
 /// The size of a case file, bytes: read whole and parsed twice.
-pub const FILE_BYTES: Limit = Limit::integer(
+pub const FILE_BYTES: Limit = Limit::range(
     "file size",
     "the case file",
     0.0,
     6.4e7,
     "bytes",
     "64 MB is some 30,000 listed floes of 64 vertices; larger sets are what [[field]] is for",
-);
+)
+.integers();
 
 /// The memory a run may need, bytes ([`run_memory_bytes`]).
-pub const RUN_BYTES: Limit = Limit::integer(
+pub const RUN_BYTES: Limit = Limit::range(
     "estimated memory of a run",
     "the whole case",
     0.0,
     4e9,
     "bytes",
     "4 GB per run: compare runs one per core and keeps each formulation's run of a case",
-);
+)
+.integers();
 
 /// Every limit of the case file itself (the formulations declare theirs in
 /// their [`super::settings::TableSpec`]).

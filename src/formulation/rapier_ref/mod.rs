@@ -234,14 +234,15 @@ pub const TABLE: TableSpec = TableSpec {
 };
 
 /// The bound of `iterations`.
-pub const ITERATIONS: Limit = Limit::integer(
+pub const ITERATIONS: Limit = Limit::range(
     "iterations",
     "[formulation.rapier]",
     1.0,
     1000.0,
     "",
     "rapier's examples use up to a few dozen; 1000 substeps cost 250 times the default",
-);
+)
+.integers();
 
 /// The bound of `natural_frequency`, Hz.
 pub const NATURAL_FREQUENCY: Limit = Limit::range(
@@ -264,14 +265,14 @@ pub const DAMPING_RATIO: Limit = Limit::range(
 );
 
 /// The bound of `prediction`, m.
-pub const PREDICTION: Limit = Limit::above(
+pub const PREDICTION: Limit = Limit::range(
     "prediction",
     "[formulation.rapier]",
     0.0,
     1e3,
     "m",
     "a speculative contact distance is a fraction of a floe; 1 km already pairs most floes of a field",
-);
+).exclusive_min();
 
 /// Settings of the rapier reference formulation (`[formulation.rapier]`).
 ///
