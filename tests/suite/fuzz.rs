@@ -61,8 +61,12 @@ const SEED: u64 = 17;
 const MAX_RUN_FLOES: usize = 300;
 /// A run lasts at most this many output intervals…
 const RUN_OUTPUTS: f64 = 3.0;
-/// …and at most this many fixed steps (Moreau–Jean, rapier, explicit Euler).
+/// …and at most this many fixed steps (Moreau–Jean, rapier, explicit Euler)…
 const RUN_STEPS: f64 = 50.0;
+/// …and at most this many simulated seconds per floe (200 floes of the
+/// coast field: 100 s; a lone floe: its whole bundled duration). Without
+/// it a mutated field of large floes ran 30 s.
+const RUN_FLOE_SECONDS: f64 = 20_000.0;
 /// One refused case in this many also goes through `floebench run`.
 const CLI_EVERY: u64 = 25;
 /// The event-driven runs skipped as a known defect: from about 290 s of
@@ -282,6 +286,8 @@ fn one_line(what: &str, m: &str) -> Result<(), Defect> {
 struct Tally {
     outcomes: BTreeMap<String, usize>,
     defects: Vec<String>,
+    /// The slowest input: wall time and index.
+    slowest: (Duration, usize),
 }
 
 impl Tally {
@@ -308,7 +314,12 @@ impl Tally {
     }
 
     fn report(&self, title: &str, n: usize, elapsed: Duration) {
-        println!("fuzz {title}: {n} inputs in {:.1} s", elapsed.as_secs_f64());
+        println!(
+            "fuzz {title}: {n} inputs in {:.1} s (slowest: input {}, {:.2} s)",
+            elapsed.as_secs_f64(),
+            self.slowest.1,
+            self.slowest.0.as_secs_f64()
+        );
         for (k, v) in &self.outcomes {
             println!("  {v:>8}  {k}");
         }
@@ -352,7 +363,10 @@ fn fuzz(
         let mutant = mutate(&mut rng, text, json);
         let pick = rng.next_u64();
         let m = mutant.clone();
-        match within_bound(move || check(m, pick)) {
+        let began = Instant::now();
+        let answer = within_bound(move || check(m, pick));
+        tally.slowest = tally.slowest.max((began.elapsed(), index));
+        match answer {
             Ok(outcome) => tally.count(outcome),
             Err(d) => {
                 let hang = d.starts_with("hang");
@@ -376,10 +390,14 @@ fn fuzz(
 // ---------------------------------------------------------------------------
 // Case files
 
-/// Cuts the run to [`RUN_OUTPUTS`] outputs and [`RUN_STEPS`] fixed steps of
-/// the formulation `name`, so that every run is cheap.
+/// Cuts the run to [`RUN_OUTPUTS`] outputs, [`RUN_STEPS`] fixed steps of
+/// the formulation `name` and [`RUN_FLOE_SECONDS`], so that every run is
+/// cheap.
 fn shorten(scn: &mut Scenario, name: &str) -> Result<(), Defect> {
-    let mut t = scn.duration.min(RUN_OUTPUTS * scn.output_interval);
+    let mut t = scn
+        .duration
+        .min(RUN_OUTPUTS * scn.output_interval)
+        .min(RUN_FLOE_SECONDS / scn.floes.len().max(1) as f64);
     let step = match name {
         "moreau" | "moreau-cone" => MoreauSettings::of(scn).map(|s| s.step),
         "rapier" => RapierSettings::of(scn).map(|s| s.step),
