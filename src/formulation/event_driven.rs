@@ -65,6 +65,7 @@ use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{Aabb, BroadPhase, Contact};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, Vec2};
+use crate::model::limits::Limit;
 use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, Wrench};
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
@@ -99,7 +100,18 @@ pub const ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "event-driven",
     validate: |t| EventDrivenSettings::from_table(t).map(|_| ()),
+    limits: &[PENETRATION_TOLERANCE],
 };
+
+/// The bound of `penetration_tolerance`, m.
+pub const PENETRATION_TOLERANCE: Limit = Limit::range(
+    "penetration_tolerance",
+    "[formulation.event-driven]",
+    1e-6,
+    1e3,
+    "m",
+    "1 µm is still 500 floating-point spacings of a coordinate of 1e7 m; a penetration of 1 km is no contact",
+);
 
 /// Settings of the event-driven formulation (`[formulation.event-driven]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -119,7 +131,7 @@ impl EventDrivenSettings {
     pub fn from_table(t: &SettingsTable) -> Result<EventDrivenSettings, CaseError> {
         let mut r = t.read();
         let s = EventDrivenSettings {
-            penetration_tolerance: r.positive("penetration_tolerance")?,
+            penetration_tolerance: r.bounded(&PENETRATION_TOLERANCE)?,
             solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
         };
         r.finish()?;

@@ -122,6 +122,7 @@ use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{BroadPhase, Contact};
 use crate::geometry::Vec2;
+use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::ForceModel;
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
@@ -187,7 +188,28 @@ pub const CONE_ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "moreau",
     validate: |t| MoreauSettings::from_table(t).map(|_| ()),
+    limits: &[STEP, THETA, GAMMA],
 };
+
+/// The bound of `theta`.
+pub const THETA: Limit = Limit::range(
+    "theta",
+    "[formulation.moreau]",
+    0.0,
+    1.0,
+    "",
+    "a weight of the θ-method: 0 explicit, 1 implicit",
+);
+
+/// The bound of `gamma`.
+pub const GAMMA: Limit = Limit::range(
+    "gamma",
+    "[formulation.moreau]",
+    0.0,
+    1.0,
+    "",
+    "a weight of the predicted gap within the step",
+);
 
 /// Settings of the Moreau–Jean formulation (`[formulation.moreau]`).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -223,9 +245,9 @@ impl MoreauSettings {
         let d = MoreauSettings::default();
         let mut r = t.read();
         let s = MoreauSettings {
-            step: r.positive("step")?.unwrap_or(d.step),
-            theta: r.unit_interval("theta")?.unwrap_or(d.theta),
-            gamma: r.unit_interval("gamma")?.unwrap_or(d.gamma),
+            step: r.step(&STEP)?.unwrap_or(d.step),
+            theta: r.bounded(&THETA)?.unwrap_or(d.theta),
+            gamma: r.bounded(&GAMMA)?.unwrap_or(d.gamma),
             solver: r.choice("solver")?.unwrap_or(d.solver),
         };
         r.finish()?;

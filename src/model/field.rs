@@ -19,10 +19,13 @@
 //! A shrunk convex cell lies inside its cell, and cells do not overlap, so no
 //! two floes overlap. Only `+ − × / sqrt` are used (no trigonometry), so the
 //! same seed gives the same field on every machine. The cost is linear in
-//! `count` (grids everywhere, no all-pairs loop).
+//! `count` (grids everywhere, no all-pairs loop), and every loop has a
+//! bounded number of rounds: a region and count that the case limits admit
+//! ([`super::limits`]) but the generator cannot tessellate give a
+//! [`FieldError`], never a panic or a hang.
 
 use super::case::FieldSpec;
-use super::{Floe, FloeOrigin};
+use super::{limits, Floe, FloeOrigin};
 use crate::geometry::{area_properties, cross, radius_about, Vec2};
 use crate::rng::SplitMix64;
 
@@ -46,23 +49,39 @@ pub fn generate_field(spec: &FieldSpec, field_index: usize) -> Result<Vec<Floe>,
     let lo = Vec2::new(spec.region[0][0], spec.region[0][1]);
     let hi = Vec2::new(spec.region[1][0], spec.region[1][1]);
     let mut rng = SplitMix64::new(spec.seed);
-    let seeds = throw_seeds(&mut rng, lo, hi, spec.count);
-    let cells = voronoi_cells(&seeds, lo, hi);
     let infeasible = |reason: String| FieldError::Infeasible {
         count: spec.count,
         target: spec.concentration,
         reason,
     };
+    let degenerate = || infeasible("a tessellation cell degenerated".into());
+    // The case loader refuses larger counts first; a direct caller too.
+    if spec.count as f64 > limits::FLOES.max {
+        return Err(infeasible(format!(
+            "more floes than the limit of {}",
+            limits::show(limits::FLOES.max)
+        )));
+    }
+    let seeds = throw_seeds(&mut rng, lo, hi, spec.count).ok_or_else(|| {
+        infeasible(format!(
+            "the region cannot hold {} seed points apart (too small or too thin for its count)",
+            spec.count
+        ))
+    })?;
+    let cells = voronoi_cells(&seeds, lo, hi).ok_or_else(degenerate)?;
 
     // Shapes with the drawn number of sides.
     let mut shapes = Vec::with_capacity(cells.len());
     for cell in cells {
         let target = rng.int_range(spec.sides[0], spec.sides[1]);
-        let poly = adjust_sides(cell, target);
-        if poly.len() < 3 {
-            return Err(infeasible("a tessellation cell degenerated".into()));
+        if cell.len() < 3 {
+            return Err(degenerate());
         }
+        let poly = adjust_sides(cell, target);
         let props = area_properties(&poly);
+        if poly.len() < 3 || props.area.is_nan() || props.area <= 0.0 {
+            return Err(degenerate());
+        }
         let r = radius_about(&poly, &props.centroid);
         shapes.push((poly, props.area, props.centroid, r));
     }
@@ -179,14 +198,30 @@ impl Grid {
     }
 }
 
+/// Misses in a row before the spacing of the darts is relaxed by 10 %.
+const MISSES_BEFORE_RELAXING: usize = 200;
+/// Relaxations of the spacing before the darts give up: the bundled fields
+/// (and 100,000 floes) need at most one; 20 leave seeds at least 0.12 of
+/// the first spacing apart, so a grid bin never holds more than about 150
+/// seeds and the cost stays linear. Darts are then at most
+/// `(MISSES_BEFORE_RELAXING + 1) × (count + MAX_RELAXATIONS)`.
+const MAX_RELAXATIONS: usize = 20;
+
 /// `count` points in the box with a minimum spacing, by dart throwing; the
-/// spacing is relaxed by 10 % whenever darts keep missing.
-fn throw_seeds(rng: &mut SplitMix64, lo: Vec2, hi: Vec2, count: usize) -> Vec<Vec2> {
+/// spacing is relaxed by 10 % whenever darts keep missing. `None` when it
+/// has been relaxed [`MAX_RELAXATIONS`] times (a region whose points cannot
+/// be told apart) or is not a positive number (a region too small for its
+/// count).
+fn throw_seeds(rng: &mut SplitMix64, lo: Vec2, hi: Vec2, count: usize) -> Option<Vec<Vec2>> {
     let area = (hi.x - lo.x) * (hi.y - lo.y);
     let mut spacing = 0.75 * (area / count as f64).sqrt();
+    if !(spacing > 0.0 && spacing.is_finite()) {
+        return None;
+    }
     let mut grid = Grid::new(lo, hi, spacing);
     let mut pts: Vec<Vec2> = Vec::with_capacity(count);
     let mut misses = 0usize;
+    let mut relaxations = 0usize;
     while pts.len() < count {
         let p = Vec2::new(rng.range(lo.x, hi.x), rng.range(lo.y, hi.y));
         let mut ok = true;
@@ -201,13 +236,17 @@ fn throw_seeds(rng: &mut SplitMix64, lo: Vec2, hi: Vec2, count: usize) -> Vec<Ve
             misses = 0;
         } else {
             misses += 1;
-            if misses > 200 {
+            if misses > MISSES_BEFORE_RELAXING {
+                relaxations += 1;
+                if relaxations > MAX_RELAXATIONS {
+                    return None;
+                }
                 spacing *= 0.9;
                 misses = 0;
             }
         }
     }
-    pts
+    Some(pts)
 }
 
 /// Clips the convex polygon `poly` to the half-plane `n · (x − m) ≤ 0`.
@@ -229,10 +268,19 @@ fn clip(poly: &[Vec2], m: &Vec2, n: &Vec2, out: &mut Vec<Vec2>) {
     }
 }
 
-/// The Voronoi cells of `seeds`, clipped to the box.
-fn voronoi_cells(seeds: &[Vec2], lo: Vec2, hi: Vec2) -> Vec<Vec<Vec2>> {
+/// Times the searched disk of a cell may grow (by 1.5 each): from three
+/// spacings to past the region's diagonal takes at most `log1.5(sqrt(count)
+/// × aspect)` rounds, far fewer than this.
+const MAX_SEARCH_GROWTH: usize = 200;
+
+/// The Voronoi cells of `seeds`, clipped to the box; `None` when a cell's
+/// search does not close (a degenerate region).
+fn voronoi_cells(seeds: &[Vec2], lo: Vec2, hi: Vec2) -> Option<Vec<Vec<Vec2>>> {
     let area = (hi.x - lo.x) * (hi.y - lo.y);
     let spacing = (area / seeds.len() as f64).sqrt();
+    if !(spacing > 0.0 && spacing.is_finite()) {
+        return None;
+    }
     let mut grid = Grid::new(lo, hi, spacing);
     for (i, p) in seeds.iter().enumerate() {
         grid.insert(p, i);
@@ -244,7 +292,8 @@ fn voronoi_cells(seeds: &[Vec2], lo: Vec2, hi: Vec2) -> Vec<Vec<Vec2>> {
     let mut cells = Vec::with_capacity(seeds.len());
     for (i, p) in seeds.iter().enumerate() {
         let mut r = 3.0 * spacing;
-        loop {
+        let mut closed = false;
+        for _ in 0..MAX_SEARCH_GROWTH {
             near.clear();
             grid.near(p, r, |j| {
                 if j != i {
@@ -265,12 +314,16 @@ fn voronoi_cells(seeds: &[Vec2], lo: Vec2, hi: Vec2) -> Vec<Vec<Vec2>> {
             let reach = cell.iter().map(|v| (v - p).norm()).fold(0.0, f64::max);
             if 2.0 * reach <= r || r > diag {
                 cells.push(cell);
+                closed = true;
                 break;
             }
             r *= 1.5;
         }
+        if !closed {
+            return None;
+        }
     }
-    cells
+    Some(cells)
 }
 
 /// Twice the area of the ear at vertex `i`.
@@ -281,8 +334,12 @@ fn ear(poly: &[Vec2], i: usize) -> f64 {
     cross(&(poly[i] - a), &(c - poly[i]))
 }
 
-/// Brings a convex cell to `target` vertices, staying inside it.
+/// Brings a convex cell to `target` vertices, staying inside it (a cell of
+/// fewer than 3 vertices is returned as it is: the caller refuses it).
 fn adjust_sides(mut poly: Vec<Vec2>, target: usize) -> Vec<Vec2> {
+    if poly.len() < 3 {
+        return poly;
+    }
     // Remove near-collinear vertices first (tiny Voronoi edges).
     let area = area_properties(&poly).area;
     loop {

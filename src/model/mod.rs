@@ -4,10 +4,12 @@
 //! polygons with exact mass properties), the fixed obstacles, the environment
 //! (wind, current, Coriolis), the contact law and the settings of the
 //! integrator and of each formulation. Loading and validation of case files
-//! live in [`case`]; the seeded random floe field in [`field`].
+//! live in [`case`], the documented bounds of every number in [`limits`]; the
+//! seeded random floe field in [`field`].
 
 pub mod case;
 pub mod field;
+pub mod limits;
 pub mod settings;
 
 use crate::geometry::{area_properties, radius_about, rotate, Vec2};
@@ -375,6 +377,12 @@ impl Scenario {
         let v_rest = env.water.velocity.max_speed()
             + floe.velocity.norm()
             + floe.angular_velocity.abs() * floe.radius;
+        if !v_air.is_finite() {
+            // ρ_a C_a / (ρ_w C_w) overflows (a negligible water drag): the
+            // wind's bound in the form that does not, and the other one.
+            let wind = rho_h / (2.0 * ua * ka.sqrt() * kw.sqrt());
+            return wind.min(rho_h / (2.0 * kw * v_rest));
+        }
         let v = v_air.max(v_rest);
         if v <= 0.0 {
             return f64::INFINITY;

@@ -5,8 +5,12 @@
 //! A table keeps the line of each key, so a formulation's parser reports a
 //! bad value at the file and line where it is written. The case loader
 //! validates every table with its owner's parser before a case is accepted;
-//! an unknown table or key is an error.
+//! an unknown table or key is an error. Each formulation declares the
+//! [`Limit`] of every number it reads; the [`SettingsReader`] checks it (and
+//! the number of steps a step gives over the case's duration), so the range
+//! checks are here, once.
 
+use super::limits::{check_count, Limit, STEPS};
 use super::CaseError;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -25,6 +29,8 @@ pub struct SettingsTable {
     line: Option<usize>,
     #[serde(skip)]
     key_lines: BTreeMap<String, usize>,
+    #[serde(skip)]
+    duration: Option<f64>,
 }
 
 /// The parser of one table: checks it and reports errors with their line.
@@ -34,16 +40,20 @@ pub struct TableSpec {
     pub name: &'static str,
     /// Checks the table (every key known, every value in range).
     pub validate: fn(&SettingsTable) -> Result<(), CaseError>,
+    /// The limits of its numbers (docs/case-format.md, "Limits").
+    pub limits: &'static [Limit],
 }
 
 impl SettingsTable {
-    /// A table read from `file`, header at `line`, with the line of each key.
+    /// A table read from `file`, header at `line`, with the line of each
+    /// key, in a case of `duration` (s: it bounds the number of steps).
     pub fn new(
         name: &str,
         values: toml::Table,
         file: PathBuf,
         line: Option<usize>,
         key_lines: BTreeMap<String, usize>,
+        duration: Option<f64>,
     ) -> SettingsTable {
         SettingsTable {
             name: name.to_string(),
@@ -51,6 +61,7 @@ impl SettingsTable {
             file,
             line,
             key_lines,
+            duration,
         }
     }
 
@@ -62,6 +73,7 @@ impl SettingsTable {
             PathBuf::new(),
             None,
             BTreeMap::new(),
+            None,
         )
     }
 
@@ -106,43 +118,42 @@ impl SettingsReader<'_> {
         }
     }
 
-    /// A number that must be finite and > 0.
-    pub fn positive(&mut self, key: &'static str) -> Result<Option<f64>, CaseError> {
+    /// A number within `limit` (its key is `limit.key`).
+    pub fn bounded(&mut self, limit: &Limit) -> Result<Option<f64>, CaseError> {
+        let key = limit.key;
         match self.number(key)? {
-            Some(v) if !(v.is_finite() && v > 0.0) => Err(self
-                .table
-                .error(Some(key), format!("{key} = {v} must be finite and > 0"))),
-            v => Ok(v),
+            Some(v) => limit
+                .check(key, v)
+                .map(Some)
+                .map_err(|m| self.table.error(Some(key), m)),
+            None => Ok(None),
         }
     }
 
-    /// A number in [0, 1].
-    pub fn unit_interval(&mut self, key: &'static str) -> Result<Option<f64>, CaseError> {
-        match self.number(key)? {
-            Some(v) if !(0.0..=1.0).contains(&v) => Err(self
-                .table
-                .error(Some(key), format!("{key} = {v} must be in [0, 1]"))),
-            v => Ok(v),
+    /// A step (s) within `limit` that also gives at most
+    /// [`super::limits::STEPS`] steps over the case's duration.
+    pub fn step(&mut self, limit: &Limit) -> Result<Option<f64>, CaseError> {
+        let h = self.bounded(limit)?;
+        if let (Some(h), Some(duration)) = (h, self.table.duration) {
+            check_count(&STEPS, limit.key, h, duration)
+                .map_err(|m| self.table.error(Some(limit.key), m))?;
         }
+        Ok(h)
     }
 
-    /// An integer ≥ `min`.
-    pub fn integer_at_least(
-        &mut self,
-        key: &'static str,
-        min: i64,
-    ) -> Result<Option<i64>, CaseError> {
+    /// An integer within `limit` (its key is `limit.key`).
+    pub fn integer(&mut self, limit: &Limit) -> Result<Option<i64>, CaseError> {
+        let key = limit.key;
         self.asked.push(key);
         match self.table.values.get(key) {
             None => Ok(None),
-            Some(toml::Value::Integer(v)) if *v >= min => Ok(Some(*v)),
-            Some(toml::Value::Integer(_)) => Err(self
+            Some(toml::Value::Integer(v)) => limit
+                .check_integer(key, i128::from(*v))
+                .map(|_| Some(*v))
+                .map_err(|m| self.table.error(Some(key), m)),
+            Some(other) => Err(self
                 .table
-                .error(Some(key), format!("{key} must be >= {min}"))),
-            Some(other) => Err(self.table.error(
-                Some(key),
-                format!("{key} = {other} must be an integer >= {min}"),
-            )),
+                .error(Some(key), format!("{key} = {other} must be an integer"))),
         }
     }
 

@@ -2,15 +2,20 @@
 //! text, scenarios, runs of a formulation by name, the command-line binary,
 //! reads of a run (final velocities, rest time, counters, settings), the
 //! closed forms of docs/physics.md §6 that several formulations are held
-//! to, a temporary folder, and a signal to the binary once it says it is ready.
+//! to, a temporary folder, a signal to the binary once it says it is ready,
+//! the check of an LCP solution, and the guards against panics and hangs of
+//! the fuzz harness.
 
 use floebench::analysis::check;
 use floebench::formulation::{build, load_case, parse_case, FormulationOptions};
 use floebench::geometry::Vec2;
 use floebench::model::Scenario;
 use floebench::run::{RunOptions, RunResult, Runner, TrajectoryRow};
+use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};
 use std::process::Command;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::time::Duration;
 
 // ---------------------------------------------------------------------------
 // Case files and scenarios
@@ -55,6 +60,90 @@ pub fn scenario(text: &str) -> Scenario {
 /// lines) appended.
 pub fn with_formulation_table(text: &str, formulation: &str, settings: &str) -> String {
     format!("{text}\n[formulation.{formulation}]\n{settings}\n")
+}
+
+// ---------------------------------------------------------------------------
+// Panics and hangs
+
+/// What broke an assertion of an input (a panic, a hang, a wrong answer).
+pub type Defect = String;
+
+/// An input that takes longer is a hang: a generous bound (inputs take
+/// milliseconds), for detection only, never a measure of speed.
+pub const TIME_BOUND: Duration = Duration::from_secs(30);
+
+/// The text of a panic's payload.
+fn panic_text(p: Box<dyn std::any::Any + Send>) -> String {
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "(no message)".into())
+}
+
+/// `f()`, or the panic it raised as a defect naming `stage`.
+pub fn guarded<T>(stage: &str, f: impl FnOnce() -> T) -> Result<T, Defect> {
+    catch_unwind(AssertUnwindSafe(f)).map_err(|p| format!("panic in {stage}: {}", panic_text(p)))
+}
+
+/// Runs `f` on a thread of its own and waits for it at most
+/// [`TIME_BOUND`]; a longer wait is a hang (the thread is left behind).
+pub fn within_bound<T: Send + 'static>(
+    f: impl FnOnce() -> Result<T, Defect> + Send + 'static,
+) -> Result<T, Defect> {
+    let (tx, rx) = mpsc::channel();
+    let spawned = std::thread::Builder::new()
+        .stack_size(32 << 20)
+        .spawn(move || {
+            let r = guarded("the input's thread", f).and_then(|r| r);
+            let _ = tx.send(r);
+        });
+    if let Err(e) = spawned {
+        return Err(format!("cannot start a thread: {e}"));
+    }
+    match rx.recv_timeout(TIME_BOUND) {
+        Ok(r) => r,
+        Err(RecvTimeoutError::Timeout) => Err(format!("hang: no answer within {TIME_BOUND:?}")),
+        Err(RecvTimeoutError::Disconnected) => Err("the input's thread died".into()),
+    }
+}
+
+// ---------------------------------------------------------------------------
+// LCPs
+
+/// The largest magnitude of `v` (0 when empty).
+pub fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
+}
+
+/// Why `z` does not solve LCP(M, q) (M row-major n×n), or `None` when it
+/// does up to `rel_tol` relative to `s = max(‖q‖∞, ‖M‖∞ ‖z‖∞)`: `z ≥ 0`,
+/// `w ≥ −rel_tol s`, `|zᵀw| ≤ rel_tol s ‖z‖₁`, with `w = M z + q` computed
+/// here, independently of the library's (compensated) `compute_w`.
+pub fn lcp_violation(m: &[f64], q: &[f64], z: &[f64], rel_tol: f64) -> Option<String> {
+    let n = q.len();
+    if z.len() != n || m.len() != n * n {
+        return Some(format!("sizes: z {}, q {n}, M {}", z.len(), m.len()));
+    }
+    let w: Vec<f64> = (0..n)
+        .map(|i| (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>() + q[i])
+        .collect();
+    let s = max_abs(q)
+        .max(max_abs(m) * max_abs(z))
+        .max(f64::MIN_POSITIVE);
+    for (i, (&zi, &wi)) in z.iter().zip(w.iter()).enumerate() {
+        if zi.is_nan() || zi < 0.0 {
+            return Some(format!("z[{i}] = {zi} < 0"));
+        }
+        if wi.is_nan() || wi < -rel_tol * s {
+            return Some(format!("w[{i}] = {wi} < -{rel_tol}*{s}"));
+        }
+    }
+    let ztw: f64 = z.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
+    let z1: f64 = z.iter().sum();
+    if ztw.is_nan() || ztw.abs() > rel_tol * s * z1.max(f64::MIN_POSITIVE) {
+        return Some(format!("zᵀw = {ztw} too large (s = {s}, ‖z‖₁ = {z1})"));
+    }
+    None
 }
 
 // ---------------------------------------------------------------------------

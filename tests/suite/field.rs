@@ -3,6 +3,8 @@
 
 use crate::common::scenario;
 use floebench::geometry::{check_convex_ccw, convex_overlap, Vec2};
+use floebench::model::case::FieldSpec;
+use floebench::model::field::generate_field;
 use floebench::model::Scenario;
 
 fn field(seed: u64, count: usize, concentration: f64) -> Scenario {
@@ -76,5 +78,42 @@ fn field_floes_are_valid_disjoint_and_at_the_target_concentration() {
             (c - conc).abs() < 0.05 * conc,
             "concentration {c} vs {conc}"
         );
+    }
+}
+
+#[test]
+fn the_generator_never_panics_or_hangs_on_regions_the_limits_refuse() {
+    // The case limits refuse these regions before the generator runs; the
+    // generator itself must still end, with a field or an error (a
+    // 1e300 region used to index an empty polygon, field.rs "index out of
+    // bounds", and to hang on 100000 floes).
+    let regions = [
+        [[1000.0, 1000.0], [1e300, 1e300]],
+        [[-1e308, -1e308], [1000.0, 1000.0]],
+        [[-1e308, -1e308], [1e308, 1e308]],
+        [[0.0, 0.0], [1e-300, 1e-300]],
+        [[1e7, 1e7], [1e7 + 4e-9, 1e7 + 4e-9]],
+        [[0.0, 0.0], [1e7, 1e-6]],
+    ];
+    for region in regions {
+        for count in [1, 7, 100, 100_000, usize::MAX] {
+            let spec = FieldSpec {
+                region,
+                count,
+                concentration: 0.5,
+                radius: [0.01, 1e7],
+                sides: [3, 64],
+                thickness: [1.0, 1.0],
+                density: 917.0,
+                velocity: [0.0, 0.0],
+                seed: 3,
+            };
+            if let Ok(floes) = generate_field(&spec, 0) {
+                assert_eq!(floes.len(), count, "{region:?}");
+                for f in &floes {
+                    assert!(f.mass.is_finite() && f.mass > 0.0, "{region:?} {count}");
+                }
+            }
+        }
     }
 }

@@ -4,7 +4,7 @@
 //! every run sees the same problems. Figures (pivots, time) are printed with
 //! `cargo test --release -- --nocapture`.
 
-use crate::common::tempdir;
+use crate::common::{lcp_violation, tempdir};
 use floebench::lcp::{
     compute_w, lemke, residual, solve, solve_with, DumpError, Lcp, LcpDump, LemkeOptions,
     PivotRule, SolveCounters, SolveOptions, SolveStatus, Strategy, Termination, Workspace,
@@ -62,35 +62,12 @@ fn random_q(rng: &mut SplitMix64, n: usize) -> Vec<f64> {
     (0..n).map(|_| rng.range(-1.0, 1.0)).collect()
 }
 
-fn max_abs(v: &[f64]) -> f64 {
-    v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
-}
-
 /// Asserts that `z` solves LCP(M, q) up to a tolerance relative to the
-/// magnitudes in `w = M z + q`.
+/// magnitudes in `w = M z + q` ([`lcp_violation`]).
 fn assert_valid_solution(m: &[f64], q: &[f64], z: &[f64], rel_tol: f64, label: &str) {
-    // w computed here, independently of the library's (compensated) compute_w.
-    let n = q.len();
-    assert_eq!(z.len(), n, "{label}");
-    let w: Vec<f64> = (0..n)
-        .map(|i| (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>() + q[i])
-        .collect();
-    let s = max_abs(q)
-        .max(max_abs(m) * max_abs(z))
-        .max(f64::MIN_POSITIVE);
-    for (i, (&zi, &wi)) in z.iter().zip(w.iter()).enumerate() {
-        assert!(zi >= 0.0, "{label}: z[{i}] = {zi} < 0");
-        assert!(
-            wi >= -rel_tol * s,
-            "{label}: w[{i}] = {wi} < -{rel_tol}*{s}"
-        );
+    if let Some(v) = lcp_violation(m, q, z, rel_tol) {
+        panic!("{label}: {v}");
     }
-    let ztw: f64 = z.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
-    let z1: f64 = z.iter().sum();
-    assert!(
-        ztw.abs() <= rel_tol * s * z1.max(f64::MIN_POSITIVE),
-        "{label}: zᵀw = {ztw} too large (s = {s}, ‖z‖₁ = {z1})"
-    );
 }
 
 /// Dense Gaussian elimination with partial pivoting (test-local reference).

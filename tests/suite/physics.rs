@@ -1,7 +1,7 @@
 //! The floe model, the environment forces and the smooth integrator against
 //! closed forms (docs/physics.md §1, §2 and §4).
 
-use crate::common::{counter, load, run, run_with, scenario};
+use crate::common::{case_text, counter, load, run, run_with, scenario, within_bound};
 use floebench::formulation::FormulationOptions;
 use floebench::geometry::{area_properties, cross, perp, Vec2};
 use floebench::model::{
@@ -10,7 +10,7 @@ use floebench::model::{
 use floebench::physics::{
     air_drag_quadrature, air_velocity, ForceModel, Forces, Quadrature, SmoothIntegrator,
 };
-use floebench::run::RunResult;
+use floebench::run::{EndReason, RunResult};
 use floebench::state::{BodyState, Ledger, System};
 use std::f64::consts::PI;
 
@@ -551,4 +551,34 @@ fn explicit_euler_shows_its_first_order_error() {
         },
     );
     assert_eq!(counter(&r, "integrator_steps"), 200.0);
+}
+
+// ---------------------------------------------------------------------------
+// Negligible water drag (found by the fuzz harness)
+
+/// `cases/free_drift.toml` with a water drag coefficient of `drag`, the
+/// Coriolis force on and one output, at the end.
+fn free_drift_with_water_drag(drag: &str) -> Scenario {
+    let text = case_text("free_drift")
+        .replacen("drag = 5.0e-3", &format!("drag = {drag}"), 1)
+        .replacen("coriolis = 0.0", "coriolis = 1.4e-4", 1)
+        .replacen("output_interval = 100.0", "output_interval = 20000.0", 1);
+    scenario(&text)
+}
+
+#[test]
+fn a_subnormal_water_drag_keeps_the_stability_bound_finite() {
+    // rho_w C_w = 1024 x 5e-324 is subnormal: rho_a C_a / (rho_w C_w)
+    // overflows, and the bound used to come out as 0 s (the event-driven
+    // scheme then stepped by 0 s forever).
+    let scn = free_drift_with_water_drag("5e-324");
+    let env = &scn.environment;
+    let (ka, kw) = (env.air.drag_factor(), env.water.drag_factor());
+    assert!(kw > 0.0 && kw < f64::MIN_POSITIVE, "subnormal: {kw}");
+    let f = &scn.floes[0];
+    let exact = f.surface_density() / (2.0 * 10.0 * ka.sqrt() * kw.sqrt());
+    let bound = scn.euler_stability_bound(0);
+    assert!(rel(bound, exact) < 1e-12, "{bound} against {exact}");
+    let r = within_bound(move || Ok(run(&scn, "event-driven"))).unwrap();
+    assert_eq!(r.summary.end, EndReason::Completed);
 }

@@ -403,7 +403,7 @@ const BAD_PLANS: &[(&str, Option<usize>, &str)] = &[
     (
         "negative_step",
         Some(11),
-        "[formulation.moreau] step = -0.25 must be finite and > 0",
+        "[formulation.moreau] step = -0.25 s must be finite and >= 1e-6 s",
     ),
     (
         "negative_distance",

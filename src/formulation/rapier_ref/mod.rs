@@ -134,6 +134,7 @@
 mod convert;
 
 use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
+use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{ForceModel, Forces};
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
@@ -223,7 +224,55 @@ pub const ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "rapier",
     validate: |t| RapierSettings::from_table(t).map(|_| ()),
+    limits: &[
+        STEP,
+        ITERATIONS,
+        NATURAL_FREQUENCY,
+        DAMPING_RATIO,
+        PREDICTION,
+    ],
 };
+
+/// The bound of `iterations`.
+pub const ITERATIONS: Limit = Limit::range(
+    "iterations",
+    "[formulation.rapier]",
+    1.0,
+    1000.0,
+    "",
+    "rapier's examples use up to a few dozen; 1000 substeps cost 250 times the default",
+)
+.integers();
+
+/// The bound of `natural_frequency`, Hz.
+pub const NATURAL_FREQUENCY: Limit = Limit::range(
+    "natural_frequency",
+    "[formulation.rapier]",
+    1e-6,
+    1e6,
+    "Hz",
+    "a contact spring from one cycle in 12 days to a megahertz, far past what any step resolves",
+);
+
+/// The bound of `damping_ratio`.
+pub const DAMPING_RATIO: Limit = Limit::range(
+    "damping_ratio",
+    "[formulation.rapier]",
+    1e-3,
+    1e3,
+    "",
+    "from nearly undamped to a thousand times critical",
+);
+
+/// The bound of `prediction`, m.
+pub const PREDICTION: Limit = Limit::range(
+    "prediction",
+    "[formulation.rapier]",
+    0.0,
+    1e3,
+    "m",
+    "a speculative contact distance is a fraction of a floe; 1 km already pairs most floes of a field",
+).exclusive_min();
 
 /// Settings of the rapier reference formulation (`[formulation.rapier]`).
 ///
@@ -293,13 +342,11 @@ impl RapierSettings {
         let d = RapierSettings::default();
         let mut r = t.read();
         let s = RapierSettings {
-            step: r.positive("step")?.unwrap_or(d.step),
-            iterations: r
-                .integer_at_least("iterations", 1)?
-                .map_or(d.iterations, |n| n as usize),
-            natural_frequency: r.positive("natural_frequency")?,
-            damping_ratio: r.positive("damping_ratio")?.unwrap_or(d.damping_ratio),
-            prediction: r.positive("prediction")?,
+            step: r.step(&STEP)?.unwrap_or(d.step),
+            iterations: r.integer(&ITERATIONS)?.map_or(d.iterations, |n| n as usize),
+            natural_frequency: r.bounded(&NATURAL_FREQUENCY)?,
+            damping_ratio: r.bounded(&DAMPING_RATIO)?.unwrap_or(d.damping_ratio),
+            prediction: r.bounded(&PREDICTION)?,
         };
         r.finish()?;
         Ok(s)

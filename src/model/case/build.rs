@@ -9,8 +9,9 @@ use super::spec::{
     ObstacleSpec,
 };
 use super::{CaseError, Ctx};
-use crate::geometry::{check_convex_ccw, Vec2};
+use crate::geometry::{area_properties, check_convex_ccw, radius_about, Vec2};
 use crate::model::field::generate_field;
+use crate::model::limits::{self, check_count, Limit};
 use crate::model::settings::{SettingsTable, TableSpec};
 use crate::model::{
     ContactLaw, Environment, Floe, FloeOrigin, Fluid, IntegratorKind, IntegratorSettings, Obstacle,
@@ -30,16 +31,24 @@ pub(super) fn build(
     case: CaseFile,
     tables: &[TableSpec],
 ) -> Result<Scenario, CaseError> {
+    let hspan = case.case.span();
     let header = header(ctx, case.case)?;
     let environment = environment(ctx, case.environment)?;
     let contact = contact(ctx, case.contact)?;
     let (mut floes, floe_spans) = floes(ctx, case.floe)?;
     let (obstacles, obstacle_spans) = obstacles(ctx, case.obstacle)?;
+    // Every field's numbers, the number of floes and the memory of a run
+    // are checked before any field is generated.
+    for (k, spec) in case.field.iter().enumerate() {
+        validate_field(ctx, &spec.span(), k, spec.get_ref())?;
+    }
+    let total = floe_total(ctx, floes.len(), &case.field)?;
+    check_memory(ctx, &hspan, &header, total)?;
     // Listed floes must not overlap each other or an obstacle.
     check_overlaps(ctx, &floes, &floe_spans, &obstacles, &obstacle_spans)?;
     fields(ctx, case.field, &mut floes, &obstacles)?;
-    let formulation_settings = formulation_tables(ctx, case.formulation, tables)?;
-    let integrator = integrator(ctx, case.integrator)?;
+    let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
+    let integrator = integrator(ctx, case.integrator, header.duration)?;
     Ok(Scenario {
         name: header.name,
         description: header.description,
@@ -75,26 +84,26 @@ fn header(ctx: &Ctx, spec: Spanned<CaseHeader>) -> Result<CaseHeader, CaseError>
             ),
         ));
     }
-    if !(header.duration.is_finite() && header.duration > 0.0) {
-        return Err(ctx.key_err(
-            &hspan,
-            "duration",
-            format!(
-                "[case] duration = {} s must be finite and > 0",
-                header.duration
-            ),
-        ));
-    }
-    if !(header.output_interval.is_finite() && header.output_interval > 0.0) {
-        return Err(ctx.key_err(
-            &hspan,
-            "output_interval",
-            format!(
-                "[case] output_interval = {} s must be finite and > 0",
-                header.output_interval
-            ),
-        ));
-    }
+    ctx.at(
+        &hspan,
+        "duration",
+        limits::DURATION.check("[case] duration", header.duration),
+    )?;
+    ctx.at(
+        &hspan,
+        "output_interval",
+        limits::OUTPUT_INTERVAL.check("[case] output_interval", header.output_interval),
+    )?;
+    ctx.at(
+        &hspan,
+        "output_interval",
+        check_count(
+            &limits::OUTPUTS,
+            "[case] output_interval",
+            header.output_interval,
+            header.duration,
+        ),
+    )?;
     Ok(header)
 }
 
@@ -105,13 +114,11 @@ fn environment(ctx: &Ctx, spec: Option<Spanned<EnvSpec>>) -> Result<Environment,
         Some(env) => {
             let span = env.span();
             let env = env.into_inner();
-            if !env.coriolis.is_finite() {
-                return Err(ctx.key_err(
-                    &span,
-                    "coriolis",
-                    "[environment] coriolis must be finite",
-                ));
-            }
+            ctx.at(
+                &span,
+                "coriolis",
+                limits::CORIOLIS.check("[environment] coriolis", env.coriolis),
+            )?;
             Environment {
                 coriolis: env.coriolis,
                 air: fluid(ctx, &span, "air", env.air)?,
@@ -125,35 +132,14 @@ fn environment(ctx: &Ctx, spec: Option<Spanned<EnvSpec>>) -> Result<Environment,
 fn contact(ctx: &Ctx, spec: Spanned<ContactSpec>) -> Result<ContactLaw, CaseError> {
     let cspan = spec.span();
     let c = spec.into_inner();
-    if !(0.0..=1.0).contains(&c.restitution) {
-        return Err(ctx.key_err(
-            &cspan,
-            "restitution",
-            format!(
-                "[contact] restitution = {} must be in [0, 1]",
-                c.restitution
-            ),
-        ));
-    }
-    if !(c.friction.is_finite() && c.friction >= 0.0) {
-        return Err(ctx.key_err(
-            &cspan,
-            "friction",
-            format!(
-                "[contact] friction = {} must be finite and >= 0",
-                c.friction
-            ),
-        ));
-    }
-    if !(c.distance.is_finite() && c.distance >= 0.0) {
-        return Err(ctx.key_err(
-            &cspan,
-            "distance",
-            format!(
-                "[contact] distance = {} m must be finite and >= 0",
-                c.distance
-            ),
-        ));
+    let rules = [
+        (&limits::RESTITUTION, c.restitution),
+        (&limits::FRICTION, c.friction),
+        (&limits::CONTACT_DISTANCE, c.distance),
+    ];
+    for (limit, v) in rules {
+        let name = format!("[contact] {}", limit.key);
+        ctx.at(&cspan, limit.key, limit.check(&name, v))?;
     }
     Ok(ContactLaw {
         restitution: c.restitution,
@@ -171,40 +157,23 @@ fn floes(ctx: &Ctx, specs: Vec<Spanned<FloeSpec>>) -> Result<WithSpans<Floe>, Ca
         let f = spec.into_inner();
         let what = format!("[[floe]] #{i}");
         let poly = polygon(ctx, &span, &what, &f.polygon)?;
-        if !(f.thickness.is_finite() && f.thickness > 0.0) {
-            return Err(ctx.key_err(
+        let rules = [
+            (&limits::THICKNESS, f.thickness),
+            (&limits::DENSITY, f.density),
+            (&limits::ANGULAR_VELOCITY, f.angular_velocity),
+        ];
+        for (limit, v) in rules {
+            ctx.at(
                 &span,
-                "thickness",
-                format!(
-                    "{what}: thickness = {} m must be finite and > 0",
-                    f.thickness
-                ),
-            ));
+                limit.key,
+                limit.check(&format!("{what}: {}", limit.key), v),
+            )?;
         }
-        if !(f.density.is_finite() && f.density > 0.0) {
-            return Err(ctx.key_err(
-                &span,
-                "density",
-                format!(
-                    "{what}: density = {} kg/m^3 must be finite and > 0",
-                    f.density
-                ),
-            ));
-        }
-        if !finite2(f.velocity) {
-            return Err(ctx.key_err(
-                &span,
-                "velocity",
-                format!("{what}: velocity must be finite"),
-            ));
-        }
-        if !f.angular_velocity.is_finite() {
-            return Err(ctx.key_err(
-                &span,
-                "angular_velocity",
-                format!("{what}: angular_velocity must be finite"),
-            ));
-        }
+        ctx.at(
+            &span,
+            "velocity",
+            limits::SPEED.check_vector(&format!("{what}: velocity"), f.velocity),
+        )?;
         floes.push(Floe::from_world_polygon(
             &poly,
             f.thickness,
@@ -251,7 +220,6 @@ fn fields(
     for (k, spec) in specs.into_iter().enumerate() {
         let span = spec.span();
         let spec = spec.into_inner();
-        validate_field(ctx, &span, k, &spec)?;
         let generated = generate_field(&spec, k)
             .map_err(|e| ctx.err(Some(span.clone()), format!("[[field]] #{k}: {e}")))?;
         // A field floe must not overlap a listed floe or an obstacle.
@@ -270,6 +238,7 @@ fn formulation_tables(
     ctx: &Ctx,
     spec: Option<Spanned<BTreeMap<String, Spanned<toml::Table>>>>,
     tables: &[TableSpec],
+    duration: f64,
 ) -> Result<BTreeMap<String, SettingsTable>, CaseError> {
     let mut formulation_settings = BTreeMap::new();
     if let Some(spec) = spec {
@@ -309,6 +278,7 @@ fn formulation_tables(
                 ctx.file.to_path_buf(),
                 Some(ctx.line_of(span.start)),
                 key_lines,
+                Some(duration),
             );
             (owner.validate)(&t)?;
             formulation_settings.insert(name, t);
@@ -317,10 +287,12 @@ fn formulation_tables(
     Ok(formulation_settings)
 }
 
-/// `[integrator]` (optional): method, tolerance, largest step.
+/// `[integrator]` (optional): method, tolerance, largest step (which also
+/// bounds the number of steps over `duration`, s).
 fn integrator(
     ctx: &Ctx,
     spec: Option<Spanned<IntegratorSpec>>,
+    duration: f64,
 ) -> Result<IntegratorSettings, CaseError> {
     let mut integrator = IntegratorSettings::default();
     if let Some(spec) = spec {
@@ -332,39 +304,24 @@ fn integrator(
                 .map_err(|e| ctx.key_err(&span, "method", format!("[integrator] {e}")))?;
         }
         if let Some(tol) = spec.tolerance {
-            if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
-                return Err(ctx.key_err(
-                    &span,
-                    "tolerance",
-                    format!("[integrator] tolerance = {tol} must be in (0, 1)"),
-                ));
-            }
-            integrator.tolerance = tol;
+            integrator.tolerance = ctx.at(
+                &span,
+                "tolerance",
+                limits::TOLERANCE.check("[integrator] tolerance", tol),
+            )?;
         }
         if let Some(h) = spec.max_step {
-            positive(ctx, &span, "integrator", "max_step", h)?;
+            let name = "[integrator] max_step";
+            ctx.at(&span, "max_step", limits::STEP.check(name, h))?;
+            ctx.at(
+                &span,
+                "max_step",
+                check_count(&limits::STEPS, name, h, duration),
+            )?;
             integrator.max_step = Some(h);
         }
     }
     Ok(integrator)
-}
-
-fn positive(
-    ctx: &Ctx,
-    span: &Range<usize>,
-    table: &str,
-    key: &str,
-    v: f64,
-) -> Result<(), CaseError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(())
-    } else {
-        Err(ctx.key_err(
-            span,
-            key,
-            format!("[{table}] {key} = {v} must be finite and > 0"),
-        ))
-    }
 }
 
 fn fluid(
@@ -376,25 +333,9 @@ fn fluid(
     let Some(f) = spec else {
         return Ok(Fluid::none());
     };
-    if !(f.density.is_finite() && f.density >= 0.0) {
-        return Err(ctx.key_err(
-            span,
-            which,
-            format!(
-                "[environment] {which}.density = {} must be finite and >= 0",
-                f.density
-            ),
-        ));
-    }
-    if !(f.drag.is_finite() && f.drag >= 0.0) {
-        return Err(ctx.key_err(
-            span,
-            which,
-            format!(
-                "[environment] {which}.drag = {} must be finite and >= 0",
-                f.drag
-            ),
-        ));
+    for (limit, v) in [(&limits::FLUID_DENSITY, f.density), (&limits::DRAG, f.drag)] {
+        let name = format!("[environment] {which}.{}", limit.key);
+        ctx.at(span, which, limit.check(&name, v))?;
     }
     let velocity = match (f.velocity, f.series) {
         (Some(_), Some(_)) => {
@@ -405,13 +346,8 @@ fn fluid(
             ))
         }
         (Some(v), None) => {
-            if !finite2(v) {
-                return Err(ctx.key_err(
-                    span,
-                    which,
-                    format!("[environment] {which}.velocity must be finite"),
-                ));
-            }
+            let name = format!("[environment] {which}.velocity");
+            ctx.at(span, which, limits::FLUID_SPEED.check_vector(&name, v))?;
             VelocitySeries::Constant(vec2(v))
         }
         (None, Some(series)) => {
@@ -424,13 +360,17 @@ fn fluid(
             }
             let mut points = Vec::with_capacity(series.len());
             for (k, p) in series.iter().enumerate() {
-                if !p.iter().all(|x| x.is_finite()) {
-                    return Err(ctx.key_err(
-                        span,
-                        which,
-                        format!("[environment] {which}.series point {k} is not finite"),
-                    ));
-                }
+                let name = format!("[environment] {which}.series point {k}");
+                ctx.at(
+                    span,
+                    which,
+                    limits::SERIES_TIME.check(&format!("{name}: t"), p[0]),
+                )?;
+                ctx.at(
+                    span,
+                    which,
+                    limits::FLUID_SPEED.check_vector(&format!("{name}: velocity"), [p[1], p[2]]),
+                )?;
                 if k > 0 && p[0] <= series[k - 1][0] {
                     return Err(ctx.key_err(
                         span,
@@ -461,12 +401,28 @@ fn polygon(
     what: &str,
     pts: &[[f64; 2]],
 ) -> Result<Vec<Vec2>, CaseError> {
+    // The count first: the convexity test is quadratic in the vertices.
+    ctx.at(
+        span,
+        "polygon",
+        limits::VERTICES.check_integer(&format!("{what}: polygon vertices"), pts.len() as i128),
+    )?;
+    for (k, p) in pts.iter().enumerate() {
+        for (axis, v) in ["x", "y"].iter().zip(p) {
+            let name = format!("{what}: polygon vertex {k}: {axis}");
+            ctx.at(span, "polygon", limits::COORDINATE.check(&name, *v))?;
+        }
+    }
     let poly: Vec<Vec2> = pts.iter().map(|p| vec2(*p)).collect();
     check_convex_ccw(&poly)
         .map_err(|e| ctx.key_err(span, "polygon", format!("{what}: polygon: {e}")))?;
+    let r = radius_about(&poly, &area_properties(&poly).centroid);
+    let name = format!("{what}: polygon circumradius");
+    ctx.at(span, "polygon", limits::RADIUS.check(&name, r))?;
     Ok(poly)
 }
 
+/// The numbers of a `[[field]]` table, each within its limit.
 fn validate_field(
     ctx: &Ctx,
     span: &Range<usize>,
@@ -474,59 +430,139 @@ fn validate_field(
     f: &FieldSpec,
 ) -> Result<(), CaseError> {
     let what = format!("[[field]] #{k}");
+    let named = |key: &str| format!("{what}: {key}");
+    for (c, corner) in f.region.iter().enumerate() {
+        for (axis, v) in ["x", "y"].iter().zip(corner) {
+            let name = named(&format!("region corner {c}: {axis}"));
+            ctx.at(span, "region", limits::COORDINATE.check(&name, *v))?;
+        }
+    }
     let [lo, hi] = f.region;
-    if !(finite2(lo) && finite2(hi) && lo[0] < hi[0] && lo[1] < hi[1]) {
+    if !(lo[0] < hi[0] && lo[1] < hi[1]) {
         return Err(ctx.key_err(
             span,
             "region",
             format!("{what}: region must be [[xmin, ymin], [xmax, ymax]] with min < max"),
         ));
     }
-    if f.count == 0 {
-        return Err(ctx.key_err(span, "count", format!("{what}: count must be >= 1")));
+    ctx.at(
+        span,
+        "count",
+        limits::FLOES.check_integer(&named("count"), f.count as i128),
+    )?;
+    ctx.at(
+        span,
+        "concentration",
+        limits::CONCENTRATION.check(&named("concentration"), f.concentration),
+    )?;
+    let sides = f.sides.map(|n| n as f64);
+    ordered_pair(ctx, span, &what, "radius", &limits::RADIUS, f.radius)?;
+    ordered_pair(ctx, span, &what, "sides", &limits::VERTICES, sides)?;
+    ordered_pair(
+        ctx,
+        span,
+        &what,
+        "thickness",
+        &limits::THICKNESS,
+        f.thickness,
+    )?;
+    ctx.at(
+        span,
+        "density",
+        limits::DENSITY.check(&named("density"), f.density),
+    )?;
+    ctx.at(
+        span,
+        "velocity",
+        limits::SPEED.check_vector(&named("velocity"), f.velocity),
+    )?;
+    Ok(())
+}
+
+/// A range `[min, max]` of a field (`key`: `radius`, `sides`, `thickness`):
+/// both ends within `limit`, `min <= max`.
+fn ordered_pair(
+    ctx: &Ctx,
+    span: &Range<usize>,
+    what: &str,
+    key: &str,
+    limit: &Limit,
+    pair: [f64; 2],
+) -> Result<(), CaseError> {
+    for (end, v) in ["min", "max"].iter().zip(pair) {
+        let name = format!("{what}: {key} {end}");
+        let checked = if limit.integer {
+            limit.check_integer(&name, v as i128).map(|_| v)
+        } else {
+            limit.check(&name, v)
+        };
+        ctx.at(span, key, checked)?;
     }
-    if !(f.concentration > 0.0 && f.concentration <= 0.9) {
+    if pair[0] > pair[1] {
         return Err(ctx.key_err(
             span,
-            "concentration",
-            format!(
-                "{what}: concentration = {} must be in (0, 0.9]",
-                f.concentration
-            ),
+            key,
+            format!("{what}: {key} must be [min, max] with min <= max"),
         ));
-    }
-    if !(finite2(f.radius) && f.radius[0] > 0.0 && f.radius[0] <= f.radius[1]) {
-        return Err(ctx.key_err(
-            span,
-            "radius",
-            format!("{what}: radius must be [min, max] with 0 < min <= max (m)"),
-        ));
-    }
-    if !(f.sides[0] >= 3 && f.sides[0] <= f.sides[1] && f.sides[1] <= 64) {
-        return Err(ctx.key_err(
-            span,
-            "sides",
-            format!("{what}: sides must be [min, max] with 3 <= min <= max <= 64"),
-        ));
-    }
-    if !(finite2(f.thickness) && f.thickness[0] > 0.0 && f.thickness[0] <= f.thickness[1]) {
-        return Err(ctx.key_err(
-            span,
-            "thickness",
-            format!("{what}: thickness must be [min, max] with 0 < min <= max (m)"),
-        ));
-    }
-    if !(f.density.is_finite() && f.density > 0.0) {
-        return Err(ctx.key_err(span, "density", format!("{what}: density must be > 0")));
-    }
-    if !finite2(f.velocity) {
-        return Err(ctx.key_err(span, "velocity", format!("{what}: velocity must be finite")));
     }
     Ok(())
 }
 
-fn finite2(v: [f64; 2]) -> bool {
-    v[0].is_finite() && v[1].is_finite()
+/// The number of floes of the case, listed and generated, within the limit
+/// (checked before any field is generated); the error names the field that
+/// goes over.
+fn floe_total(ctx: &Ctx, listed: usize, fields: &[Spanned<FieldSpec>]) -> Result<usize, CaseError> {
+    let listed_name = "the listed [[floe]] tables";
+    if listed > 0 {
+        limits::FLOES
+            .check_integer(listed_name, listed as i128)
+            .map_err(|m| ctx.err(None, m))?;
+    }
+    let mut total = listed as i128;
+    for (k, spec) in fields.iter().enumerate() {
+        let count = spec.get_ref().count;
+        total += count as i128;
+        if !limits::FLOES.admits(total as f64) {
+            return Err(ctx.key_err(
+                &spec.span(),
+                "count",
+                format!(
+                    "[[field]] #{k}: count = {count} brings the case to {total} floes, above the limit of {} floes: {}",
+                    limits::show(limits::FLOES.max),
+                    limits::FLOES.why
+                ),
+            ));
+        }
+    }
+    Ok(total as usize)
+}
+
+/// The memory a run of the case needs, estimated before any field is
+/// generated ([`limits::run_memory_bytes`]), within [`limits::RUN_BYTES`];
+/// the error points at the output interval.
+fn check_memory(
+    ctx: &Ctx,
+    hspan: &Range<usize>,
+    header: &CaseHeader,
+    floes: usize,
+) -> Result<(), CaseError> {
+    let outputs = limits::output_count(header.duration, header.output_interval);
+    let bytes = limits::run_memory_bytes(floes as f64, outputs);
+    if limits::RUN_BYTES.admits(bytes) {
+        return Ok(());
+    }
+    Err(ctx.key_err(
+        hspan,
+        "output_interval",
+        format!(
+            "[case] output_interval = {} s: {} outputs of {floes} floes need about {} of memory, above the limit of {}: {}; use a larger output_interval or fewer floes",
+            limits::show(header.output_interval),
+            limits::show(outputs),
+            limits::show_bytes(bytes),
+            limits::show_bytes(limits::RUN_BYTES.max),
+            limits::RUN_BYTES.why
+        ),
+    ))
 }
 
 fn vec2(v: [f64; 2]) -> Vec2 {

@@ -16,6 +16,7 @@ mod spec;
 
 pub use spec::FieldSpec;
 
+use super::limits;
 use super::settings::TableSpec;
 use super::Scenario;
 use build::build;
@@ -85,8 +86,36 @@ impl Ctx<'_> {
                 span,
                 format!("{message} `{key}` (each key and table is written once)"),
             ),
-            None => self.err(span, message),
+            None => match span.as_ref().and_then(|s| self.key_at(s.start)) {
+                // Name the key when serde's message does not (`invalid length 3`).
+                Some(key) if !message.contains(&format!("`{key}`")) => {
+                    self.err(span, format!("`{key}`: {message}"))
+                }
+                _ => self.err(span, message),
+            },
         }
+    }
+
+    /// `r`, or its message as the error at the line of `key` inside `span`:
+    /// the one way a refused value (a [`crate::model::limits::Limit`]'s
+    /// check) becomes a located error.
+    fn at<T>(&self, span: &Range<usize>, key: &str, r: Result<T, String>) -> Result<T, CaseError> {
+        r.map_err(|m| self.key_err(span, key, m))
+    }
+
+    /// The key written at the start of the line holding `offset`
+    /// (`polygon` for `polygon = [[0, 0], …]`), if any.
+    fn key_at(&self, offset: usize) -> Option<&str> {
+        let offset = offset.min(self.text.len());
+        let start = self.text[..offset].rfind('\n').map_or(0, |i| i + 1);
+        let line = self.text[start..].lines().next().unwrap_or("");
+        let (key, _) = line.split_once('=')?;
+        let key = key.trim();
+        let bare = !key.is_empty()
+            && key
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        bare.then_some(key)
     }
 
     /// The line where `key` is written inside `span`, if it can be found.
@@ -145,6 +174,10 @@ fn contains_key(line: &str, key: &str) -> bool {
 /// checked by the parser in `tables` that has its name (an unknown table is
 /// an error). [`crate::formulation::load_case`] passes the registry's.
 pub fn load_case_with(path: &Path, tables: &[TableSpec]) -> Result<Scenario, CaseError> {
+    // The size first: the file is read whole.
+    if let Ok(meta) = std::fs::metadata(path) {
+        check_size(path, meta.len())?;
+    }
     let text = std::fs::read_to_string(path).map_err(|e| CaseError {
         file: path.to_path_buf(),
         line: None,
@@ -161,12 +194,25 @@ pub fn parse_case_with(
     file: &Path,
     tables: &[TableSpec],
 ) -> Result<Scenario, CaseError> {
+    check_size(file, text.len() as u64)?;
     let ctx = Ctx { file, text };
     // Syntax first, then the version, before any typed rule.
     let raw: toml::Table = toml::from_str(text).map_err(|e| ctx.toml_err(&e))?;
     check_version(&ctx, &raw)?;
     let case: CaseFile = toml::from_str(text).map_err(|e| ctx.toml_err(&e))?;
     build(&ctx, case, tables)
+}
+
+/// A case file of `bytes` within [`limits::FILE_BYTES`].
+fn check_size(file: &Path, bytes: u64) -> Result<(), CaseError> {
+    limits::FILE_BYTES
+        .check_integer("the case file's size", i128::from(bytes))
+        .map(|_| ())
+        .map_err(|message| CaseError {
+            file: file.to_path_buf(),
+            line: None,
+            message,
+        })
 }
 
 fn check_version(ctx: &Ctx, raw: &toml::Table) -> Result<(), CaseError> {

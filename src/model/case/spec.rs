@@ -2,9 +2,63 @@
 //! keys are errors everywhere; the values are checked by [`super::build`].
 
 use crate::model::DEFAULT_ICE_DENSITY;
-use serde::Deserialize;
+use serde::{Deserialize, Deserializer};
 use std::collections::BTreeMap;
 use toml::Spanned;
+
+/// An array of exactly `N` values: serde alone would take the first `N` of
+/// a longer array (a vertex `[0.0, 5.0, 7.0]` read as `[0.0, 5.0]`).
+struct Exact<T, const N: usize>([T; N]);
+
+impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for Exact<T, N> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct Expect(usize);
+        impl serde::de::Expected for Expect {
+            fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                write!(f, "an array of exactly {} values", self.0)
+            }
+        }
+        let v = Vec::<T>::deserialize(d)?;
+        let n = v.len();
+        <[T; N]>::try_from(v)
+            .map(Exact)
+            .map_err(|_| serde::de::Error::invalid_length(n, &Expect(N)))
+    }
+}
+
+/// `[a, b, …]` of exactly `N` values.
+fn exact<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+    d: D,
+) -> Result<[T; N], D::Error> {
+    Exact::<T, N>::deserialize(d).map(|e| e.0)
+}
+
+/// An optional `[a, b, …]` of exactly `N` values.
+fn exact_opt<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+    d: D,
+) -> Result<Option<[T; N]>, D::Error> {
+    Option::<Exact<T, N>>::deserialize(d).map(|e| e.map(|e| e.0))
+}
+
+/// A list of `[a, b, …]`, each of exactly `N` values (polygons, series).
+fn exact_list<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+    d: D,
+) -> Result<Vec<[T; N]>, D::Error> {
+    Vec::<Exact<T, N>>::deserialize(d).map(|v| v.into_iter().map(|e| e.0).collect())
+}
+
+/// An optional list of `[a, b, …]`, each of exactly `N` values.
+fn exact_opt_list<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
+    d: D,
+) -> Result<Option<Vec<[T; N]>>, D::Error> {
+    Option::<Vec<Exact<T, N>>>::deserialize(d)
+        .map(|v| v.map(|v| v.into_iter().map(|e| e.0).collect()))
+}
+
+/// A box `[[xmin, ymin], [xmax, ymax]]`, each array of exactly 2 values.
+fn exact_box<'de, D: Deserializer<'de>>(d: D) -> Result<[[f64; 2]; 2], D::Error> {
+    Exact::<Exact<f64, 2>, 2>::deserialize(d).map(|e| e.0.map(|p| p.0))
+}
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -48,7 +102,9 @@ pub(super) struct EnvSpec {
 pub(super) struct FluidSpec {
     pub(super) density: f64,
     pub(super) drag: f64,
+    #[serde(default, deserialize_with = "exact_opt")]
     pub(super) velocity: Option<[f64; 2]>,
+    #[serde(default, deserialize_with = "exact_opt_list")]
     pub(super) series: Option<Vec<[f64; 3]>>,
 }
 
@@ -64,11 +120,12 @@ pub(super) struct ContactSpec {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct FloeSpec {
+    #[serde(deserialize_with = "exact_list")]
     pub(super) polygon: Vec<[f64; 2]>,
     pub(super) thickness: f64,
     #[serde(default = "default_density")]
     pub(super) density: f64,
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub(super) velocity: [f64; 2],
     #[serde(default)]
     pub(super) angular_velocity: f64,
@@ -81,6 +138,7 @@ fn default_density() -> f64 {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct ObstacleSpec {
+    #[serde(deserialize_with = "exact_list")]
     pub(super) polygon: Vec<[f64; 2]>,
 }
 
@@ -89,22 +147,26 @@ pub(super) struct ObstacleSpec {
 #[serde(deny_unknown_fields)]
 pub struct FieldSpec {
     /// Axis-aligned box `[[xmin, ymin], [xmax, ymax]]`, m.
+    #[serde(deserialize_with = "exact_box")]
     pub region: [[f64; 2]; 2],
     /// Number of floes.
     pub count: usize,
     /// Target area fraction in (0, 0.9].
     pub concentration: f64,
     /// Circumradius range `[min, max]`, m.
+    #[serde(deserialize_with = "exact")]
     pub radius: [f64; 2],
     /// Vertices per polygon `[min, max]`.
+    #[serde(deserialize_with = "exact")]
     pub sides: [usize; 2],
     /// Thickness range `[min, max]`, m; each floe's is uniform in it.
+    #[serde(deserialize_with = "exact")]
     pub thickness: [f64; 2],
     /// Density, kg/m³ (default 917).
     #[serde(default = "default_density")]
     pub density: f64,
     /// Initial velocity of every floe, m/s (default `[0, 0]`).
-    #[serde(default)]
+    #[serde(default, deserialize_with = "exact")]
     pub velocity: [f64; 2],
     /// Seed of the generator: same seed, same field.
     pub seed: u64,
