@@ -15,6 +15,7 @@ mod event_driven;
 mod field;
 mod lemke;
 mod moreau;
+mod output_interval;
 mod physics;
 mod plot;
 mod rapier;
