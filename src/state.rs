@@ -182,9 +182,19 @@ pub fn body_point_velocity(scn: &Scenario, bodies: &[BodyState], i: usize, p: &V
 /// Normal relative velocity of a contact, `(v_b − v_a) · N` at the contact
 /// point (m/s; positive: separating).
 pub fn normal_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64 {
-    (body_point_velocity(scn, bodies, c.b, &c.geom.point)
-        - body_point_velocity(scn, bodies, c.a, &c.geom.point))
-    .dot(&c.geom.normal)
+    relative_velocity(scn, bodies, c).dot(&c.geom.normal)
+}
+
+/// Tangential relative velocity of a contact, `(v_b − v_a) · T` at the
+/// contact point (m/s, along the contact's tangent).
+pub fn tangential_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> f64 {
+    relative_velocity(scn, bodies, c).dot(&c.geom.tangent)
+}
+
+/// `v_b − v_a` at the contact point, m/s.
+fn relative_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> Vec2 {
+    body_point_velocity(scn, bodies, c.b, &c.geom.point)
+        - body_point_velocity(scn, bodies, c.a, &c.geom.point)
 }
 
 /// Makes `bodies` (one per floe, e.g. an earlier run's state read by

@@ -297,6 +297,18 @@ impl ContactLcp {
             .collect()
     }
 
+    /// The tangential compliance of contact `j`: the change of its
+    /// tangential relative velocity per unit tangential impulse at it,
+    /// `T_jᵀ M⁻¹ T_j` over the floes of the group (1/kg; 0 without
+    /// friction).
+    pub fn tangential_compliance(&self, j: usize) -> f64 {
+        if !self.friction {
+            return 0.0;
+        }
+        let (n, r) = (self.lcp.n, self.m + 2 * j);
+        self.lcp.m[r * n + r] * self.scale
+    }
+
     /// The frictionless sub-problem (normal block only), for the last resort
     /// when the frictional LCP cannot be solved.
     pub fn frictionless(&self) -> ContactLcp {

@@ -3,10 +3,20 @@
 //! through each other and through obstacles. It checks free drift
 //! (docs/physics.md §2.2) before any contact solver is involved, and is the
 //! smooth part every other formulation must reproduce between impacts.
+//!
+//! **Steps.** It steps on a grid of its own, the steps of
+//! [`SmoothIntegrator::step_bound`] (the drag time scale, a quarter of the
+//! smallest radius of travel, the forcing kinks, the end of the run): the
+//! same grid as the event-driven scheme between impacts; with explicit
+//! Euler, the grid `k h` of the Euler step ([`SmoothIntegrator::euler_step`])
+//! so that every Euler step is `h`. The state at an output time inside a
+//! step is that step's exact continuation
+//! ([`SmoothIntegrator::continuation`]), so what is saved never changes the
+//! trajectory.
 
-use super::{Entry, Formulation, FormulationError, FormulationOptions};
+use super::{reported_state, Entry, Formulation, FormulationError, FormulationOptions, OwnState};
 use crate::model::Scenario;
-use crate::physics::SmoothIntegrator;
+use crate::physics::{SmoothIntegrator, StepRecord};
 use crate::record::{Counters, Settings, Stage, StageClock};
 use crate::state::System;
 
@@ -25,6 +35,12 @@ pub const ENTRY: Entry = Entry {
 #[derive(Debug)]
 pub struct FreeDrift {
     integrator: SmoothIntegrator,
+    own: OwnState,
+    /// The last step taken (reported states inside it are its continuation).
+    last: Option<StepRecord>,
+    /// With explicit Euler: where the grid `base + k h` starts (s) and the
+    /// steps taken on it.
+    grid: (f64, u64),
 }
 
 impl FreeDrift {
@@ -32,6 +48,9 @@ impl FreeDrift {
     pub fn new(scn: &Scenario, opts: &FormulationOptions) -> FreeDrift {
         FreeDrift {
             integrator: SmoothIntegrator::new(scn, opts.integrator),
+            own: OwnState::default(),
+            last: None,
+            grid: (0.0, 0),
         }
     }
 }
@@ -44,12 +63,46 @@ impl Formulation for FreeDrift {
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        let t0 = sys.t;
-        let integrator = &mut self.integrator;
-        clock.time(Stage::Integration, || {
-            integrator.advance_all(scn, &mut sys.bodies, &mut sys.ledger, t0, t_end)
-        })?;
-        sys.t = t_end;
+        let (mut cur, fresh) = self.own.resume(sys);
+        if fresh {
+            self.last = None;
+            self.grid = (cur.t, 0);
+        }
+        let end = scn.duration.max(t_end);
+        let integ = &mut self.integrator;
+        let last = &mut self.last;
+        let grid = &mut self.grid;
+        let out = clock.time(
+            Stage::Integration,
+            || -> Result<System, FormulationError> {
+                while cur.t < t_end {
+                    let t1 = match integ.euler_step() {
+                        Some(h) => {
+                            grid.1 += 1;
+                            (grid.0 + grid.1 as f64 * h).min(end)
+                        }
+                        None => {
+                            let h = integ.step_bound(scn, &cur, end);
+                            if h >= end - cur.t {
+                                end
+                            } else {
+                                cur.t + h
+                            }
+                        }
+                    };
+                    let hints = integ.hints().to_vec();
+                    let next = integ.advance_system(scn, &cur, t1, &[], None)?;
+                    *last = Some(StepRecord {
+                        start: std::mem::replace(&mut cur, next),
+                        wrenches: Vec::new(),
+                        hints,
+                    });
+                }
+                reported_state(integ, scn, &cur, last.as_ref(), t_end)
+            },
+        )?;
+        self.own.keep(cur);
+        self.own.report(sys, out, t_end);
         Ok(())
     }
 

@@ -15,6 +15,17 @@
 //! `Formulation` implementation and its `pub const ENTRY: Entry`), declare
 //! it with `pub mod`, and add one line to [`REGISTRY`]. Run labels come
 //! from the entry, not from the instance.
+//!
+//! **Output times do not change the dynamics.** Every formulation steps on
+//! a grid of its own, set by its scheme alone, and keeps its state on that
+//! grid ([`OwnState`]); the state it reports at an output time is produced
+//! without perturbing the grid. The event-driven and free-drift
+//! formulations report the exact continuation of the step in progress
+//! ([`crate::physics::SmoothIntegrator::continuation`]); the fixed-step
+//! schemes (`moreau`, `moreau-cone`, `rapier`) step on `t_k = k h` and
+//! refuse a case whose output times are not on that grid
+//! ([`check_output_grid`]): they report only states of their own grid,
+//! never interpolated ones.
 
 pub mod contact_solver;
 pub mod event_driven;
@@ -25,6 +36,7 @@ pub mod rapier_ref;
 use crate::model::{
     load_case_with, parse_case_with, CaseError, IntegratorKind, Scenario, TableSpec,
 };
+use crate::physics::{SmoothIntegrator, StepRecord};
 use crate::record::{ContactLog, Counters, Settings, SolveProfile, StageClock};
 use crate::state::System;
 use std::path::Path;
@@ -43,8 +55,11 @@ pub enum FormulationError {
 
 /// A strategy for advancing a scenario in time.
 pub trait Formulation {
-    /// Advances `sys` from `sys.t` to exactly `t_end` (s), updating the
-    /// ledger's work and dissipation, and charging CPU time to `clock`.
+    /// Writes into `sys` the state (with its energy ledger) at `t_end` (s),
+    /// charging CPU time to `clock`. The formulation advances its own state
+    /// on its own step grid ([`OwnState`]), whatever times it is asked for:
+    /// `sys` on entry is the state it last wrote (or the initial state); a
+    /// caller that passes any other state restarts the grid from it.
     fn advance(
         &mut self,
         scn: &Scenario,
@@ -74,6 +89,95 @@ pub trait Formulation {
     fn take_contact_log(&mut self) -> ContactLog {
         ContactLog::default()
     }
+}
+
+/// A formulation's state on its own step grid, kept apart from the states it
+/// reports (see [`Formulation::advance`]).
+#[derive(Debug, Clone, Default)]
+pub struct OwnState {
+    internal: Option<System>,
+    reported: Option<System>,
+}
+
+impl OwnState {
+    /// The state to continue from, taken out (give it back with
+    /// [`OwnState::keep`]): the formulation's own when `sys` is the state it
+    /// last reported, else a copy of `sys` and `true` (the grid restarts
+    /// there).
+    pub fn resume(&mut self, sys: &System) -> (System, bool) {
+        match self.internal.take() {
+            Some(own) if self.reported.as_ref() == Some(sys) => (own, false),
+            _ => (sys.clone(), true),
+        }
+    }
+
+    /// Keeps `internal` as the state on the grid.
+    pub fn keep(&mut self, internal: System) {
+        self.internal = Some(internal);
+    }
+
+    /// Writes `out` (the state at `t`, s) into `sys` and remembers it as
+    /// the state last reported.
+    pub fn report(&mut self, sys: &mut System, mut out: System, t: f64) {
+        out.t = t;
+        self.reported = Some(out.clone());
+        *sys = out;
+    }
+}
+
+/// The state at `t_end` (s) of a formulation stepping on its own grid with
+/// the smooth integrator: `grid` itself when it is at `t_end`, else the
+/// exact continuation of the step in progress `last` (which must contain
+/// `t_end`), leaving the grid unperturbed.
+pub fn reported_state(
+    integ: &mut SmoothIntegrator,
+    scn: &Scenario,
+    grid: &System,
+    last: Option<&StepRecord>,
+    t_end: f64,
+) -> Result<System, FormulationError> {
+    if grid.t == t_end {
+        return Ok(grid.clone());
+    }
+    match last {
+        Some(rec) if rec.start.t <= t_end && t_end < grid.t => {
+            Ok(integ.continuation(scn, rec, t_end)?)
+        }
+        _ => Err(FormulationError::Other(format!(
+            "t = {t_end} s is not within the step in progress (the state is at {} s)",
+            grid.t
+        ))),
+    }
+}
+
+/// Relative rounding allowed when an output time is matched to a step of a
+/// fixed grid (`k Δ` and `j h` computed in floating point).
+const GRID_ROUNDING: f64 = 1e-9;
+
+/// The index `j` of the grid time `base + j h` (s) equal to `t` to
+/// rounding, if there is one.
+pub fn grid_index(base: f64, h: f64, t: f64) -> Option<u64> {
+    let j = ((t - base) / h).round();
+    let on = j >= 0.0 && (base + j * h - t).abs() <= GRID_ROUNDING * t.abs().max(h);
+    on.then_some(j as u64)
+}
+
+/// Refuses a case whose output times (`k × output_interval` and the
+/// duration) are not on the grid `t_k = k h` of a fixed step `h` (s): the
+/// fixed-step schemes report only states of their own grid. `what` names
+/// the formulation and `key` the setting, e.g. `[formulation.moreau] step`.
+pub fn check_output_grid(scn: &Scenario, what: &str, key: &str, h: f64) -> Result<(), String> {
+    for (name, value) in [
+        ("output_interval", scn.output_interval),
+        ("duration", scn.duration),
+    ] {
+        if grid_index(0.0, h, value).is_none_or(|j| j == 0) {
+            return Err(format!(
+                "{name} = {value} s is not a multiple of the {what} step {h} s ({key}): a fixed-step scheme reports only the states of its grid; choose a step that divides both output_interval and duration"
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Options shared by every formulation, from the command line.

@@ -74,10 +74,12 @@
 //!    at the start of every step) and bounded in the tests by `h` times the
 //!    approach speed.
 //!
-//! **Steps and output times.** The interval to the next output time is cut
-//! into `n = ⌈Δ / h⌉` equal steps of length `Δ / n ≤ h`, so steps land on
-//! every output time exactly; when `h` divides the output interval, every
-//! step is `h`.
+//! **Steps and output times.** Every step is `h`, on the grid `t_k = k h`
+//! from t = 0: the output times do not change the dynamics. A case whose
+//! output times (`output_interval` and `duration`) are not multiples of
+//! `h` is refused when the formulation is built, with a message naming
+//! `[formulation.moreau] step` (the scheme reports only states of its own
+//! grid, never interpolated ones).
 //!
 //! **Energy ledger.** Per step, the work of each environment force is its
 //! θ-weighted power times the step: `W_air += h ((1 − θ) P_air(q_k, W_k) +
@@ -118,7 +120,10 @@
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
 use super::contact_solver::{ContactSolver, SolverKind};
-use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
+use super::{
+    check_output_grid, grid_index, Entry, Formulation, FormulationError, FormulationOptions,
+    NotClaimed, OwnState,
+};
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{BroadPhase, Contact};
 use crate::geometry::Vec2;
@@ -349,6 +354,11 @@ pub struct Moreau {
     max_penetration: f64,
     /// Rounding allowance of the activation test, m (see [`ACTIVATION_TOLERANCE_FRACTION`]).
     activation_tolerance: f64,
+    /// The state on the grid.
+    own: OwnState,
+    /// Where the grid starts (s) and the steps taken on it: the state is at
+    /// `base + k h`.
+    grid: (f64, u64),
 }
 
 impl Moreau {
@@ -362,6 +372,11 @@ impl Moreau {
     ) -> Result<Moreau, String> {
         faer::set_global_parallelism(faer::Par::Seq);
         let s = MoreauSettings::of(scn).map_err(|e| e.to_string())?;
+        let name = match solver {
+            Some(SolverKind::Cone) => CONE_ENTRY.name,
+            _ => ENTRY.name,
+        };
+        check_output_grid(scn, name, "[formulation.moreau] step", s.step)?;
         let rmin = scn.min_floe_radius();
         let activation_tolerance = if rmin.is_finite() {
             ACTIVATION_TOLERANCE_FRACTION * rmin
@@ -379,6 +394,8 @@ impl Moreau {
             records: Vec::new(),
             max_penetration: 0.0,
             activation_tolerance,
+            own: OwnState::default(),
+            grid: (0.0, 0),
         })
     }
 
@@ -595,19 +612,26 @@ impl Formulation for Moreau {
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        let t0 = sys.t;
-        let span = t_end - t0;
-        if span <= 0.0 {
-            return Ok(());
+        let (mut cur, fresh) = self.own.resume(sys);
+        if fresh {
+            self.grid = (cur.t, 0);
         }
-        // Equal steps no longer than h, landing on t_end (module doc).
-        let steps = ((span / self.step) * (1.0 - 1e-12)).ceil().max(1.0);
-        let k_max = steps as u64;
-        let h = span / steps;
-        for k in 1..=k_max {
-            self.step_once(scn, sys, h, clock)?;
-            sys.t = if k == k_max { t_end } else { t0 + k as f64 * h };
+        let h = self.step;
+        let (base, k0) = self.grid;
+        let Some(j) = grid_index(base, h, t_end).filter(|&j| j >= k0) else {
+            return Err(FormulationError::Other(format!(
+                "t = {t_end} s is not a time of the step grid (step {h} s from {base} s, now at {} s)",
+                cur.t
+            )));
+        };
+        // Steps of h on the grid t_k = base + k h (module doc).
+        for k in k0 + 1..=j {
+            self.step_once(scn, &mut cur, h, clock)?;
+            cur.t = base + k as f64 * h;
+            self.grid.1 = k;
         }
+        self.own.keep(cur.clone());
+        self.own.report(sys, cur, t_end);
         Ok(())
     }
 

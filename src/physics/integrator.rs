@@ -24,16 +24,27 @@
 //! - [`IntegratorKind::Euler`]: explicit Euler as in Rabatel's report, with a
 //!   step bounded by the drag stability limit
 //!   `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` (origin report eq. 3.6, docs/physics.md §4.2, see
-//!   [`Scenario::euler_stability_bound`]) and by `[integrator] max_step`.
-//!   First order: kept for fidelity to the report.
+//!   [`Scenario::euler_stability_bound`]) and by `[integrator] max_step`
+//!   (never by the output interval: what is saved does not change the
+//!   dynamics). First order: kept for fidelity to the report.
 //!
 //! The wind and current series are piecewise linear: steps stop at their
 //! kinks so that the adaptive method never straddles one.
+//!
+//! **Own step grids and reported states.** The formulations built on this
+//! integrator (event-driven, free drift) step on a grid of their own, set
+//! by [`SmoothIntegrator::step_bound`] and by their events, never by the
+//! output times. The state at an output time inside a step is the exact
+//! continuation of that step ([`SmoothIntegrator::continuation`]): a copy of
+//! the step's start state integrated to the output time with the step's
+//! wrenches, starting from the integrator's step memory at the step start
+//! and leaving it untouched, so that the grid, and every state reported at
+//! a given time, are the same whatever else is reported.
 
 use super::force_model::ForceModel;
 use crate::model::{IntegratorKind, Scenario};
 use crate::record::counters::{common, Counters};
-use crate::state::{BodyState, Ledger};
+use crate::state::{BodyState, Ledger, System};
 
 /// A failure of the smooth integration.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -90,6 +101,21 @@ pub struct Wrench {
     pub torque: f64,
 }
 
+/// One step of a formulation's own grid, kept so that the state at any time
+/// within it can be reported without perturbing the grid
+/// ([`SmoothIntegrator::continuation`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepRecord {
+    /// The state at the start of the step (after the impacts of that
+    /// instant).
+    pub start: System,
+    /// The constant wrench of each floe over the step (empty: none).
+    pub wrenches: Vec<Wrench>,
+    /// The integrator's step memory at the start of the step
+    /// ([`SmoothIntegrator::hints`]).
+    pub hints: Vec<f64>,
+}
+
 /// The smooth integrator of a scenario, with per-floe step memory.
 #[derive(Debug, Clone)]
 pub struct SmoothIntegrator {
@@ -98,6 +124,9 @@ pub struct SmoothIntegrator {
     model: ForceModel,
     /// Step bound per floe, s.
     max_step: Vec<f64>,
+    /// The smallest drag stability bound `Δt_max` over the floes, s
+    /// (infinite without water drag).
+    drag_bound: f64,
     /// Last accepted adaptive step per floe, s (0 when unknown).
     hint: Vec<f64>,
     /// Absolute error scales per floe: (length m, speed m/s, energy J).
@@ -124,12 +153,13 @@ impl SmoothIntegrator {
                 let user = scn.integrator.max_step.unwrap_or(f64::INFINITY);
                 match kind {
                     IntegratorKind::Dopri5 => user,
-                    IntegratorKind::Euler => user
-                        .min(scn.euler_stability_bound(i))
-                        .min(scn.output_interval),
+                    IntegratorKind::Euler => user.min(scn.euler_stability_bound(i)),
                 }
             })
             .collect();
+        let drag_bound = (0..scn.floes.len())
+            .map(|i| scn.euler_stability_bound(i))
+            .fold(f64::INFINITY, f64::min);
         let scales = scn
             .floes
             .iter()
@@ -146,6 +176,7 @@ impl SmoothIntegrator {
             rtol: scn.integrator.tolerance,
             model: ForceModel::new(&scn.floes),
             max_step,
+            drag_bound,
             hint: vec![0.0; scn.floes.len()],
             scales,
             breakpoints: scn.forcing_breakpoints(),
@@ -167,6 +198,117 @@ impl SmoothIntegrator {
     /// The largest step this integrator takes for floe `i`, s.
     pub fn max_step(&self, i: usize) -> f64 {
         self.max_step[i]
+    }
+
+    /// The explicit Euler step of the scenario when the method is
+    /// [`IntegratorKind::Euler`] and its bound is finite: the smallest step
+    /// bound over the floes, s (a formulation without contacts steps on the
+    /// grid `k h` of it, so that every Euler step is `h`).
+    pub fn euler_step(&self) -> Option<f64> {
+        let h = self.max_step.iter().copied().fold(f64::INFINITY, f64::min);
+        (self.kind == IntegratorKind::Euler && h.is_finite()).then_some(h)
+    }
+
+    /// The smallest drag stability bound `Δt_max` over the floes
+    /// (docs/physics.md §4.2), s; infinite without water drag.
+    pub fn drag_bound(&self) -> f64 {
+        self.drag_bound
+    }
+
+    /// The step memory: the last accepted adaptive step of each floe, s (0:
+    /// none yet). A [`StepRecord`] keeps a copy.
+    pub fn hints(&self) -> &[f64] {
+        &self.hint
+    }
+
+    /// The longest step from `sys` of a formulation stepping on its own grid
+    /// (event-driven, free drift), s: the smallest of
+    ///
+    /// - the drag stability bound [`SmoothIntegrator::drag_bound`] (the time
+    ///   scale on which the drag changes the forces);
+    /// - the time in which no material point moves more than a quarter of
+    ///   the smallest floe radius `r`, from the largest point speed `v` and
+    ///   point acceleration `a` (`|G̈| + |θ̈| r_i + θ̇² r_i` from the
+    ///   environment forces): the root of `v s + ½ a s² = r/4` (so that no
+    ///   floe tunnels through another, and a floe at rest under a force still
+    ///   takes finite steps);
+    /// - the time to the next kink of the forcing series;
+    /// - the time to `end` (the end of the run).
+    ///
+    /// None of these depends on the output times.
+    pub fn step_bound(&mut self, scn: &Scenario, sys: &System, end: f64) -> f64 {
+        let t = sys.t;
+        let mut bound = self.drag_bound.min(end - t);
+        if let Some(&k) = self.breakpoints.iter().find(|&&k| k > t) {
+            bound = bound.min(k - t);
+        }
+        let rmin = scn.min_floe_radius();
+        if rmin.is_finite() {
+            let (mut v, mut a) = (0.0f64, 0.0f64);
+            for (i, b) in sys.bodies.iter().enumerate() {
+                let r = scn.floes[i].radius;
+                let f = self.model.forces(&scn.environment, i, t, b);
+                self.stats.force_evaluations += 1;
+                let [ax, ay, alpha] = self.model.acceleration(i, &f);
+                v = v.max(b.velocity.norm() + b.angular_velocity.abs() * r);
+                a = a.max(
+                    ax.hypot(ay) + alpha.abs() * r + b.angular_velocity * b.angular_velocity * r,
+                );
+            }
+            let quarter = 0.25 * rmin;
+            // v s + a s²/2 = quarter, in the form without cancellation.
+            let root = v + (v * v + 2.0 * a * quarter).sqrt();
+            if root > 0.0 {
+                bound = bound.min(2.0 * quarter / root);
+            }
+        }
+        bound
+    }
+
+    /// Advances every floe of `start` to `t1` (s) with the constant
+    /// `wrenches` added to the environment forces (empty: none), the work of
+    /// the wrenches booked as dissipation with the opposite sign. With
+    /// `hints` (a copy of [`SmoothIntegrator::hints`]) the adaptive steps
+    /// start from them and the integrator's own step memory is left
+    /// unchanged; without, it is used and updated.
+    pub fn advance_system(
+        &mut self,
+        scn: &Scenario,
+        start: &System,
+        t1: f64,
+        wrenches: &[Wrench],
+        hints: Option<&[f64]>,
+    ) -> Result<System, IntegrationError> {
+        let mut out = start.clone();
+        let none = Wrench::default();
+        let mut contact_work = 0.0;
+        for (i, b) in out.bodies.iter_mut().enumerate() {
+            let w = wrenches.get(i).unwrap_or(&none);
+            let mut hint = match hints {
+                Some(h) => h.get(i).copied().unwrap_or(0.0),
+                None => self.hint[i],
+            };
+            contact_work +=
+                self.integrate(scn, i, b, &mut out.ledger, start.t, t1, w, &mut hint)?;
+            if hints.is_none() {
+                self.hint[i] = hint;
+            }
+        }
+        out.ledger.dissipated -= contact_work;
+        out.t = t1;
+        Ok(out)
+    }
+
+    /// The state at `t` (s, within the step) of the step `rec`: its start
+    /// state integrated to `t` with its wrenches, from its step memory,
+    /// leaving the integrator's own step memory unchanged.
+    pub fn continuation(
+        &mut self,
+        scn: &Scenario,
+        rec: &StepRecord,
+        t: f64,
+    ) -> Result<System, IntegrationError> {
+        self.advance_system(scn, &rec.start, t, &rec.wrenches, Some(&rec.hints))
     }
 
     /// Advances every floe from `t0` to `t1` (s) and adds the work of the
@@ -214,6 +356,26 @@ impl SmoothIntegrator {
         t1: f64,
         extra: &Wrench,
     ) -> Result<f64, IntegrationError> {
+        let mut hint = self.hint[i];
+        let work = self.integrate(scn, i, b, ledger, t0, t1, extra, &mut hint)?;
+        self.hint[i] = hint;
+        Ok(work)
+    }
+
+    /// [`SmoothIntegrator::advance_with`] with the step memory `hint` (s, 0:
+    /// none) given and updated.
+    #[allow(clippy::too_many_arguments)]
+    fn integrate(
+        &mut self,
+        scn: &Scenario,
+        i: usize,
+        b: &mut BodyState,
+        ledger: &mut Ledger,
+        t0: f64,
+        t1: f64,
+        extra: &Wrench,
+        hint: &mut f64,
+    ) -> Result<f64, IntegrationError> {
         if t1 <= t0 {
             return Ok(0.0);
         }
@@ -240,7 +402,7 @@ impl SmoothIntegrator {
             .collect();
         for end in kinks {
             match self.kind {
-                IntegratorKind::Dopri5 => self.dopri5(scn, i, &mut y, t, end, extra)?,
+                IntegratorKind::Dopri5 => self.dopri5(scn, i, &mut y, t, end, extra, hint)?,
                 IntegratorKind::Euler => self.euler(scn, i, &mut y, t, end, extra)?,
             }
             t = end;
@@ -296,6 +458,7 @@ impl SmoothIntegrator {
         Ok(())
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn dopri5(
         &mut self,
         scn: &Scenario,
@@ -304,6 +467,7 @@ impl SmoothIntegrator {
         t0: f64,
         t1: f64,
         extra: &Wrench,
+        hint: &mut f64,
     ) -> Result<(), IntegrationError> {
         // Dormand–Prince 5(4) coefficients (Hairer, Nørsett & Wanner, table 5.2).
         const C: [f64; 7] = [0.0, 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0, 1.0, 1.0];
@@ -371,11 +535,7 @@ impl SmoothIntegrator {
         ];
         let span = t1 - t0;
         let hmax = self.max_step[i].min(span);
-        let mut h = if self.hint[i] > 0.0 {
-            self.hint[i].min(hmax)
-        } else {
-            hmax
-        };
+        let mut h = if *hint > 0.0 { hint.min(hmax) } else { hmax };
         let mut t = t0;
         let mut k = [[0.0; N]; 7];
         while t < t1 {
@@ -422,7 +582,7 @@ impl SmoothIntegrator {
                 };
                 if !last || hh >= h {
                     h = (hh * grow).min(hmax);
-                    self.hint[i] = h;
+                    *hint = h;
                 }
             } else {
                 self.stats.rejected += 1;

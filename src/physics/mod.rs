@@ -7,4 +7,4 @@ pub mod integrator;
 
 pub use force_model::{air_drag_quadrature, air_is_uniform_in_space, air_velocity, ForceModel};
 pub use forces::{drag_traction, integrate_traction, Forces, Quadrature};
-pub use integrator::{IntegrationError, IntegratorStats, SmoothIntegrator, Wrench};
+pub use integrator::{IntegrationError, IntegratorStats, SmoothIntegrator, StepRecord, Wrench};

@@ -34,9 +34,7 @@
 //! FLOEBENCH_FUZZ_COUNT=100000 cargo test --release --test suite fuzz -- --nocapture
 //! ```
 //!
-//! (`FLOEBENCH_FUZZ_SEED` changes the seed; `FLOEBENCH_FUZZ_SKIP_KNOWN=0`
-//! runs the inputs of the known defect too, see
-//! [`KNOWN_EVENT_DRIVEN_HANG_INTERVAL`].) An input that breaks an
+//! (`FLOEBENCH_FUZZ_SEED` changes the seed.) An input that breaks an
 //! assertion is saved in `target/tmp/fuzz/` with its index and seed.
 
 use crate::common::{cases_dir, floebench, guarded, lcp_violation, tempdir, within_bound, Defect};
@@ -69,13 +67,6 @@ const RUN_STEPS: f64 = 50.0;
 const RUN_FLOE_SECONDS: f64 = 20_000.0;
 /// One refused case in this many also goes through `floebench run`.
 const CLI_EVERY: u64 = 25;
-/// The event-driven runs skipped as a known defect: from about 290 s of
-/// output interval on, the event-driven scheme spins without progress
-/// (issue 17, "output-independent physics, no hang", owned by the
-/// event-driven work). Remove this bound when that is fixed;
-/// `FLOEBENCH_FUZZ_SKIP_KNOWN=0` runs them anyway (the first hang stops the
-/// test).
-const KNOWN_EVENT_DRIVEN_HANG_INTERVAL: f64 = 100.0;
 
 /// A number from the environment, or `default`.
 fn env_number<T: std::str::FromStr>(name: &str, default: T) -> T {
@@ -590,12 +581,6 @@ fn check_case(text: String, pick: u64) -> Result<String, Defect> {
     let entries: Vec<_> = REGISTRY.iter().filter(|e| e.applies(&scn)).collect();
     let entry = entries[(pick % entries.len() as u64) as usize];
     shorten(&mut scn, entry.name)?;
-    if entry.name == "event-driven"
-        && scn.output_interval > KNOWN_EVENT_DRIVEN_HANG_INTERVAL
-        && env_number("FLOEBENCH_FUZZ_SKIP_KNOWN", 1) != 0
-    {
-        return Ok("skipped: known defect (event-driven, output_interval > 100 s)".into());
-    }
     let opts = FormulationOptions::default();
     let mut inst = match guarded("build", || build(entry.name, &scn, &opts))? {
         Err(m) => {

@@ -16,6 +16,7 @@ mod field;
 mod fuzz;
 mod lemke;
 mod moreau;
+mod output_interval;
 mod physics;
 mod plot;
 mod rapier;

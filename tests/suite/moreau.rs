@@ -439,11 +439,9 @@ fn names_and_the_case_solver_key_choose_the_solver() {
         build("moreau-cone", &scn, &opts).unwrap().name(),
         "moreau-cone"
     );
-    let cone_case = scenario(&with_formulation_table(
-        &text,
-        "moreau",
-        "step = 0.25\nsolver = \"cone\"",
-    ));
+    // The case has a [formulation.moreau] table (step = 0.5): its step and
+    // solver replaced.
+    let cone_case = scenario(&text.replacen("step = 0.5", "step = 0.25\nsolver = \"cone\"", 1));
     let s = MoreauSettings::of(&cone_case).unwrap();
     assert_eq!(s.solver, SolverKind::Cone);
     assert_eq!(s.step, 0.25);

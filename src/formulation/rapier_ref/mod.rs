@@ -65,7 +65,7 @@
 //!
 //! | key | unit | default | meaning |
 //! | --- | --- | --- | --- |
-//! | `step` | s | 0.1 | step `h`; the last step before an output time is shortened to land on it |
+//! | `step` | s | 0.1 | step `h`, on the grid `t_k = k h` from t = 0; a case whose `output_interval` or `duration` is not a multiple of it is refused (the scheme reports only states of its grid) |
 //! | `iterations` | – | 4 | substeps `n` (rapier's solver iterations) per step |
 //! | `natural_frequency` | Hz | `n/(4h)` = 10 | contact softness: frequency of the spring that pushes penetration out (a quarter of the substep rate) |
 //! | `damping_ratio` | – | 1 | its damping ratio (critical: no overshoot) |
@@ -133,7 +133,10 @@
 
 mod convert;
 
-use super::{Entry, Formulation, FormulationError, FormulationOptions, NotClaimed};
+use super::{
+    check_output_grid, grid_index, Entry, Formulation, FormulationError, FormulationOptions,
+    NotClaimed, OwnState,
+};
 use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{ForceModel, Forces};
@@ -487,6 +490,10 @@ pub struct RapierReference {
     max_pairs: u64,
     energy_gained: f64,
     integration_defect: f64,
+    /// The state on the grid (rapier's bodies hold the same).
+    own: OwnState,
+    /// Where the grid starts (s) and the steps taken on it.
+    grid: (f64, u64),
 }
 
 impl std::fmt::Debug for RapierReference {
@@ -502,6 +509,7 @@ impl RapierReference {
     /// Sets up rapier for `scn`. Fails if parry rejects a polygon.
     pub fn new(scn: &Scenario, _opts: &FormulationOptions) -> Result<RapierReference, String> {
         let settings = Resolved::of(scn).map_err(|e| e.to_string())?;
+        check_output_grid(scn, ENTRY.name, "[formulation.rapier] step", settings.step)?;
         let params = settings.integration_parameters(settings.step);
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();
@@ -566,6 +574,8 @@ impl RapierReference {
             max_pairs: 0,
             energy_gained: 0.0,
             integration_defect: 0.0,
+            own: OwnState::default(),
+            grid: (0.0, 0),
         })
     }
 
@@ -801,21 +811,27 @@ impl Formulation for RapierReference {
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        let t0 = sys.t;
-        let span = t_end - t0;
-        if span <= 0.0 {
-            return Ok(());
+        let (mut cur, fresh) = self.own.resume(sys);
+        if fresh {
+            self.grid = (cur.t, 0);
         }
-        self.sync_in(&sys.bodies);
+        self.sync_in(&cur.bodies);
         let h = self.settings.step;
-        // Fixed steps of `h`; the last one lands on `t_end` and lies in
-        // (1e-6 h, (1 + 1e-6) h], so that rounding never makes a sliver step.
-        let n = ((span / h) - 1e-6).ceil().max(1.0) as u64;
-        for k in 0..n {
-            let hk = if k + 1 == n { t_end - sys.t } else { h };
-            self.step(scn, sys, hk, clock)?;
+        let (base, k0) = self.grid;
+        let Some(j) = grid_index(base, h, t_end).filter(|&j| j >= k0) else {
+            return Err(FormulationError::Other(format!(
+                "rapier: t = {t_end} s is not a time of the step grid (step {h} s from {base} s, now at {} s)",
+                cur.t
+            )));
+        };
+        // Steps of h on the grid t_k = base + k h.
+        for k in k0 + 1..=j {
+            self.step(scn, &mut cur, h, clock)?;
+            cur.t = base + k as f64 * h;
+            self.grid.1 = k;
         }
-        sys.t = t_end;
+        self.own.keep(cur.clone());
+        self.own.report(sys, cur, t_end);
         Ok(())
     }
 
