@@ -159,7 +159,10 @@ fn a_single_output_at_the_end_neither_hangs_nor_changes_the_final_state() {
         // Hang detection, generous (the run takes milliseconds).
         let (send, receive) = std::sync::mpsc::channel();
         let (t, name) = (text.clone(), entry.name);
-        std::thread::spawn(move || send.send(run_at(&t, 400.0, name).unwrap()));
+        std::thread::spawn(move || {
+            send.send(Box::new(run_at(&t, 400.0, name).unwrap()))
+                .is_ok()
+        });
         let once = receive
             .recv_timeout(HANG)
             .unwrap_or_else(|_| panic!("{}: no end after {HANG:?}", entry.name));
