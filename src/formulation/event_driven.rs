@@ -325,11 +325,15 @@ impl Cut {
 
 /// A closed contact in a free flight that stays within the contact
 /// distance: the pair `(min, max)` is left out of the sustained problem
-/// until the flight returns, at `until` (s).
+/// until the flight returns, at `until` (s), or earlier if the pair comes
+/// back to its starting gap or penetrates (the estimate of the flight
+/// assumed a constant normal acceleration).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Flight {
     pair: (usize, usize),
     until: f64,
+    /// The smallest gap of the pair's contacts when the flight started, m.
+    gap: f64,
 }
 
 /// What happens to a closed contact that separates (`u_N > 0`) and is pulled
@@ -367,8 +371,11 @@ fn earlier(a: Option<(f64, Cut)>, s: f64, why: Cut) -> Option<(f64, Cut)> {
     }
 }
 
+/// Margin on the relative travel of two bodies over a step in the transit
+/// prefilter (drag makes the forces vary a little over a step).
+const TRANSIT_MARGIN: f64 = 1.25;
 /// Pieces of the path of a vertex relative to another body in the transit
-/// test ([`transit`]).
+/// test ([`transit`]): the relative path is curved when the bodies turn.
 const TRANSIT_PIECES: usize = 4;
 
 /// The pose `(G, θ)` of a floe at the fraction `σ` of a step of length `h`
@@ -393,55 +400,51 @@ fn hermite_pose(b0: &BodyState, b1: &BodyState, h: f64, sigma: f64) -> (Vec2, f6
     )
 }
 
-/// Whether vertex `k` of body `owner` passes within the impact gap `g_i`
-/// ([`IMPACT_GAP_FRACTION`] of `δ`) of body `other` during the step of
-/// length `h` from `sys` to `end`: its path relative to `other` (in the
-/// other body's frame, both poses interpolated by [`hermite_pose`]) is
-/// followed in [`TRANSIT_PIECES`] straight pieces, each clipped against the
-/// polygon grown by `g_i`. Returns the middle of the first passage as a
-/// fraction of the step, if there is one.
-#[allow(clippy::too_many_arguments)]
-fn transit(
+/// The motion of body `owner` relative to body `other` over the step of
+/// length `h` from `sys` to `end`, at the [`TRANSIT_PIECES`]` + 1` fractions
+/// `σ = k / TRANSIT_PIECES` of the step: the rigid maps `x ↦ R(α) x + d`
+/// (as `(cos α, sin α, d)`) taking a point of `owner` (its shape for a floe,
+/// its world polygon for an obstacle) into the frame of `other`, both poses
+/// interpolated by [`hermite_pose`].
+fn relative_motion(
     scn: &Scenario,
     sys: &System,
     end: &System,
     h: f64,
     owner: usize,
-    k: usize,
     other: usize,
-    world: &[Vec<Vec2>],
-    delta: f64,
-) -> Option<f64> {
-    let pose = |body: usize, sigma: f64| -> Option<(Vec2, f64)> {
+) -> Vec<(f64, f64, Vec2)> {
+    let pose = |body: usize, sigma: f64| -> (Vec2, f64) {
         match scn.body(body) {
-            Body::Floe(i) => Some(hermite_pose(&sys.bodies[i], &end.bodies[i], h, sigma)),
-            Body::Obstacle(_) => None,
+            Body::Floe(i) => hermite_pose(&sys.bodies[i], &end.bodies[i], h, sigma),
+            Body::Obstacle(_) => (Vec2::zeros(), 0.0),
         }
     };
-    let local: &[Vec2] = match scn.body(other) {
-        Body::Floe(o) => &scn.floes[o].shape,
-        Body::Obstacle(_) => &world[other],
-    };
-    let relative = |sigma: f64| -> Vec2 {
-        let v = match (scn.body(owner), pose(owner, sigma)) {
-            (Body::Floe(i), Some((g, theta))) => g + rotate(&scn.floes[i].shape[k], theta),
-            _ => world[owner][k],
-        };
-        match pose(other, sigma) {
-            Some((g, theta)) => rotate(&(v - g), -theta),
-            None => v,
-        }
-    };
-    let grow = IMPACT_GAP_FRACTION * delta;
-    let mut q0 = relative(0.0);
-    for piece in 0..TRANSIT_PIECES {
-        let (s0, s1) = (
-            piece as f64 / TRANSIT_PIECES as f64,
-            (piece + 1) as f64 / TRANSIT_PIECES as f64,
-        );
-        let q1 = relative(s1);
+    (0..=TRANSIT_PIECES)
+        .map(|k| {
+            let sigma = k as f64 / TRANSIT_PIECES as f64;
+            let ((gv, av), (go, ao)) = (pose(owner, sigma), pose(other, sigma));
+            let alpha = av - ao;
+            (alpha.cos(), alpha.sin(), rotate(&(gv - go), -ao))
+        })
+        .collect()
+}
+
+/// Whether the point `x` of a body (in the body's own coordinates, see
+/// [`relative_motion`]) passes within `grow` (m: the impact gap `g_i`,
+/// [`IMPACT_GAP_FRACTION`] of `δ`) of the polygon `local` of another body
+/// during the step: its path in that body's frame, given by `motion`, is
+/// followed in straight pieces, each clipped against the polygon grown by
+/// `grow`. Returns the middle of the first passage as a fraction of the
+/// step, if there is one.
+fn transit(motion: &[(f64, f64, Vec2)], x: &Vec2, local: &[Vec2], grow: f64) -> Option<f64> {
+    let map = |&(c, s, d): &(f64, f64, Vec2)| Vec2::new(c * x.x - s * x.y, s * x.x + c * x.y) + d;
+    let pieces = motion.len().saturating_sub(1).max(1) as f64;
+    let mut q0 = map(&motion[0]);
+    for (piece, m) in motion.iter().enumerate().skip(1) {
+        let q1 = map(m);
         if let Some(u) = clip(&q0, &q1, local, grow) {
-            return Some(s0 + u * (s1 - s0));
+            return Some((piece as f64 - 1.0 + u) / pieces);
         }
         q0 = q1;
     }
@@ -481,20 +484,17 @@ fn clip(q0: &Vec2, q1: &Vec2, poly: &[Vec2], grow: f64) -> Option<f64> {
     Some(0.5 * (u_in + u_out))
 }
 
-/// The approach speed below which a closed contact is left to the sustained
-/// LCP rather than resolved as an impact, m/s: `max(1e-10, 0.1 ε / τ)` with
-/// `ε` the penetration tolerance and the horizon `τ = min(Δt_max, τ_ε)`.
-/// `τ_ε = sqrt(2ε/a_f)` is the time the forcing (the drag of the strongest
-/// wind and current on the lightest floe at rest, acceleration `a_f`) takes
-/// to close the tolerance `ε` from rest, and `Δt_max` the drag time scale:
-/// within either, the forces on a sustained contact change little. An
-/// approach slower than the threshold closes less than a tenth of the
-/// tolerance over `τ`: it is the drift of a sustained contact (the constant
-/// contact force of a step is first order in the change of the forces), not
-/// an impact. Without drag the threshold is `0.1 sqrt(a_f ε / 2)`, a tenth of
-/// the speed the forcing gives over `ε/4`; without forcing only the rounding
-/// floor remains. None of this depends on the output times.
-pub fn impact_speed_threshold(scn: &Scenario, pen_tol: f64, drag_bound: f64) -> f64 {
+/// The contact horizon `τ_c = (2 ε Δt_max / a_f)^(1/3)`, s, the longest
+/// step with closed contacts. A step holds the contact force constant while
+/// the environment forces change; the drag changes them on the time scale
+/// `Δt_max` (docs/physics.md §4.2), by about `a_f h / Δt_max` over a step
+/// `h` (`a_f` the forcing: the drag of the strongest wind and current on the
+/// lightest floe at rest, as an acceleration), which drifts a contact by
+/// about `a_f h³ / (2 Δt_max)`: at most the penetration tolerance `ε` within
+/// `τ_c`. Without water drag or without forcing the forces on a contact do
+/// not change between the kinks of the forcing series (where steps stop
+/// anyway) and the horizon is infinite.
+pub fn contact_horizon(scn: &Scenario, pen_tol: f64, drag_bound: f64) -> f64 {
     let env = &scn.environment;
     let traction = env.air.drag_factor() * env.air.velocity.max_speed().powi(2)
         + env.water.drag_factor() * env.water.velocity.max_speed().powi(2);
@@ -503,12 +503,11 @@ pub fn impact_speed_threshold(scn: &Scenario, pen_tol: f64, drag_bound: f64) -> 
         .iter()
         .map(|f| traction / f.surface_density())
         .fold(0.0, f64::max);
-    let tau_tolerance = if forcing > 0.0 {
-        (2.0 * pen_tol / forcing).sqrt()
+    if forcing > 0.0 && drag_bound.is_finite() {
+        (2.0 * pen_tol * drag_bound / forcing).cbrt()
     } else {
         f64::INFINITY
-    };
-    APPROACH_TOLERANCE.max(0.1 * pen_tol / drag_bound.min(tau_tolerance))
+    }
 }
 
 /// The pair of a contact, smaller index first.
@@ -542,6 +541,8 @@ pub struct EventDriven {
     /// Approach speed below which a closed contact is left to the sustained
     /// LCP rather than resolved as an impact, m/s (see [`EventDriven::new`]).
     impact_speed: f64,
+    /// The longest step with closed contacts, s ([`contact_horizon`]).
+    horizon: f64,
     solver: ContactSolver,
     bp: BroadPhase,
     sweep_bp: BroadPhase,
@@ -568,12 +569,21 @@ impl EventDriven {
         let distance = contact_distance(scn);
         let pen_tol = settings.penetration_tolerance(scn);
         let integ = SmoothIntegrator::new(scn, opts.integrator);
-        let impact_speed = impact_speed_threshold(scn, pen_tol, integ.drag_bound());
+        // An approach slower than ε/τ_c closes less than the penetration
+        // tolerance ε over the contact horizon τ_c: it is the drift of a
+        // sustained contact, not an impact. A step of length τ_c holding its
+        // contact force while the forces change by a_f τ_c/Δt_max leaves
+        // drift velocities up to a_f τ_c²/Δt_max = 2ε/τ_c; the threshold is
+        // half of that. Without drag the forces do not drift and only the
+        // rounding floor remains. None of this depends on the output times.
+        let horizon = contact_horizon(scn, pen_tol, integ.drag_bound());
+        let impact_speed = APPROACH_TOLERANCE.max(pen_tol / horizon);
         Ok(EventDriven {
             integ,
             distance,
             pen_tol,
             impact_speed,
+            horizon,
             solver: ContactSolver::new(settings.solver, opts.dump_lcp.clone()),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
@@ -607,8 +617,9 @@ impl EventDriven {
         out
     }
 
-    /// Resolves the impacts of every group with an approaching closed contact.
-    /// Returns whether any impact happened.
+    /// Resolves the impacts of every group with an approaching closed contact
+    /// (a pair in a flight within δ is open). Returns whether any impact
+    /// happened.
     ///
     /// With `slow = Some(h)`, the approaches slower than the impact threshold
     /// instead (faster than the rounding floor), those that the sustained
@@ -626,6 +637,10 @@ impl EventDriven {
         let approaching: Vec<bool> = contacts
             .iter()
             .map(|c| {
+                // A pair in a flight within δ is open until it returns.
+                if self.flights.iter().any(|f| f.pair == pair_of(c)) {
+                    return false;
+                }
                 let u = normal_velocity(scn, &sys.bodies, c);
                 match slow {
                     None => u < -self.impact_speed,
@@ -797,18 +812,27 @@ impl EventDriven {
                         // The normal velocity decays linearly to rest at the
                         // accumulation time.
                         self.counters.add(&ACCUMULATING_CONTACTS, 1);
-                        // Cut at the accumulation time unless the motion
-                        // the step would add after it, u (h − T)/2, is below
-                        // the penetration tolerance.
-                        if u * (h - remaining) > 2.0 * self.pen_tol {
+                        // Cut at the accumulation time unless the decay
+                        // stretched over the step stays within δ (a lift
+                        // u h/2) and adds less than the penetration
+                        // tolerance after it (u (h − T)/2).
+                        if c.geom.gap + 0.5 * u * h > self.distance
+                            || u * (h - remaining) > 2.0 * self.pen_tol
+                        {
                             out.cut = earlier(out.cut, remaining, Cut::Accumulation);
                         }
                         ask = ask.max(u * (1.0 - h / remaining).max(0.0));
                     }
                     Separation::FlightWithin { flight } => {
+                        let gap = contacts
+                            .iter()
+                            .filter(|d| pair_of(d) == pair)
+                            .map(|d| d.geom.gap)
+                            .fold(f64::INFINITY, f64::min);
                         out.flights.push(Flight {
                             pair,
                             until: t + flight,
+                            gap,
                         });
                         out.cut = earlier(out.cut, flight, Cut::Return);
                         target.push(None);
@@ -922,9 +946,11 @@ impl EventDriven {
 
     /// The stick rule of a trial step of length `h` (docs/physics.md §4.3,
     /// step 3), for the pairs of `closed` that slide at the start (slip
-    /// `u₀`) by more than the penetration tolerance over the step (a shorter
-    /// slip is not worth a cut: the constant friction force smears it over
-    /// the step). Returns:
+    /// `u₀`) by more than the contact distance over the step (a shorter slip
+    /// is below the scheme's resolution and not worth a cut: the constant
+    /// friction force smears it over the step; with the penetration
+    /// tolerance instead, `narrow_channel` took three times as many stick
+    /// cuts for the same result). Returns:
     ///
     /// - the earliest stop of a pair that has stuck by the end (its summed
     ///   friction impulse `B`, along the slip, inside the cone `μΛ` of its
@@ -986,7 +1012,7 @@ impl EventDriven {
         let min = |a: Option<f64>, b: f64| Some(a.map_or(b, |a: f64| a.min(b)));
         for p in pairs {
             let u0 = p.start.norm();
-            if !(u0 * h > self.pen_tol && p.lambda > 0.0) {
+            if !(u0 * h > self.distance && p.lambda > 0.0) {
                 continue;
             }
             let dir = p.start / u0;
@@ -1079,7 +1105,25 @@ impl EventDriven {
             // inside the step), with the middle of that passage.
             let mut cand: Vec<(usize, usize)> = Vec::new();
             let mut transits: Vec<((usize, usize), f64)> = Vec::new();
+            // A vertex travels at most `reach` relative to the other body
+            // over the step (the largest point speeds at the ends, which
+            // bound them between under constant forces, with a margin): it
+            // can pass within g_i of it only if d0 + d1 ≤ reach + 2 g_i.
+            let speed = |b: usize| match scn.body(b) {
+                Body::Floe(f) => {
+                    let r = scn.floes[f].radius;
+                    let at = |s: &BodyState| s.velocity.norm() + s.angular_velocity.abs() * r;
+                    at(&sys.bodies[f]).max(at(&end.bodies[f]))
+                }
+                Body::Obstacle(_) => 0.0,
+            };
+            let reach = TRANSIT_MARGIN * (speed(i) + speed(j)) * h + 2.0 * target;
             for (owner, other) in [(i, j), (j, i)] {
+                let mut motion = None;
+                let local: &[Vec2] = match scn.body(other) {
+                    Body::Floe(o) => &scn.floes[o].shape,
+                    Body::Obstacle(_) => &p0[other],
+                };
                 for (k, (v0, v1)) in p0[owner].iter().zip(&p1[owner]).enumerate() {
                     let d0 = point_polygon_signed_distance(v0, &p0[other]);
                     if d0 <= delta {
@@ -1088,8 +1132,18 @@ impl EventDriven {
                     let d1 = point_polygon_signed_distance(v1, &p1[other]);
                     if d1 < target {
                         cand.push((owner, k));
-                    } else if let Some(mid) = transit(scn, sys, end, h, owner, k, other, p0, delta)
-                    {
+                        continue;
+                    }
+                    if d0 + d1 > reach {
+                        continue;
+                    }
+                    let motion = motion
+                        .get_or_insert_with(|| relative_motion(scn, sys, end, h, owner, other));
+                    let x = match scn.body(owner) {
+                        Body::Floe(f) => scn.floes[f].shape[k],
+                        Body::Obstacle(_) => *v0,
+                    };
+                    if let Some(mid) = transit(motion, &x, local, target) {
                         transits.push(((owner, k), mid * h));
                     }
                 }
@@ -1218,9 +1272,16 @@ impl EventDriven {
             .retain(|f| f.until - t > 1e-12 * f.until.abs().max(1.0));
         // 1. Closed contacts at this instant.
         let contacts = clock.time(Stage::Detection, || self.detect(scn, &sys.bodies));
-        // A flight whose pair is no longer closed is over.
-        self.flights
-            .retain(|f| contacts.iter().any(|c| pair_of(c) == f.pair));
+        // A flight whose pair is no longer closed, or is back at its
+        // starting gap, is over.
+        self.flights.retain(|f| {
+            let gap = contacts
+                .iter()
+                .filter(|c| pair_of(c) == f.pair)
+                .map(|c| c.geom.gap)
+                .fold(f64::INFINITY, f64::min);
+            gap.is_finite() && gap > f.gap
+        });
         // 2. Impacts.
         let mut rounds = 0;
         let mut any = false;
@@ -1242,7 +1303,10 @@ impl EventDriven {
         // 3. Trial step with sustained contact forces, bounded by the
         // scheme alone (never by the output times).
         let hints = self.integ.hints().to_vec();
-        let bound = self.integ.step_bound(scn, sys, end);
+        let mut bound = self.integ.step_bound(scn, sys, end);
+        if !contacts.is_empty() {
+            bound = bound.min(self.horizon);
+        }
         // A closed contact still approaching, slower than the impact
         // threshold, is stopped by the sustained force over the step and
         // closes |u| h / 2: beyond a tenth of the tolerance, it is stopped at
@@ -1322,12 +1386,25 @@ impl EventDriven {
             } else {
                 p1
             };
-            let depth = clock.time(Stage::Detection, || {
+            let depths: Vec<((usize, usize), f64)> = clock.time(Stage::Detection, || {
                 self.swept_pairs(scn, &p_next, &p_next)
                     .iter()
-                    .map(|&(i, j)| -Self::pair_min_distance(&p_next[i], &p_next[j]))
-                    .fold(0.0, f64::max)
+                    .map(|&(i, j)| ((i, j), -Self::pair_min_distance(&p_next[i], &p_next[j])))
+                    .collect()
             });
+            let depth = depths.iter().map(|d| d.1).fold(0.0, f64::max);
+            // A flight whose pair penetrates was misjudged: over.
+            let before = self.flights.len();
+            self.flights.retain(|f| {
+                !depths
+                    .iter()
+                    .any(|&(p, d)| (p.0.min(p.1), p.0.max(p.1)) == f.pair && d > 0.0)
+            });
+            if self.flights.len() < before && rejections < MAX_REJECTIONS {
+                rejections += 1;
+                self.counters.add(&STEPS_REJECTED_PENETRATION, 1);
+                continue;
+            }
             if depth > self.pen_tol && rejections < MAX_REJECTIONS {
                 rejections += 1;
                 self.counters.add(&STEPS_REJECTED_PENETRATION, 1);
