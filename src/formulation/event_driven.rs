@@ -7,40 +7,63 @@
 //! 1. **Detection.** Contacts are found by sweep and prune and exact convex
 //!    polygon distances ([`crate::contact`]): every vertex–edge point whose
 //!    gap is below the contact distance `δ` is *closed*.
-//! 2. **Impacts.** If a closed contact approaches (`u_N < 0`), the connected
+//! 2. **Impacts.** If a closed contact approaches faster than the impact
+//!    threshold (`u_N < −v_imp`, [`EventDriven::new`]), the connected
 //!    group of floes it belongs to goes through an impact: the compression
 //!    LCP of docs/physics.md §3.1 with `e = 0` and no external impulse gives `W_c`
 //!    and the impulse `P_c`; decompression applies `e P_c` more, i.e. Poisson's
 //!    law in Rabatel's energy-consistent form `W⁺ = (1 + e) W_c − e W⁻`, which
 //!    never increases the kinetic energy for `e ≤ 1` and conserves it for
 //!    `e = 1, μ = 0`. Repeated until no closed contact approaches (a
-//!    decompression may push another closed contact into approach).
+//!    decompression may push another closed contact into approach). A slower
+//!    approach that the step's sustained force would let close more than a
+//!    tenth of the penetration tolerance is stopped at once, plastically.
 //! 3. **Smooth step with sustained contacts.** A trial step `h` is bounded by
-//!    the time left to the next output, the drag stability bound `Δt_max` of
-//!    docs/physics.md §4.2, and a quarter of the smallest floe radius divided
-//!    by the largest point speed (no floe tunnels through another). Closed
-//!    contacts that persist (resting, sliding) receive a constant contact
-//!    force over the step: the LCP is solved with the velocity–impulse form of
-//!    docs/physics.md §3.1, `h_free = −M W_free` where `W_free` is the free velocity after `h`
+//!    the scheme alone, never by the output times
+//!    ([`SmoothIntegrator::step_bound`]: the drag stability bound `Δt_max`
+//!    of docs/physics.md §4.2, a quarter of the smallest floe radius of
+//!    travel from the largest point speed and acceleration, the forcing
+//!    kinks, the end of the run), and with closed contacts by the contact
+//!    horizon [`contact_horizon`]. Closed contacts that persist (resting,
+//!    sliding) receive a constant contact force over the step: the LCP is
+//!    solved with the velocity–impulse form of docs/physics.md §3.1,
+//!    `h_free = −M W_free` where `W_free` is the free velocity after `h`
 //!    (the external impulse `∫𝓗 dt` included), and its impulse divided by `h`
 //!    is added to the environment forces while the step is integrated by the
 //!    shared smooth integrator. A constant force balance is therefore exact
 //!    (a floe pressed on a wall by a constant wind stays put; a sliding floe
 //!    decelerates at exactly `μ a`). A penetrating sustained contact asks for
-//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c` with `c = g/h`, docs/physics.md §3.1).
+//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c`
+//!    with `c = g/h`, docs/physics.md §3.1). A separating contact of an
+//!    isolated pair pulled back by the environment (`EventDriven::separation`):
+//!    its **accumulation** of bounces completes at its accumulation time
+//!    `T = 2u_N/(|a_N|(1 − e))`, by the mean motion (the normal velocity
+//!    decaying linearly to rest at `T`, asked of the same LCP, the step cut
+//!    at `T`), not at once; or its **flight within the contact distance** is
+//!    followed to its return (the pair open meanwhile); otherwise the apex
+//!    rule cuts the step at the apex of a flight that leaves the contact
+//!    distance. A sliding pair that **sticks** within the step cuts it where
+//!    its slip stops (`EventDriven::stick_times`).
 //! 4. **Event location in time.** After the trial step, every vertex of each
 //!    close pair (floes and obstacles both ways) that was open (`d > δ`) and
-//!    ends below `δ/2` is an event: the first instant its signed distance to
-//!    the other body reaches `3δ/4` is found by Illinois root finding on the
-//!    re-integrated motion, and the step is cut there. Impacts therefore
-//!    happen at a gap in `[δ/2, δ]`. The default `δ` is the report's positive
-//!    contact distance, 1e-3 of the smallest floe radius: each impact comes
-//!    early by about `3δ / (4 × approach speed)`, and collisions closer than
-//!    `δ` are treated together rather than one by one. A case that sets a
-//!    tiny `[contact] distance` (e.g. 1e-9 m) locates each impact at the root
-//!    of the gap.
+//!    ends below the impact gap `g_i` ([`IMPACT_GAP_FRACTION`] of `δ`), or
+//!    whose path relative to the other body passes within `g_i` of it inside
+//!    the step (a transit), is an event: the first instant its
+//!    signed distance to the other body reaches `g_i` is found by Illinois
+//!    root finding on the re-integrated motion (to `1e-3 δ`), and the step is
+//!    cut there. The default `δ` is the report's positive contact distance,
+//!    1e-3 of the smallest floe radius: each impact comes early by about
+//!    `δ / (10 × approach speed)`, and collisions closer than `δ` are treated
+//!    together rather than one by one. A case that sets a tiny
+//!    `[contact] distance` (e.g. 1e-9 m) locates each impact at the root of
+//!    the gap.
 //! 5. **Penetration.** A penetration deeper than the tolerance at the end of
 //!    a step rejects it; it is retried with half the step (counted).
+//!
+//! **Outputs.** The scheme keeps its state on its own grid of steps; the
+//! state at an output time inside a step is that step's exact continuation
+//! ([`SmoothIntegrator::continuation`]): what is saved never changes the
+//! dynamics.
 //!
 //! Every LCP goes through the shared [`ContactSolver`]: [`crate::lcp::solve()`]
 //! (lexicographic Lemke, another pivot rule, a perturbed matrix), whose
@@ -286,7 +309,7 @@ const MAX_CUTS: usize = 50;
 /// impact happens close to the true contact (a bouncing floe's impacts are
 /// early by `δ/(10 v)`, its accumulation time by a fraction `δ/(20 d)` of
 /// itself for a drop `d`: 0.035 % on `bouncing_floe`; at `3δ/4`, as before,
-/// 0.27 %), with a margin to rounding and to [`ROOT_TOLERANCE`].
+/// 0.27 %), with a margin to rounding and to the root tolerance (1e-3 δ).
 pub const IMPACT_GAP_FRACTION: f64 = 0.1;
 /// An event is located to within this fraction of `δ` of its gap: every
 /// impact then happens at the same gap, so that the flights of a bouncing
@@ -786,7 +809,7 @@ impl EventDriven {
     /// closed contacts (sustained contact), from the velocity–impulse LCP;
     /// or where the step must be cut (docs/physics.md §4.3, step 3).
     /// The stick rule's estimates are returned apart
-    /// ([`EventDriven::stick_times`]).
+    /// (`EventDriven::stick_times`).
     fn sustained_wrenches(
         &mut self,
         scn: &Scenario,
