@@ -7,40 +7,63 @@
 //! 1. **Detection.** Contacts are found by sweep and prune and exact convex
 //!    polygon distances ([`crate::contact`]): every vertex–edge point whose
 //!    gap is below the contact distance `δ` is *closed*.
-//! 2. **Impacts.** If a closed contact approaches (`u_N < 0`), the connected
+//! 2. **Impacts.** If a closed contact approaches faster than the impact
+//!    threshold (`u_N < −v_imp`, [`EventDriven::new`]), the connected
 //!    group of floes it belongs to goes through an impact: the compression
 //!    LCP of docs/physics.md §3.1 with `e = 0` and no external impulse gives `W_c`
 //!    and the impulse `P_c`; decompression applies `e P_c` more, i.e. Poisson's
 //!    law in Rabatel's energy-consistent form `W⁺ = (1 + e) W_c − e W⁻`, which
 //!    never increases the kinetic energy for `e ≤ 1` and conserves it for
 //!    `e = 1, μ = 0`. Repeated until no closed contact approaches (a
-//!    decompression may push another closed contact into approach).
+//!    decompression may push another closed contact into approach). A slower
+//!    approach that the step's sustained force would let close more than a
+//!    tenth of the penetration tolerance is stopped at once, plastically.
 //! 3. **Smooth step with sustained contacts.** A trial step `h` is bounded by
-//!    the time left to the next output, the drag stability bound `Δt_max` of
-//!    docs/physics.md §4.2, and a quarter of the smallest floe radius divided
-//!    by the largest point speed (no floe tunnels through another). Closed
-//!    contacts that persist (resting, sliding) receive a constant contact
-//!    force over the step: the LCP is solved with the velocity–impulse form of
-//!    docs/physics.md §3.1, `h_free = −M W_free` where `W_free` is the free velocity after `h`
+//!    the scheme alone, never by the output times
+//!    ([`SmoothIntegrator::step_bound`]: the drag stability bound `Δt_max`
+//!    of docs/physics.md §4.2, a quarter of the smallest floe radius of
+//!    travel from the largest point speed and acceleration, the forcing
+//!    kinks, the end of the run), and with closed contacts by the contact
+//!    horizon [`contact_horizon`]. Closed contacts that persist (resting,
+//!    sliding) receive a constant contact force over the step: the LCP is
+//!    solved with the velocity–impulse form of docs/physics.md §3.1,
+//!    `h_free = −M W_free` where `W_free` is the free velocity after `h`
 //!    (the external impulse `∫𝓗 dt` included), and its impulse divided by `h`
 //!    is added to the environment forces while the step is integrated by the
 //!    shared smooth integrator. A constant force balance is therefore exact
 //!    (a floe pressed on a wall by a constant wind stays put; a sliding floe
 //!    decelerates at exactly `μ a`). A penetrating sustained contact asks for
-//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c` with `c = g/h`, docs/physics.md §3.1).
+//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c`
+//!    with `c = g/h`, docs/physics.md §3.1). A separating contact of an
+//!    isolated pair pulled back by the environment (`EventDriven::separation`):
+//!    its **accumulation** of bounces completes at its accumulation time
+//!    `T = 2u_N/(|a_N|(1 − e))`, by the mean motion (the normal velocity
+//!    decaying linearly to rest at `T`, asked of the same LCP, the step cut
+//!    at `T`), not at once; or its **flight within the contact distance** is
+//!    followed to its return (the pair open meanwhile); otherwise the apex
+//!    rule cuts the step at the apex of a flight that leaves the contact
+//!    distance. A sliding pair that **sticks** within the step cuts it where
+//!    its slip stops (`EventDriven::stick_times`).
 //! 4. **Event location in time.** After the trial step, every vertex of each
 //!    close pair (floes and obstacles both ways) that was open (`d > δ`) and
-//!    ends below `δ/2` is an event: the first instant its signed distance to
-//!    the other body reaches `3δ/4` is found by Illinois root finding on the
-//!    re-integrated motion, and the step is cut there. Impacts therefore
-//!    happen at a gap in `[δ/2, δ]`. The default `δ` is the report's positive
-//!    contact distance, 1e-3 of the smallest floe radius: each impact comes
-//!    early by about `3δ / (4 × approach speed)`, and collisions closer than
-//!    `δ` are treated together rather than one by one. A case that sets a
-//!    tiny `[contact] distance` (e.g. 1e-9 m) locates each impact at the root
-//!    of the gap.
+//!    ends below the impact gap `g_i` ([`IMPACT_GAP_FRACTION`] of `δ`), or
+//!    whose path relative to the other body passes within `g_i` of it inside
+//!    the step (a transit), is an event: the first instant its
+//!    signed distance to the other body reaches `g_i` is found by Illinois
+//!    root finding on the re-integrated motion (to `1e-3 δ`), and the step is
+//!    cut there. The default `δ` is the report's positive contact distance,
+//!    1e-3 of the smallest floe radius: each impact comes early by about
+//!    `δ / (10 × approach speed)`, and collisions closer than `δ` are treated
+//!    together rather than one by one. A case that sets a tiny
+//!    `[contact] distance` (e.g. 1e-9 m) locates each impact at the root of
+//!    the gap.
 //! 5. **Penetration.** A penetration deeper than the tolerance at the end of
 //!    a step rejects it; it is retried with half the step (counted).
+//!
+//! **Outputs.** The scheme keeps its state on its own grid of steps; the
+//! state at an output time inside a step is that step's exact continuation
+//! ([`SmoothIntegrator::continuation`]): what is saved never changes the
+//! dynamics.
 //!
 //! Every LCP goes through the shared [`ContactSolver`]: [`crate::lcp::solve()`]
 //! (lexicographic Lemke, another pivot rule, a perturbed matrix), whose
@@ -294,12 +317,17 @@ const MAX_REJECTIONS: usize = 12;
 /// the step is taken as it is: each cut shortens it, and a cut that would
 /// shorten it by less than [`MIN_CUT_FRACTION`] is not made.
 const MAX_CUTS: usize = 50;
-/// An event is located where the vertex gap is `3δ/4` to within this
-/// fraction of `δ`: every impact then happens at the same gap, so that the
-/// flights of a bouncing floe between located impacts have the heights and
-/// durations of the closed form (with `δ/4`, impacts anywhere in
-/// `[δ/2, δ]` shifted the bounces of `bouncing_floe` by up to 2 mm and its
-/// rest by 1.5 s).
+/// An event is located where the vertex gap is this fraction of `δ`: an
+/// impact happens close to the true contact (a bouncing floe's impacts are
+/// early by `δ/(10 v)`, its accumulation time by a fraction `δ/(20 d)` of
+/// itself for a drop `d`: 0.035 % on `bouncing_floe`; at `3δ/4`, as before,
+/// 0.27 %), with a margin to rounding and to the root tolerance (1e-3 δ).
+pub const IMPACT_GAP_FRACTION: f64 = 0.1;
+/// An event is located to within this fraction of `δ` of its gap: every
+/// impact then happens at the same gap, so that the flights of a bouncing
+/// floe between located impacts have the heights and durations of the
+/// closed form (with `δ/4`, impacts anywhere in `[δ/2, δ]` shifted the
+/// bounces of `bouncing_floe` by up to 2 mm and its rest by 1.5 s).
 const ROOT_TOLERANCE: f64 = 1e-3;
 /// A cut shortens the trial step by at least this fraction.
 const MIN_CUT_FRACTION: f64 = 1e-6;
@@ -332,11 +360,15 @@ impl Cut {
 
 /// A closed contact in a free flight that stays within the contact
 /// distance: the pair `(min, max)` is left out of the sustained problem
-/// until the flight returns, at `until` (s).
+/// until the flight returns, at `until` (s), or earlier if the pair comes
+/// back to its starting gap or penetrates (the estimate of the flight
+/// assumed a constant normal acceleration).
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Flight {
     pair: (usize, usize),
     until: f64,
+    /// The smallest gap of the pair's contacts when the flight started, m.
+    gap: f64,
 }
 
 /// What happens to a closed contact that separates (`u_N > 0`) and is pulled
@@ -374,47 +406,102 @@ fn earlier(a: Option<(f64, Cut)>, s: f64, why: Cut) -> Option<(f64, Cut)> {
     }
 }
 
-/// Whether vertex `v0 → v1` (world positions at the start and end of a step)
-/// passes within `δ/2` of body `other` on the way, judged on its path
-/// relative to that body (the straight segment between its positions in the
-/// body's frame at the start and at the end: exact for a relative
-/// translation at constant velocity): the middle of the passage as a
-/// fraction of the step, if it does.
-#[allow(clippy::too_many_arguments)]
-fn transit(
+/// Margin on the relative travel of two bodies over a step in the transit
+/// prefilter (drag makes the forces vary a little over a step).
+const TRANSIT_MARGIN: f64 = 1.25;
+/// Pieces of the path of a vertex relative to another body in the transit
+/// test ([`transit`]): the relative path is curved when the bodies turn.
+const TRANSIT_PIECES: usize = 4;
+
+/// The pose `(G, θ)` of a floe at the fraction `σ` of a step of length `h`
+/// from `b0` to `b1`: cubic Hermite interpolation of both from their values
+/// and rates at the ends (exact for a motion under constant forces without
+/// rotation, and second order in `h` otherwise).
+fn hermite_pose(b0: &BodyState, b1: &BodyState, h: f64, sigma: f64) -> (Vec2, f64) {
+    let s2 = sigma * sigma;
+    let s3 = s2 * sigma;
+    let (h00, h10, h01, h11) = (
+        2.0 * s3 - 3.0 * s2 + 1.0,
+        s3 - 2.0 * s2 + sigma,
+        -2.0 * s3 + 3.0 * s2,
+        s3 - s2,
+    );
+    (
+        b0.position * h00 + b0.velocity * (h10 * h) + b1.position * h01 + b1.velocity * (h11 * h),
+        b0.angle * h00
+            + b0.angular_velocity * (h10 * h)
+            + b1.angle * h01
+            + b1.angular_velocity * (h11 * h),
+    )
+}
+
+/// The motion of body `owner` relative to body `other` over the step of
+/// length `h` from `sys` to `end`, at the [`TRANSIT_PIECES`]` + 1` fractions
+/// `σ = k / TRANSIT_PIECES` of the step: the rigid maps `x ↦ R(α) x + d`
+/// (as `(cos α, sin α, d)`) taking a point of `owner` (its shape for a floe,
+/// its world polygon for an obstacle) into the frame of `other`, both poses
+/// interpolated by [`hermite_pose`].
+fn relative_motion(
     scn: &Scenario,
     sys: &System,
     end: &System,
+    h: f64,
+    owner: usize,
     other: usize,
-    v0: &Vec2,
-    v1: &Vec2,
-    world0: &[Vec2],
-    delta: f64,
-) -> Option<f64> {
-    let (q0, q1, local): (Vec2, Vec2, &[Vec2]) = match scn.body(other) {
-        Body::Floe(o) => {
-            let (b0, b1) = (&sys.bodies[o], &end.bodies[o]);
-            (
-                rotate(&(v0 - b0.position), -b0.angle),
-                rotate(&(v1 - b1.position), -b1.angle),
-                &scn.floes[o].shape,
-            )
+) -> Vec<(f64, f64, Vec2)> {
+    let pose = |body: usize, sigma: f64| -> (Vec2, f64) {
+        match scn.body(body) {
+            Body::Floe(i) => hermite_pose(&sys.bodies[i], &end.bodies[i], h, sigma),
+            Body::Obstacle(_) => (Vec2::zeros(), 0.0),
         }
-        Body::Obstacle(_) => (*v0, *v1, world0),
     };
-    // Cyrus–Beck clipping of q0 → q1 against the polygon grown by δ/2.
+    (0..=TRANSIT_PIECES)
+        .map(|k| {
+            let sigma = k as f64 / TRANSIT_PIECES as f64;
+            let ((gv, av), (go, ao)) = (pose(owner, sigma), pose(other, sigma));
+            let alpha = av - ao;
+            (alpha.cos(), alpha.sin(), rotate(&(gv - go), -ao))
+        })
+        .collect()
+}
+
+/// Whether the point `x` of a body (in the body's own coordinates, see
+/// [`relative_motion`]) passes within `grow` (m: the impact gap `g_i`,
+/// [`IMPACT_GAP_FRACTION`] of `δ`) of the polygon `local` of another body
+/// during the step: its path in that body's frame, given by `motion`, is
+/// followed in straight pieces, each clipped against the polygon grown by
+/// `grow`. Returns the middle of the first passage as a fraction of the
+/// step, if there is one.
+fn transit(motion: &[(f64, f64, Vec2)], x: &Vec2, local: &[Vec2], grow: f64) -> Option<f64> {
+    let map = |&(c, s, d): &(f64, f64, Vec2)| Vec2::new(c * x.x - s * x.y, s * x.x + c * x.y) + d;
+    let pieces = motion.len().saturating_sub(1).max(1) as f64;
+    let mut q0 = map(&motion[0]);
+    for (piece, m) in motion.iter().enumerate().skip(1) {
+        let q1 = map(m);
+        if let Some(u) = clip(&q0, &q1, local, grow) {
+            return Some((piece as f64 - 1.0 + u) / pieces);
+        }
+        q0 = q1;
+    }
+    None
+}
+
+/// Cyrus–Beck clipping of the segment `q0 → q1` against the convex
+/// counter-clockwise polygon `poly` grown by `grow` (m): the middle of the
+/// part inside, as a fraction of the segment, if there is one.
+fn clip(q0: &Vec2, q1: &Vec2, poly: &[Vec2], grow: f64) -> Option<f64> {
     let dq = q1 - q0;
     let (mut u_in, mut u_out) = (0.0f64, 1.0f64);
-    let n = local.len();
+    let n = poly.len();
     for e in 0..n {
-        let a = local[e];
-        let edge = local[(e + 1) % n] - a;
+        let a = poly[e];
+        let edge = poly[(e + 1) % n] - a;
         let len = edge.norm();
         if len == 0.0 {
             continue;
         }
         let normal = Vec2::new(edge.y, -edge.x) / len;
-        let num = (q0 - a).dot(&normal) - 0.5 * delta;
+        let num = (q0 - a).dot(&normal) - grow;
         let den = dq.dot(&normal);
         if den == 0.0 {
             if num > 0.0 {
@@ -432,20 +519,17 @@ fn transit(
     Some(0.5 * (u_in + u_out))
 }
 
-/// The approach speed below which a closed contact is left to the sustained
-/// LCP rather than resolved as an impact, m/s: `max(1e-10, 0.1 ε / τ)` with
-/// `ε` the penetration tolerance and the horizon `τ = min(Δt_max, τ_ε)`.
-/// `τ_ε = sqrt(2ε/a_f)` is the time the forcing (the drag of the strongest
-/// wind and current on the lightest floe at rest, acceleration `a_f`) takes
-/// to close the tolerance `ε` from rest, and `Δt_max` the drag time scale:
-/// within either, the forces on a sustained contact change little. An
-/// approach slower than the threshold closes less than a tenth of the
-/// tolerance over `τ`: it is the drift of a sustained contact (the constant
-/// contact force of a step is first order in the change of the forces), not
-/// an impact. Without drag the threshold is `0.1 sqrt(a_f ε / 2)`, a tenth of
-/// the speed the forcing gives over `ε/4`; without forcing only the rounding
-/// floor remains. None of this depends on the output times.
-pub fn impact_speed_threshold(scn: &Scenario, pen_tol: f64, drag_bound: f64) -> f64 {
+/// The contact horizon `τ_c = (2 ε Δt_max / a_f)^(1/3)`, s, the longest
+/// step with closed contacts. A step holds the contact force constant while
+/// the environment forces change; the drag changes them on the time scale
+/// `Δt_max` (docs/physics.md §4.2), by about `a_f h / Δt_max` over a step
+/// `h` (`a_f` the forcing: the drag of the strongest wind and current on the
+/// lightest floe at rest, as an acceleration), which drifts a contact by
+/// about `a_f h³ / (2 Δt_max)`: at most the penetration tolerance `ε` within
+/// `τ_c`. Without water drag or without forcing the forces on a contact do
+/// not change between the kinks of the forcing series (where steps stop
+/// anyway) and the horizon is infinite.
+pub fn contact_horizon(scn: &Scenario, pen_tol: f64, drag_bound: f64) -> f64 {
     let env = &scn.environment;
     let traction = env.air.drag_factor() * env.air.velocity.max_speed().powi(2)
         + env.water.drag_factor() * env.water.velocity.max_speed().powi(2);
@@ -454,12 +538,25 @@ pub fn impact_speed_threshold(scn: &Scenario, pen_tol: f64, drag_bound: f64) -> 
         .iter()
         .map(|f| traction / f.surface_density())
         .fold(0.0, f64::max);
-    let tau_tolerance = if forcing > 0.0 {
-        (2.0 * pen_tol / forcing).sqrt()
+    if forcing > 0.0 && drag_bound.is_finite() {
+        (2.0 * pen_tol * drag_bound / forcing).cbrt()
     } else {
         f64::INFINITY
-    };
-    APPROACH_TOLERANCE.max(0.1 * pen_tol / drag_bound.min(tau_tolerance))
+    }
+}
+
+/// Whether the pair `(min, max)` is isolated among `contacts`: no other
+/// pair touches either of its floes (obstacles may touch other floes), so
+/// that only the environment pulls its contact back.
+fn isolated(scn: &Scenario, contacts: &[Contact], pair: (usize, usize)) -> bool {
+    let floe = |b: usize| matches!(scn.body(b), Body::Floe(_));
+    contacts.iter().all(|d| {
+        let p = pair_of(d);
+        p == pair
+            || !([p.0, p.1]
+                .iter()
+                .any(|&b| floe(b) && (b == pair.0 || b == pair.1)))
+    })
 }
 
 /// The pair of a contact, smaller index first.
@@ -493,6 +590,8 @@ pub struct EventDriven {
     /// Approach speed below which a closed contact is left to the sustained
     /// LCP rather than resolved as an impact, m/s (see [`EventDriven::new`]).
     impact_speed: f64,
+    /// The longest step with closed contacts, s ([`contact_horizon`]).
+    horizon: f64,
     solver: ContactSolver,
     bp: BroadPhase,
     sweep_bp: BroadPhase,
@@ -519,12 +618,21 @@ impl EventDriven {
         let distance = contact_distance(scn);
         let pen_tol = settings.penetration_tolerance(scn);
         let integ = SmoothIntegrator::new(scn, opts.integrator);
-        let impact_speed = impact_speed_threshold(scn, pen_tol, integ.drag_bound());
+        // An approach slower than ε/τ_c closes less than the penetration
+        // tolerance ε over the contact horizon τ_c: it is the drift of a
+        // sustained contact, not an impact. A step of length τ_c holding its
+        // contact force while the forces change by a_f τ_c/Δt_max leaves
+        // drift velocities up to a_f τ_c²/Δt_max = 2ε/τ_c; the threshold is
+        // half of that. Without drag the forces do not drift and only the
+        // rounding floor remains. None of this depends on the output times.
+        let horizon = contact_horizon(scn, pen_tol, integ.drag_bound());
+        let impact_speed = APPROACH_TOLERANCE.max(pen_tol / horizon);
         Ok(EventDriven {
             integ,
             distance,
             pen_tol,
             impact_speed,
+            horizon,
             solver: ContactSolver::new(settings.solver, opts.dump_lcp.clone()),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
@@ -558,8 +666,9 @@ impl EventDriven {
         out
     }
 
-    /// Resolves the impacts of every group with an approaching closed contact.
-    /// Returns whether any impact happened.
+    /// Resolves the impacts of every group with an approaching closed contact
+    /// (a pair in a flight within δ is open). Returns whether any impact
+    /// happened.
     ///
     /// With `slow = Some(h)`, the approaches slower than the impact threshold
     /// instead (faster than the rounding floor), those that the sustained
@@ -577,6 +686,10 @@ impl EventDriven {
         let approaching: Vec<bool> = contacts
             .iter()
             .map(|c| {
+                // A pair in a flight within δ is open until it returns.
+                if self.flights.iter().any(|f| f.pair == pair_of(c)) {
+                    return false;
+                }
                 let u = normal_velocity(scn, &sys.bodies, c);
                 match slow {
                     None => u < -self.impact_speed,
@@ -673,6 +786,11 @@ impl EventDriven {
     /// the closed form), the contact accumulates. Otherwise a flight that
     /// stays within the contact distance, faster than the impact threshold,
     /// is followed to its return; anything else is left to the apex rule.
+    /// Only for an isolated pair ([`isolated`]): in a pile the neighbours'
+    /// contact forces, not the environment, pull a contact back, and the
+    /// closed forms do not hold (with them, the mean motion pushed piles of
+    /// `field_200_coast` apart against the wind: contacts did 6.8e9 J of
+    /// positive work in 6000 s).
     fn separation(&mut self, scn: &Scenario, sys: &System, c: &Contact, u: f64) -> Separation {
         if u <= self.impact_speed {
             // Not a bounce: its return would not be an impact.
@@ -703,7 +821,7 @@ impl EventDriven {
     /// closed contacts (sustained contact), from the velocity–impulse LCP;
     /// or where the step must be cut (docs/physics.md §4.3, step 3).
     /// The stick rule's estimates are returned apart
-    /// ([`EventDriven::stick_times`]).
+    /// (`EventDriven::stick_times`).
     fn sustained_wrenches(
         &mut self,
         scn: &Scenario,
@@ -743,23 +861,37 @@ impl EventDriven {
             };
             let u = normal_velocity(scn, &sys.bodies, c);
             if u > APPROACH_TOLERANCE {
-                match self.separation(scn, sys, c, u) {
+                let separation = if isolated(scn, contacts, pair) {
+                    self.separation(scn, sys, c, u)
+                } else {
+                    Separation::Other
+                };
+                match separation {
                     Separation::Accumulating { remaining } => {
                         // The normal velocity decays linearly to rest at the
                         // accumulation time.
                         self.counters.add(&ACCUMULATING_CONTACTS, 1);
-                        // Cut at the accumulation time unless the motion
-                        // the step would add after it, u (h − T)/2, is below
-                        // the penetration tolerance.
-                        if u * (h - remaining) > 2.0 * self.pen_tol {
+                        // Cut at the accumulation time unless the decay
+                        // stretched over the step stays within δ (a lift
+                        // u h/2) and adds less than the penetration
+                        // tolerance after it (u (h − T)/2).
+                        if c.geom.gap + 0.5 * u * h > self.distance
+                            || u * (h - remaining) > 2.0 * self.pen_tol
+                        {
                             out.cut = earlier(out.cut, remaining, Cut::Accumulation);
                         }
                         ask = ask.max(u * (1.0 - h / remaining).max(0.0));
                     }
                     Separation::FlightWithin { flight } => {
+                        let gap = contacts
+                            .iter()
+                            .filter(|d| pair_of(d) == pair)
+                            .map(|d| d.geom.gap)
+                            .fold(f64::INFINITY, f64::min);
                         out.flights.push(Flight {
                             pair,
                             until: t + flight,
+                            gap,
                         });
                         out.cut = earlier(out.cut, flight, Cut::Return);
                         target.push(None);
@@ -873,9 +1005,11 @@ impl EventDriven {
 
     /// The stick rule of a trial step of length `h` (docs/physics.md §4.3,
     /// step 3), for the pairs of `closed` that slide at the start (slip
-    /// `u₀`) by more than the penetration tolerance over the step (a shorter
-    /// slip is not worth a cut: the constant friction force smears it over
-    /// the step). Returns:
+    /// `u₀`) by more than the contact distance over the step (a shorter slip
+    /// is below the scheme's resolution and not worth a cut: the constant
+    /// friction force smears it over the step; with the penetration
+    /// tolerance instead, `narrow_channel` took three times as many stick
+    /// cuts for the same result). Returns:
     ///
     /// - the earliest stop of a pair that has stuck by the end (its summed
     ///   friction impulse `B`, along the slip, inside the cone `μΛ` of its
@@ -937,7 +1071,7 @@ impl EventDriven {
         let min = |a: Option<f64>, b: f64| Some(a.map_or(b, |a: f64| a.min(b)));
         for p in pairs {
             let u0 = p.start.norm();
-            if !(u0 * h > self.pen_tol && p.lambda > 0.0) {
+            if !(u0 * h > self.distance && p.lambda > 0.0) {
                 continue;
             }
             let dir = p.start / u0;
@@ -1021,26 +1155,54 @@ impl EventDriven {
         p1: &[Vec<Vec2>],
     ) -> Result<Option<Event>, FormulationError> {
         let delta = self.distance;
+        let target = IMPACT_GAP_FRACTION * delta;
         let mut first: Option<Event> = None;
         for (i, j) in self.swept_pairs(scn, p0, p1) {
             // Vertices open at the start and closing at the end: (owner,
             // index); failing those, vertices open at both ends whose path
-            // relative to the other body passes within δ/2 of it (a transit
+            // relative to the other body passes within g_i of it (a transit
             // inside the step), with the middle of that passage.
             let mut cand: Vec<(usize, usize)> = Vec::new();
             let mut transits: Vec<((usize, usize), f64)> = Vec::new();
+            // A vertex travels at most `reach` relative to the other body
+            // over the step (the largest point speeds at the ends, which
+            // bound them between under constant forces, with a margin): it
+            // can pass within g_i of it only if d0 + d1 ≤ reach + 2 g_i.
+            let speed = |b: usize| match scn.body(b) {
+                Body::Floe(f) => {
+                    let r = scn.floes[f].radius;
+                    let at = |s: &BodyState| s.velocity.norm() + s.angular_velocity.abs() * r;
+                    at(&sys.bodies[f]).max(at(&end.bodies[f]))
+                }
+                Body::Obstacle(_) => 0.0,
+            };
+            let reach = TRANSIT_MARGIN * (speed(i) + speed(j)) * h + 2.0 * target;
             for (owner, other) in [(i, j), (j, i)] {
+                let mut motion = None;
+                let local: &[Vec2] = match scn.body(other) {
+                    Body::Floe(o) => &scn.floes[o].shape,
+                    Body::Obstacle(_) => &p0[other],
+                };
                 for (k, (v0, v1)) in p0[owner].iter().zip(&p1[owner]).enumerate() {
                     let d0 = point_polygon_signed_distance(v0, &p0[other]);
                     if d0 <= delta {
                         continue;
                     }
                     let d1 = point_polygon_signed_distance(v1, &p1[other]);
-                    if d1 < 0.5 * delta {
+                    if d1 < target {
                         cand.push((owner, k));
-                    } else if let Some(mid) =
-                        transit(scn, sys, end, other, v0, v1, &p0[other], delta)
-                    {
+                        continue;
+                    }
+                    if d0 + d1 > reach {
+                        continue;
+                    }
+                    let motion = motion
+                        .get_or_insert_with(|| relative_motion(scn, sys, end, h, owner, other));
+                    let x = match scn.body(owner) {
+                        Body::Floe(f) => scn.floes[f].shape[k],
+                        Body::Obstacle(_) => *v0,
+                    };
+                    if let Some(mid) = transit(motion, &x, local, target) {
                         transits.push(((owner, k), mid * h));
                     }
                 }
@@ -1061,8 +1223,7 @@ impl EventDriven {
             if probes.is_empty() {
                 continue;
             }
-            // φ(s) = min over candidates of d(s) − 3δ/4.
-            let target = 0.75 * delta;
+            // φ(s) = min over candidates of d(s) − g_i.
             let phi = |s: f64, me: &mut Self| -> Result<f64, FormulationError> {
                 let mut poly = |idx: usize| -> Result<Vec<Vec2>, FormulationError> {
                     if let Body::Obstacle(_) = scn.body(idx) {
@@ -1170,9 +1331,16 @@ impl EventDriven {
             .retain(|f| f.until - t > 1e-12 * f.until.abs().max(1.0));
         // 1. Closed contacts at this instant.
         let contacts = clock.time(Stage::Detection, || self.detect(scn, &sys.bodies));
-        // A flight whose pair is no longer closed is over.
-        self.flights
-            .retain(|f| contacts.iter().any(|c| pair_of(c) == f.pair));
+        // A flight whose pair is no longer closed, or is back at its
+        // starting gap, is over.
+        self.flights.retain(|f| {
+            let gap = contacts
+                .iter()
+                .filter(|c| pair_of(c) == f.pair)
+                .map(|c| c.geom.gap)
+                .fold(f64::INFINITY, f64::min);
+            gap.is_finite() && gap > f.gap
+        });
         // 2. Impacts.
         let mut rounds = 0;
         let mut any = false;
@@ -1194,7 +1362,10 @@ impl EventDriven {
         // 3. Trial step with sustained contact forces, bounded by the
         // scheme alone (never by the output times).
         let hints = self.integ.hints().to_vec();
-        let bound = self.integ.step_bound(scn, sys, end);
+        let mut bound = self.integ.step_bound(scn, sys, end);
+        if !contacts.is_empty() {
+            bound = bound.min(self.horizon);
+        }
         // A closed contact still approaching, slower than the impact
         // threshold, is stopped by the sustained force over the step and
         // closes |u| h / 2: beyond a tenth of the tolerance, it is stopped at
@@ -1274,12 +1445,25 @@ impl EventDriven {
             } else {
                 p1
             };
-            let depth = clock.time(Stage::Detection, || {
+            let depths: Vec<((usize, usize), f64)> = clock.time(Stage::Detection, || {
                 self.swept_pairs(scn, &p_next, &p_next)
                     .iter()
-                    .map(|&(i, j)| -Self::pair_min_distance(&p_next[i], &p_next[j]))
-                    .fold(0.0, f64::max)
+                    .map(|&(i, j)| ((i, j), -Self::pair_min_distance(&p_next[i], &p_next[j])))
+                    .collect()
             });
+            let depth = depths.iter().map(|d| d.1).fold(0.0, f64::max);
+            // A flight whose pair penetrates was misjudged: over.
+            let before = self.flights.len();
+            self.flights.retain(|f| {
+                !depths
+                    .iter()
+                    .any(|&(p, d)| (p.0.min(p.1), p.0.max(p.1)) == f.pair && d > 0.0)
+            });
+            if self.flights.len() < before && rejections < MAX_REJECTIONS {
+                rejections += 1;
+                self.counters.add(&STEPS_REJECTED_PENETRATION, 1);
+                continue;
+            }
             if depth > self.pen_tol && rejections < MAX_REJECTIONS {
                 rejections += 1;
                 self.counters.add(&STEPS_REJECTED_PENETRATION, 1);

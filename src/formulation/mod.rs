@@ -150,6 +150,68 @@ pub fn reported_state(
     }
 }
 
+/// The grid `t_k = base + k h` of a fixed-step formulation (a fixed step
+/// `h`, s, from the time the state was last set, `t = 0` in a run) and the
+/// state on it. `begin` resumes the state and says how many steps reach the
+/// requested time; after each step `stepped` puts the state's time on the
+/// grid; `finish` keeps and reports it.
+#[derive(Debug, Clone, Default)]
+pub struct FixedGrid {
+    own: OwnState,
+    h: f64,
+    base: f64,
+    k: u64,
+}
+
+impl FixedGrid {
+    /// The grid of step `h`, s.
+    pub fn new(h: f64) -> FixedGrid {
+        FixedGrid {
+            h,
+            ..FixedGrid::default()
+        }
+    }
+
+    /// The step `h`, s.
+    pub fn step(&self) -> f64 {
+        self.h
+    }
+
+    /// The state to continue from (see [`OwnState::resume`]), whether the
+    /// grid restarted there, and the number of steps to `t_end` (s); an
+    /// error when `t_end` is not a time of the grid ahead.
+    pub fn begin(
+        &mut self,
+        sys: &System,
+        t_end: f64,
+    ) -> Result<(System, bool, u64), FormulationError> {
+        let (cur, fresh) = self.own.resume(sys);
+        if fresh {
+            (self.base, self.k) = (cur.t, 0);
+        }
+        match grid_index(self.base, self.h, t_end).filter(|&j| j >= self.k) {
+            Some(j) => Ok((cur, fresh, j - self.k)),
+            None => Err(FormulationError::Other(format!(
+                "t = {t_end} s is not a time of the step grid (step {} s from {} s, now at {} s)",
+                self.h, self.base, cur.t
+            ))),
+        }
+    }
+
+    /// After one step of `cur`: its time is the next time of the grid.
+    pub fn stepped(&mut self, cur: &mut System) {
+        self.k += 1;
+        cur.t = self.base + self.k as f64 * self.h;
+    }
+
+    /// Keeps `cur` as the state on the grid and reports it into `sys` at
+    /// `t_end` (s).
+    pub fn finish(&mut self, sys: &mut System, cur: System, t_end: f64) {
+        self.own.keep(cur.clone());
+        self.own.report(sys, cur, t_end);
+    }
+}
+
 /// Relative rounding allowed when an output time is matched to a step of a
 /// fixed grid (`k Δ` and `j h` computed in floating point).
 const GRID_ROUNDING: f64 = 1e-9;

@@ -121,8 +121,8 @@
 
 use super::contact_solver::{ContactSolver, SolverKind};
 use super::{
-    check_output_grid, grid_index, Entry, Formulation, FormulationError, FormulationOptions,
-    NotClaimed, OwnState,
+    check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
+    NotClaimed,
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{BroadPhase, Contact};
@@ -354,11 +354,8 @@ pub struct Moreau {
     max_penetration: f64,
     /// Rounding allowance of the activation test, m (see [`ACTIVATION_TOLERANCE_FRACTION`]).
     activation_tolerance: f64,
-    /// The state on the grid.
-    own: OwnState,
-    /// Where the grid starts (s) and the steps taken on it: the state is at
-    /// `base + k h`.
-    grid: (f64, u64),
+    /// The state on the step grid `t_k = k h`.
+    grid: FixedGrid,
 }
 
 impl Moreau {
@@ -394,8 +391,7 @@ impl Moreau {
             records: Vec::new(),
             max_penetration: 0.0,
             activation_tolerance,
-            own: OwnState::default(),
-            grid: (0.0, 0),
+            grid: FixedGrid::new(s.step),
         })
     }
 
@@ -612,26 +608,13 @@ impl Formulation for Moreau {
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        let (mut cur, fresh) = self.own.resume(sys);
-        if fresh {
-            self.grid = (cur.t, 0);
+        let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
+        // Steps of h on the grid t_k = k h (module doc).
+        for _ in 0..steps {
+            self.step_once(scn, &mut cur, self.step, clock)?;
+            self.grid.stepped(&mut cur);
         }
-        let h = self.step;
-        let (base, k0) = self.grid;
-        let Some(j) = grid_index(base, h, t_end).filter(|&j| j >= k0) else {
-            return Err(FormulationError::Other(format!(
-                "t = {t_end} s is not a time of the step grid (step {h} s from {base} s, now at {} s)",
-                cur.t
-            )));
-        };
-        // Steps of h on the grid t_k = base + k h (module doc).
-        for k in k0 + 1..=j {
-            self.step_once(scn, &mut cur, h, clock)?;
-            cur.t = base + k as f64 * h;
-            self.grid.1 = k;
-        }
-        self.own.keep(cur.clone());
-        self.own.report(sys, cur, t_end);
+        self.grid.finish(sys, cur, t_end);
         Ok(())
     }
 

@@ -161,7 +161,7 @@ fn a_single_output_at_the_end_neither_hangs_nor_changes_the_final_state() {
         let (t, name) = (text.clone(), entry.name);
         std::thread::spawn(move || {
             // The receiver may have given up (a hang): nothing to send to.
-            let _ = send.send(run_at(&t, 400.0, name).unwrap());
+            let _ = send.send(Box::new(run_at(&t, 400.0, name).unwrap()));
         });
         let once = receive
             .recv_timeout(HANG)

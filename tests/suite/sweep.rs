@@ -142,24 +142,25 @@ fn event_driven_first_impact_error_is_linear_in_the_contact_distance() {
     let b = bouncing_expected(&scenario(&case_text("bouncing_floe")));
     for o in p {
         eprintln!(
-            "event-driven first impact: delta {} -> {}: error {:.4e} -> {:.4e} (x t1: {:.4} s, 3 delta/(4 v1) = {:.4} s), order {:.4}",
+            "event-driven first impact: delta {} -> {}: error {:.4e} -> {:.4e} (x t1: {:.4} s, delta/(10 v1) = {:.4} s), order {:.4}",
             o.s_from,
             o.s_to,
             o.e_from,
             o.e_to,
             o.e_from * b.t1,
-            0.75 * o.s_from / b.v1,
+            0.1 * o.s_from / b.v1,
             o.order
         );
-        // The impact is found at a gap of 3 delta / 4 +- delta / 4: early by
-        // delta/(2 v1) to delta/v1, by 3 delta/(4 v1) at the first secant
-        // step of the location; the floe accelerates by a over it, which
-        // moves the located gap by a few 1e-5 m (measured orders 1.001, 1.002).
+        // The impact is located at a gap of delta / 10, to 1e-3 delta: early
+        // by delta / (10 v1) to 1 %, plus what the floe's acceleration over
+        // that last tenth changes (measured: +0.01 % at 0.005 m, +1.01 % at
+        // 0.01 m); the bound allows 1.5 %.
         for (d, e) in [(o.s_from, o.e_from), (o.s_to, o.e_to)] {
             let early = e * b.t1;
             assert!(
-                early >= 0.5 * d / b.v1 && early <= d / b.v1,
-                "delta = {d}: {early} s"
+                early >= 0.0985 * d / b.v1 && early <= 0.1015 * d / b.v1,
+                "delta = {d}: {early} s against delta/(10 v1) = {} s",
+                0.1 * d / b.v1
             );
         }
         assert!((o.order - 1.0).abs() < 0.02, "{o:?}");

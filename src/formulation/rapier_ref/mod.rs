@@ -134,8 +134,8 @@
 mod convert;
 
 use super::{
-    check_output_grid, grid_index, Entry, Formulation, FormulationError, FormulationOptions,
-    NotClaimed, OwnState,
+    check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
+    NotClaimed,
 };
 use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
@@ -490,10 +490,9 @@ pub struct RapierReference {
     max_pairs: u64,
     energy_gained: f64,
     integration_defect: f64,
-    /// The state on the grid (rapier's bodies hold the same).
-    own: OwnState,
-    /// Where the grid starts (s) and the steps taken on it.
-    grid: (f64, u64),
+    /// The state on the step grid `t_k = k h` (rapier's bodies hold the
+    /// same).
+    grid: FixedGrid,
 }
 
 impl std::fmt::Debug for RapierReference {
@@ -574,8 +573,7 @@ impl RapierReference {
             max_pairs: 0,
             energy_gained: 0.0,
             integration_defect: 0.0,
-            own: OwnState::default(),
-            grid: (0.0, 0),
+            grid: FixedGrid::new(settings.step),
         })
     }
 
@@ -811,27 +809,14 @@ impl Formulation for RapierReference {
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        let (mut cur, fresh) = self.own.resume(sys);
-        if fresh {
-            self.grid = (cur.t, 0);
-        }
+        let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
         self.sync_in(&cur.bodies);
-        let h = self.settings.step;
-        let (base, k0) = self.grid;
-        let Some(j) = grid_index(base, h, t_end).filter(|&j| j >= k0) else {
-            return Err(FormulationError::Other(format!(
-                "rapier: t = {t_end} s is not a time of the step grid (step {h} s from {base} s, now at {} s)",
-                cur.t
-            )));
-        };
-        // Steps of h on the grid t_k = base + k h.
-        for k in k0 + 1..=j {
-            self.step(scn, &mut cur, h, clock)?;
-            cur.t = base + k as f64 * h;
-            self.grid.1 = k;
+        // Steps of h on the grid t_k = k h.
+        for _ in 0..steps {
+            self.step(scn, &mut cur, self.settings.step, clock)?;
+            self.grid.stepped(&mut cur);
         }
-        self.own.keep(cur.clone());
-        self.own.report(sys, cur, t_end);
+        self.grid.finish(sys, cur, t_end);
         Ok(())
     }
 
