@@ -119,7 +119,7 @@ enum Command {
         #[arg(long, default_value_t = 5, requires = "time", value_parser = clap::value_parser!(u64).range(1..))]
         repeat: u64,
         /// Also write one CSV row per dump:
-        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us.
+        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots.
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
     },

@@ -92,6 +92,26 @@ pub enum Termination {
     InvalidInput,
 }
 
+impl Termination {
+    /// Name used in logs and CSV: `"Solved"`, `"RayTermination"`,
+    /// `"MaxPivots"`, `"NumericalFailure"`, `"InvalidInput"`.
+    pub fn as_str(&self) -> &'static str {
+        match self {
+            Self::Solved => "Solved",
+            Self::RayTermination => "RayTermination",
+            Self::MaxPivots => "MaxPivots",
+            Self::NumericalFailure => "NumericalFailure",
+            Self::InvalidInput => "InvalidInput",
+        }
+    }
+}
+
+impl std::fmt::Display for Termination {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.as_str())
+    }
+}
+
 /// Options of [`lemke`].
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct LemkeOptions {

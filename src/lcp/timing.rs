@@ -15,6 +15,7 @@
 //! by [`summarize`].
 
 use super::dump::{DumpError, LcpDump};
+use super::lemke::Termination;
 use super::solve::{solve, LcpSolution, SolveOptions, SolveStatus, Strategy};
 use crate::record::clock::thread_cpu_seconds;
 use std::hint::black_box;
@@ -79,6 +80,11 @@ pub struct TimedSolve {
     pub residual: f64,
     /// Median thread CPU time per solve, µs.
     pub cpu_us: f64,
+    /// What Lemke reported on the first (lexicographic) attempt
+    /// ([`Termination::Solved`] for `q >= 0`, which needs no attempt).
+    pub first_termination: Termination,
+    /// Pivots of the first attempt.
+    pub first_pivots: usize,
 }
 
 /// Name of the accepted attempt of `sol` as written in the CSV.
@@ -173,16 +179,24 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
         accepted_attempt: accepted_attempt_name(&sol),
         residual: sol.residual,
         cpu_us,
+        first_termination: sol
+            .attempts
+            .first()
+            .map_or(Termination::Solved, |a| a.termination),
+        first_pivots: sol.attempts.first().map_or(0, |a| a.pivots),
     })
 }
 
-/// The CSV text of `rows`: header
-/// `file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us`.
+/// The CSV header of [`csv`].
+pub const CSV_HEADER: &str =
+    "file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots";
+
+/// The CSV text of `rows`, with the header [`CSV_HEADER`].
 pub fn csv(rows: &[TimedSolve]) -> String {
-    let mut s = String::from("file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us\n");
+    let mut s = format!("{CSV_HEADER}\n");
     for r in rows {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{:e},{:.4}\n",
+            "{},{},{},{},{},{},{:e},{:.4},{},{}\n",
             r.file,
             r.n,
             r.contacts,
@@ -190,7 +204,9 @@ pub fn csv(rows: &[TimedSolve]) -> String {
             r.status.as_str(),
             r.accepted_attempt,
             r.residual,
-            r.cpu_us
+            r.cpu_us,
+            r.first_termination.as_str(),
+            r.first_pivots
         ));
     }
     s
@@ -211,6 +227,10 @@ pub struct BucketSummary {
     pub failures: usize,
     /// Problems solved by a fallback.
     pub fallbacks: usize,
+    /// Problems whose first attempt ended on a secondary ray.
+    pub rays: usize,
+    /// Problems whose first attempt reached the pivot cap.
+    pub caps: usize,
     /// Largest residual (0 if empty).
     pub max_residual: f64,
     /// Total CPU time of one solve of each problem, s.
@@ -237,6 +257,14 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
                     .iter()
                     .filter(|r| r.status == SolveStatus::SolvedByFallback)
                     .count(),
+                rays: sel
+                    .iter()
+                    .filter(|r| r.first_termination == Termination::RayTermination)
+                    .count(),
+                caps: sel
+                    .iter()
+                    .filter(|r| r.first_termination == Termination::MaxPivots)
+                    .count(),
                 max_residual: sel.iter().map(|r| r.residual).fold(0.0, f64::max),
                 total_seconds: sel.iter().fold(0.0, |a, r| a + r.cpu_us) * 1e-6,
             }
@@ -247,8 +275,17 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
 /// The summary as a fixed-width text table.
 pub fn format_summary(rows: &[BucketSummary]) -> String {
     let mut s = format!(
-        "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>11} {:>10}\n",
-        "unknowns", "count", "median µs", "pivots", "failures", "fallback", "max resid", "total s"
+        "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>6} {:>6} {:>11} {:>10}\n",
+        "unknowns",
+        "count",
+        "median µs",
+        "pivots",
+        "failures",
+        "fallback",
+        "rays",
+        "caps",
+        "max resid",
+        "total s"
     );
     for r in rows {
         if r.count == 0 {
@@ -256,13 +293,15 @@ pub fn format_summary(rows: &[BucketSummary]) -> String {
             continue;
         }
         s.push_str(&format!(
-            "{:<9} {:>6} {:>12.3} {:>9.1} {:>9} {:>9} {:>11.2e} {:>10.4}\n",
+            "{:<9} {:>6} {:>12.3} {:>9.1} {:>9} {:>9} {:>6} {:>6} {:>11.2e} {:>10.4}\n",
             r.label,
             r.count,
             r.median_us,
             r.median_pivots,
             r.failures,
             r.fallbacks,
+            r.rays,
+            r.caps,
             r.max_residual,
             r.total_seconds
         ));
