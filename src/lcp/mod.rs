@@ -27,7 +27,8 @@
 //! almost-complementary basis stays lexicographically feasible and no basis can
 //! repeat, so the method cannot cycle. Ties in the ratio test are exact up to
 //! a relative 1e-14 (a looser, absolute tolerance let non-minimal rows leave
-//! and lost the path). A plain minimum-ratio test with a
+//! and lost the path); a basic value that rounding left slightly negative
+//! counts as 0 there (see [`lemke`]). A plain minimum-ratio test with a
 //! documented tie-break ([`lemke::PivotRule`]) is offered as an alternative.
 //! If `z0` is among the rows tied in the ratio test it is always chosen (the
 //! method then stops on a complementary solution), and so it is when the
@@ -43,8 +44,9 @@
 //! attempts (lexicographic rule; alternative rule with another covering
 //! vector; lexicographic rule on `M + εI` for a few relative `ε`), re-checks every candidate against the
 //! **original** data with [`residual`], optionally polishes it (iterative
-//! refinement of the final basis on the original data, else re-solving the
-//! linear system of its support), and reports every
+//! refinement of the final basis on the original data, else principal
+//! pivoting from its support, which completes a path that ended next to a
+//! solution), and reports every
 //! attempt. It never panics and never returns a non-finite `z`.
 //!
 //! [`timing`] times the driver on a folder of dumps (`floebench lcp DIR
@@ -67,6 +69,7 @@
 pub mod dump;
 mod json_f64;
 pub mod lemke;
+pub(crate) mod pivoting;
 pub(crate) mod polish;
 pub mod solve;
 pub mod timing;
@@ -291,7 +294,7 @@ fn two_prod(a: f64, b: f64) -> (f64, f64) {
 /// floating-point range (where Dekker's splitting overflows) the data are
 /// scaled by powers of two first, exactly; non-finite only if the data are
 /// or the result overflows.
-fn dot2_plus(x: &[f64], y: &[f64], c: f64) -> f64 {
+pub(crate) fn dot2_plus(x: &[f64], y: &[f64], c: f64) -> f64 {
     let v = dot2_plus_scaled(x, y, c, 1.0, 1.0, 1.0);
     if v.is_finite() {
         return v;

@@ -1,0 +1,244 @@
+//! Complementary bases solved directly, and block principal pivoting from a
+//! guessed one.
+//!
+//! A **complementary basis** is a set `α` of indices whose `z_i` are basic
+//! (the others have `w_i` basic): its basic solution is `z_α` from
+//! `M_αα z_α = −q_α`, `z_i = 0` off `α`, `w = M z + q`. It solves the LCP iff
+//! `z_α ≥ 0` and `w_ᾱ ≥ 0` (then `w_α = 0`, `z_ᾱ = 0`: complementary).
+//!
+//! [`Pivoting::run`] starts from a guessed `α` and applies **block principal
+//! pivoting** (Júdice & Pires 1994; Kostreva 1978): every infeasible index
+//! (`z_i < 0` for `i ∈ α`, `w_i < 0` off `α`) switches side; when the number
+//! of infeasible indices has not decreased for [`BLOCK_STEPS_WITHOUT_PROGRESS`]
+//! steps, only the largest infeasible index switches (Murty's rule, finite
+//! for a P-matrix). The run stops at a feasible basis, at a singular one, or
+//! after the given number of basis solves. Its candidate is then clamped to
+//! `z ≥ 0` and judged by the [`super::residual`] on the original data like
+//! every candidate of the driver; the caller decides what to do with it.
+//!
+//! It serves two purposes in [`super::solve`]: the **polish** of a Lemke
+//! candidate (starting from its support: a basis solve on the original data
+//! removes the rounding of a long pivot path, and further switches complete
+//! a path that ended next to a solution, e.g. on a secondary ray with
+//! `z0 ≈ 0`), and the **warm start** (starting from the previous step's
+//! basis of the same contacts).
+//!
+//! **Basis solves.** `M_αα + δI` is factorised (LU with partial pivoting,
+//! `δ = 2⁻⁴⁰ max_i |M_ii|`, about 1e-12 relative), and [`SOLVES_PER_BASIS`]
+//! steps of iterative refinement against the unshifted `M_αα`, with
+//! compensated residuals, start from the current point (the candidate being
+//! polished, the previous step's impulses, the previous basis's solution).
+//! The shift makes the solve defined for the singular but consistent
+//! systems of the contact LCPs (two points of facing edges have equal
+//! tangential columns: the split of their friction impulse is
+//! indeterminate); starting from the current point keeps its component in
+//! such a (near-)null space instead of replacing it by the shifted solve's
+//! (which turned feasible Lemke candidates into infeasible ones). On a
+//! regular basis the error contracts by `δ/λ` a step. `w` is computed with
+//! compensated dot products ([`super::dot2_plus`]).
+
+use super::polish::Lu;
+use super::{dot2_plus, residual_with_w};
+
+/// Solves with the shifted factorisation per basis: the first from the
+/// starting point, then iterative refinement against the unshifted matrix.
+pub const SOLVES_PER_BASIS: usize = 3;
+
+/// Block steps allowed without a decrease of the number of infeasible
+/// indices before Murty's single switch takes over (Júdice & Pires use 3).
+pub const BLOCK_STEPS_WITHOUT_PROGRESS: usize = 3;
+
+/// Relative diagonal shift of a basis solve: `2⁻⁴⁰ ≈ 9.1e-13`.
+const SHIFT: f64 = 1.0 / (1u64 << 40) as f64;
+
+/// Infeasibility below this fraction of the driver's tolerance (times
+/// `‖q‖₂`) is rounding: the index does not switch.
+const FEASIBILITY_FRACTION: f64 = 1e-3;
+
+/// Outcome of [`Pivoting::run`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PivotingOutcome {
+    /// Basis solves performed.
+    pub(crate) solves: usize,
+    /// Whether a feasible basis was reached (its candidate is in
+    /// [`Pivoting::z`], [`Pivoting::w`]).
+    pub(crate) feasible: bool,
+    /// Residual of the candidate on the original data (`INFINITY` if none).
+    pub(crate) residual: f64,
+}
+
+/// Buffers of the basis solves and of principal pivoting; one lives in the
+/// driver's work space.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Pivoting {
+    /// The complementary set: `alpha[i]` when `z_i` is basic. Set it before
+    /// [`Pivoting::run`]; it holds the last basis afterwards.
+    pub(crate) alpha: Vec<bool>,
+    /// Starting point (set it with `alpha`; entries off `alpha` are
+    /// ignored), then the candidate `z` (clamped to `z ≥ 0` when feasible).
+    pub(crate) z: Vec<f64>,
+    /// `w = M z + q` of the candidate.
+    pub(crate) w: Vec<f64>,
+    lu: Lu,
+    idx: Vec<usize>,
+    x: Vec<f64>,
+    r: Vec<f64>,
+    row: Vec<f64>,
+    infeasible: Vec<usize>,
+}
+
+impl Pivoting {
+    /// Block principal pivoting from `self.alpha` and the starting point `self.z` on `(m, q)` (n = `q.len()`,
+    /// `m` n×n row-major, finite), at most `max_solves` basis solves.
+    /// `tolerance` is the driver's acceptance threshold on the residual:
+    /// infeasibility below `1e-3 · tolerance · ‖q‖₂` does not switch an
+    /// index. A feasible basis leaves its clamped candidate in `self.z`,
+    /// `self.w` with its residual; otherwise the residual is `INFINITY`.
+    pub(crate) fn run(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        max_solves: usize,
+        tolerance: f64,
+    ) -> PivotingOutcome {
+        let n = q.len();
+        let mut out = PivotingOutcome {
+            solves: 0,
+            feasible: false,
+            residual: f64::INFINITY,
+        };
+        if self.alpha.len() != n || n.checked_mul(n) != Some(m.len()) {
+            return out;
+        }
+        self.z.resize(n, 0.0);
+        let tau_w = FEASIBILITY_FRACTION * tolerance * super::norm2(q);
+        let tau_z = tau_w / super::lemke::max_abs(m).max(1.0);
+        let mut best = usize::MAX;
+        let mut patience = BLOCK_STEPS_WITHOUT_PROGRESS;
+        while out.solves < max_solves {
+            out.solves += 1;
+            if !self.solve_basis(m, q) {
+                return out;
+            }
+            self.infeasible.clear();
+            for i in 0..n {
+                let bad = if self.alpha[i] {
+                    self.z[i] < -tau_z
+                } else {
+                    self.w[i] < -tau_w
+                };
+                if bad || !(self.z[i].is_finite() && self.w[i].is_finite()) {
+                    self.infeasible.push(i);
+                }
+            }
+            if self.infeasible.is_empty() {
+                out.feasible = true;
+                break;
+            }
+            if self.infeasible.len() < best {
+                best = self.infeasible.len();
+                patience = BLOCK_STEPS_WITHOUT_PROGRESS;
+                self.switch_all();
+            } else if patience > 0 {
+                patience -= 1;
+                self.switch_all();
+            } else if let Some(&i) = self.infeasible.last() {
+                self.alpha[i] = !self.alpha[i];
+            }
+        }
+        if !out.feasible {
+            return out;
+        }
+        // Clamp the rounding-level negatives and judge on the original data.
+        if self.z.iter().any(|&v| v < 0.0) {
+            for v in self.z.iter_mut() {
+                *v = v.max(0.0);
+            }
+            self.idx.clear();
+            self.idx.extend((0..n).filter(|&i| self.z[i] != 0.0));
+            self.x.clear();
+            self.x.extend(self.idx.iter().map(|&i| self.z[i]));
+            self.w_from_support(m, q);
+        }
+        out.residual = residual_with_w(q, &self.z, &self.w);
+        out
+    }
+
+    fn switch_all(&mut self) {
+        for &i in &self.infeasible {
+            self.alpha[i] = !self.alpha[i];
+        }
+    }
+
+    /// The basic solution of `self.alpha` into `self.z`, `self.w`; `false`
+    /// if the shifted matrix is singular or the solution not finite.
+    fn solve_basis(&mut self, m: &[f64], q: &[f64]) -> bool {
+        let n = q.len();
+        self.idx.clear();
+        self.idx.extend((0..n).filter(|&i| self.alpha[i]));
+        let k = self.idx.len();
+        self.x.clear();
+        if k > 0 {
+            let idx = &self.idx;
+            let dmax = idx.iter().fold(0.0_f64, |a, &i| a.max(m[i * n + i].abs()));
+            let delta = if dmax > 0.0 {
+                SHIFT * dmax
+            } else {
+                SHIFT * super::lemke::max_abs(m)
+            };
+            let a = self.lu.matrix_mut(k);
+            for (r, &i) in idx.iter().enumerate() {
+                let mrow = &m[i * n..(i + 1) * n];
+                for (c, &j) in idx.iter().enumerate() {
+                    a[r * k + c] = mrow[j];
+                }
+                a[r * k + r] += delta;
+            }
+            if !self.lu.refactor(k) {
+                return false;
+            }
+            // Start from the current point: its component in a (near-)null
+            // space of M_αα is kept, not replaced by the shifted solve's.
+            self.x.extend(idx.iter().map(|&i| self.z[i]));
+            for _ in 0..SOLVES_PER_BASIS {
+                // r = −q_α − M_αα x, compensated: the refinement then
+                // converges to the correctly rounded solution of the
+                // unshifted system wherever it is determined.
+                self.r.clear();
+                for &i in idx {
+                    let mrow = &m[i * n..(i + 1) * n];
+                    self.row.clear();
+                    self.row.extend(idx.iter().map(|&j| mrow[j]));
+                    self.r.push(-dot2_plus(&self.row, &self.x, q[i]));
+                }
+                self.lu.solve_in_place(&mut self.r);
+                for (v, d) in self.x.iter_mut().zip(&self.r) {
+                    *v += d;
+                }
+            }
+            if !self.x.iter().all(|v| v.is_finite()) {
+                return false;
+            }
+        }
+        self.z.clear();
+        self.z.resize(n, 0.0);
+        for (&i, &v) in self.idx.iter().zip(&self.x) {
+            self.z[i] = v;
+        }
+        self.w_from_support(m, q);
+        true
+    }
+
+    /// `self.w = M z + q` for `z` given on its support (`self.idx`,
+    /// values `self.x`), compensated.
+    fn w_from_support(&mut self, m: &[f64], q: &[f64]) {
+        let n = q.len();
+        self.w.clear();
+        for (i, &qi) in q.iter().enumerate() {
+            let mrow = &m[i * n..(i + 1) * n];
+            self.row.clear();
+            self.row.extend(self.idx.iter().map(|&j| mrow[j]));
+            self.w.push(dot2_plus(&self.row, &self.x, qi));
+        }
+    }
+}
