@@ -77,8 +77,8 @@ pub mod timing;
 pub use dump::{DumpError, LcpDump};
 pub use lemke::{lemke, lemke_with, LemkeOptions, LemkeResult, PivotRule, Termination, Workspace};
 pub use solve::{
-    solve, solve_with, Attempt, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus,
-    SolveSummary, Strategy,
+    solve, solve_warm, solve_warm_with, solve_with, Attempt, BasisGuess, Covering, LcpSolution,
+    SolveCounters, SolveOptions, SolveStatus, SolveSummary, Strategy, WarmStart,
 };
 
 use serde::{Deserialize, Serialize};

@@ -60,10 +60,9 @@ const FEASIBILITY_FRACTION: f64 = 1e-3;
 pub(crate) struct PivotingOutcome {
     /// Basis solves performed.
     pub(crate) solves: usize,
-    /// Whether a feasible basis was reached (its candidate is in
-    /// [`Pivoting::z`], [`Pivoting::w`]).
-    pub(crate) feasible: bool,
-    /// Residual of the candidate on the original data (`INFINITY` if none).
+    /// Residual on the original data of the candidate left in
+    /// [`Pivoting::z`], [`Pivoting::w`] (`INFINITY` if no basis solve was
+    /// judged: infeasible to the end, or singular).
     pub(crate) residual: f64,
 }
 
@@ -92,8 +91,10 @@ impl Pivoting {
     /// `m` n×n row-major, finite), at most `max_solves` basis solves.
     /// `tolerance` is the driver's acceptance threshold on the residual:
     /// infeasibility below `1e-3 · tolerance · ‖q‖₂` does not switch an
-    /// index. A feasible basis leaves its clamped candidate in `self.z`,
-    /// `self.w` with its residual; otherwise the residual is `INFINITY`.
+    /// index, and a basic solution whose residual meets the tolerance stops
+    /// the run. A feasible (or accepted) basis leaves its candidate, clamped
+    /// to `z ≥ 0`, in `self.z`, `self.w` with its residual; otherwise the
+    /// residual is `INFINITY`.
     pub(crate) fn run(
         &mut self,
         m: &[f64],
@@ -104,7 +105,6 @@ impl Pivoting {
         let n = q.len();
         let mut out = PivotingOutcome {
             solves: 0,
-            feasible: false,
             residual: f64::INFINITY,
         };
         if self.alpha.len() != n || n.checked_mul(n) != Some(m.len()) {
@@ -131,9 +131,17 @@ impl Pivoting {
                     self.infeasible.push(i);
                 }
             }
-            if self.infeasible.is_empty() {
-                out.feasible = true;
-                break;
+            // A basic solution whose residual (negative z_i count in it)
+            // meets the tolerance is judged as it is: switching indices for
+            // rounding-level infeasibility of a near-singular basis only
+            // leads away from it.
+            let feasible = self.infeasible.is_empty();
+            if feasible || residual_with_w(q, &self.z, &self.w) <= tolerance {
+                let r = self.clamped_residual(m, q);
+                if feasible || r <= tolerance {
+                    out.residual = r;
+                    return out;
+                }
             }
             if self.infeasible.len() < best {
                 best = self.infeasible.len();
@@ -146,22 +154,23 @@ impl Pivoting {
                 self.alpha[i] = !self.alpha[i];
             }
         }
-        if !out.feasible {
-            return out;
-        }
-        // Clamp the rounding-level negatives and judge on the original data.
+        out
+    }
+
+    /// Clamps `self.z` to `z ≥ 0` (recomputing `self.w` if anything
+    /// changed) and returns its residual on the original data.
+    fn clamped_residual(&mut self, m: &[f64], q: &[f64]) -> f64 {
         if self.z.iter().any(|&v| v < 0.0) {
             for v in self.z.iter_mut() {
                 *v = v.max(0.0);
             }
             self.idx.clear();
-            self.idx.extend((0..n).filter(|&i| self.z[i] != 0.0));
+            self.idx.extend((0..q.len()).filter(|&i| self.z[i] != 0.0));
             self.x.clear();
             self.x.extend(self.idx.iter().map(|&i| self.z[i]));
             self.w_from_support(m, q);
         }
-        out.residual = residual_with_w(q, &self.z, &self.w);
-        out
+        residual_with_w(q, &self.z, &self.w)
     }
 
     fn switch_all(&mut self) {

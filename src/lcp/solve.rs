@@ -67,6 +67,9 @@ pub enum Strategy {
     AlternativeRule,
     /// Lemke (lexicographic) on `M + εI`.
     Perturbed,
+    /// Principal pivoting from a guessed basis ([`solve_warm`]), before any
+    /// Lemke attempt.
+    WarmStart,
 }
 
 /// Choice of the covering vector `d` of an attempt.
@@ -108,7 +111,8 @@ impl Covering {
 /// Overall outcome of [`solve`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum SolveStatus {
-    /// The first attempt (lexicographic Lemke) was accepted.
+    /// The warm start ([`solve_warm`]) or the first Lemke attempt
+    /// (lexicographic) was accepted.
     Solved,
     /// A later attempt was accepted.
     SolvedByFallback,
@@ -178,6 +182,11 @@ pub struct SolveOptions {
     pub polish_solves: usize,
     /// See [`LemkeOptions::z0_tol`].
     pub z0_tol: f64,
+    /// Basis solves allowed to the principal pivoting of a warm start
+    /// ([`solve_warm`]) before it gives way to the attempts. Default 4 (see
+    /// [`SolveOptions::polish_solves`]: a miss costs less than half a Lemke
+    /// run of the same size).
+    pub warm_solves: usize,
 }
 
 impl Default for SolveOptions {
@@ -197,6 +206,7 @@ impl Default for SolveOptions {
             polish: true,
             polish_solves: 4,
             z0_tol: l.z0_tol,
+            warm_solves: 4,
         }
     }
 }
@@ -231,6 +241,29 @@ pub struct Attempt {
     pub accepted: bool,
 }
 
+/// Record of the warm start of [`solve_warm`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WarmStart {
+    /// Basis solves of its principal pivoting.
+    pub basis_solves: usize,
+    /// Residual of its candidate on the original problem (`Infinity` if it
+    /// reached no feasible basis).
+    #[serde(with = "json_f64::scalar")]
+    pub residual: f64,
+    /// Whether it was accepted (then no Lemke attempt was made).
+    pub accepted: bool,
+}
+
+/// A guessed complementary basis for [`solve_warm`], e.g. the previous
+/// step's solution of the same contacts.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BasisGuess {
+    /// `basic[i]`: `z_i` is basic (in the support); else `w_i` is.
+    pub basic: Vec<bool>,
+    /// Starting point of the basis solves (entries off the basis ignored).
+    pub z: Vec<f64>,
+}
+
 /// Result of [`solve`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct LcpSolution {
@@ -244,8 +277,11 @@ pub struct LcpSolution {
     pub residual: f64,
     /// Total pivots over all attempts.
     pub pivots: usize,
-    /// Every attempt, in order.
+    /// Every Lemke attempt, in order (none when the warm start was
+    /// accepted).
     pub attempts: Vec<Attempt>,
+    /// The warm start, if [`solve_warm`] tried one.
+    pub warm: Option<WarmStart>,
     /// Strategy of the accepted attempt, if any.
     pub accepted_by: Option<Strategy>,
     /// Overall status.
@@ -306,6 +342,13 @@ pub struct SolveCounters {
     /// Largest residual among accepted solves.
     #[serde(with = "json_f64::scalar")]
     pub max_accepted_residual: f64,
+    /// Solves whose warm start was accepted.
+    pub warm_hits: u64,
+    /// Solves whose warm start was tried and rejected.
+    pub warm_misses: u64,
+    /// Solves accepted after the principal pivoting of the polish switched
+    /// indices (a Lemke path completed next to a solution).
+    pub completed_by_pivoting: u64,
 }
 
 impl SolveCounters {
@@ -327,6 +370,14 @@ impl SolveCounters {
         self.max_pivots = self.max_pivots.max(p);
         if s.status.is_solved() {
             self.max_accepted_residual = self.max_accepted_residual.max(s.residual);
+        }
+        match s.warm {
+            Some(w) if w.accepted => self.warm_hits += 1,
+            Some(_) => self.warm_misses += 1,
+            None => {}
+        }
+        if s.attempts.iter().any(|a| a.accepted && a.basis_solves >= 2) {
+            self.completed_by_pivoting += 1;
         }
     }
 }
@@ -371,6 +422,7 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
             residual: f64::INFINITY,
             pivots: 0,
             attempts: Vec::new(),
+            warm: None,
             accepted_by: None,
             status: SolveStatus::Failed,
         };
@@ -509,9 +561,73 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
         residual,
         pivots,
         attempts,
+        warm: None,
         accepted_by,
         status,
     }
+}
+
+/// [`solve`] preceded by a **warm start**: block principal pivoting
+/// ([`super::pivoting`]) from the guessed basis, at most
+/// [`SolveOptions::warm_solves`] basis solves on the original data. Its
+/// candidate is accepted on the same test as every attempt (residual on the
+/// original data `<= tolerance`); then no Lemke attempt is made and the
+/// status is [`SolveStatus::Solved`] with [`Strategy::WarmStart`]. Otherwise
+/// the attempts of [`solve`] follow as if cold (the record of the warm start
+/// is kept in [`LcpSolution::warm`]). A guess of the wrong size, a
+/// non-finite problem or `warm_solves = 0` goes straight to [`solve`].
+///
+/// For an LCP with several solutions (friction) the warm start may accept a
+/// solution other than the one Lemke would reach; each is a solution to the
+/// same tolerance. Uses this thread's [`Workspace`].
+pub fn solve_warm(lcp: &Lcp, opts: &SolveOptions, guess: &BasisGuess) -> LcpSolution {
+    with_thread_workspace(|ws| solve_warm_with(ws, lcp, opts, guess))
+}
+
+/// [`solve_warm`] with an explicit work space.
+pub fn solve_warm_with(
+    ws: &mut Workspace,
+    lcp: &Lcp,
+    opts: &SolveOptions,
+    guess: &BasisGuess,
+) -> LcpSolution {
+    let n = lcp.q.len();
+    let usable = lcp.check().is_ok()
+        && opts.tolerance.is_finite()
+        && opts.tolerance >= 0.0
+        && opts.warm_solves > 0
+        && guess.basic.len() == n
+        && guess.z.len() == n
+        && lcp.is_finite();
+    if !usable {
+        return solve_with(ws, lcp, opts);
+    }
+    let pv = &mut ws.scratch.pivoting;
+    pv.alpha.clear();
+    pv.alpha.extend_from_slice(&guess.basic);
+    pv.z.clear();
+    pv.z.extend(guess.z.iter().map(|v| if v.is_finite() { *v } else { 0.0 }));
+    let out = pv.run(&lcp.m, &lcp.q, opts.warm_solves, opts.tolerance);
+    let warm = WarmStart {
+        basis_solves: out.solves,
+        residual: out.residual,
+        accepted: out.residual <= opts.tolerance,
+    };
+    if warm.accepted {
+        return LcpSolution {
+            z: pv.z.clone(),
+            w: pv.w.clone(),
+            residual: out.residual,
+            pivots: 0,
+            attempts: Vec::new(),
+            warm: Some(warm),
+            accepted_by: Some(Strategy::WarmStart),
+            status: SolveStatus::Solved,
+        };
+    }
+    let mut sol = solve_with(ws, lcp, opts);
+    sol.warm = Some(warm);
+    sol
 }
 
 /// Maximum number of refinement steps of a basic solution.

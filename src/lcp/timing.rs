@@ -16,7 +16,9 @@
 
 use super::dump::{DumpError, LcpDump};
 use super::lemke::Termination;
-use super::solve::{solve, LcpSolution, SolveOptions, SolveStatus, Strategy};
+use super::solve::{
+    solve, solve_warm, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
+};
 use crate::record::clock::thread_cpu_seconds;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -48,6 +50,10 @@ pub struct TimingOptions {
     pub min_batch_seconds: f64,
     /// Options of the driver.
     pub solve: SolveOptions,
+    /// Warm-start every solve ([`solve_warm`]) from the dump's own stored
+    /// solution (`basic = z > 0`, starting point `z`): the cost of a warm
+    /// start whose guess is right.
+    pub warm: bool,
 }
 
 impl Default for TimingOptions {
@@ -56,6 +62,7 @@ impl Default for TimingOptions {
             repeats: 5,
             min_batch_seconds: 1e-3,
             solve: SolveOptions::default(),
+            warm: false,
         }
     }
 }
@@ -89,22 +96,34 @@ pub struct TimedSolve {
 
 /// Name of the accepted attempt of `sol` as written in the CSV.
 pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
+    if sol.accepted_by == Some(Strategy::WarmStart) {
+        return String::from("WarmStart");
+    }
     match sol.attempts.iter().find(|a| a.accepted) {
         None => String::from("none"),
         Some(a) => match a.strategy {
             Strategy::Lexicographic => String::from("Lexicographic"),
             Strategy::AlternativeRule => String::from("AlternativeRule"),
             Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
+            Strategy::WarmStart => String::from("WarmStart"),
         },
     }
 }
 
 /// Solves `lcp` once (the returned solution) and then times it: the median
 /// over `opts.repeats` batches of the CPU time per solve, µs (see the
-/// module doc).
-pub fn time_solve(lcp: &super::Lcp, opts: &TimingOptions) -> (LcpSolution, f64) {
+/// module doc). With `guess`, every solve is [`solve_warm`] from it.
+pub fn time_solve(
+    lcp: &super::Lcp,
+    opts: &TimingOptions,
+    guess: Option<&BasisGuess>,
+) -> (LcpSolution, f64) {
+    let run = |l: &super::Lcp| match guess {
+        Some(g) => solve_warm(l, &opts.solve, g),
+        None => solve(l, &opts.solve),
+    };
     let t0 = thread_cpu_seconds();
-    let sol = solve(black_box(lcp), &opts.solve);
+    let sol = run(black_box(lcp));
     let first = (thread_cpu_seconds() - t0).max(0.0);
     let min_batch = if opts.min_batch_seconds.is_finite() {
         opts.min_batch_seconds.max(0.0)
@@ -123,7 +142,7 @@ pub fn time_solve(lcp: &super::Lcp, opts: &TimingOptions) -> (LcpSolution, f64) 
     while samples.len() < opts.repeats.max(1) {
         let t0 = thread_cpu_seconds();
         for _ in 0..batch {
-            black_box(solve(black_box(lcp), &opts.solve));
+            black_box(run(black_box(lcp)));
         }
         let dt = (thread_cpu_seconds() - t0).max(0.0);
         if dt < min_batch && batch < (1 << 24) {
@@ -166,7 +185,11 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
         path: path.to_path_buf(),
         source: std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
     })?;
-    let (sol, cpu_us) = time_solve(&lcp, opts);
+    let guess = opts.warm.then(|| BasisGuess {
+        basic: dump.z.iter().map(|&v| v > 0.0).collect(),
+        z: dump.z.clone(),
+    });
+    let (sol, cpu_us) = time_solve(&lcp, opts, guess.as_ref());
     Ok(TimedSolve {
         file: path
             .file_name()
