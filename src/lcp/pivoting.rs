@@ -38,7 +38,7 @@
 //! compensated dot products ([`super::dot2_plus`]).
 
 use super::polish::Lu;
-use super::{dot2_plus, residual_with_w};
+use super::{dot2_plus, ResidualScale};
 
 /// Solves with the shifted factorisation per basis: the first from the
 /// starting point, then iterative refinement against the unshifted matrix.
@@ -111,6 +111,7 @@ impl Pivoting {
             return out;
         }
         self.z.resize(n, 0.0);
+        let scale = ResidualScale::of(q);
         let tau_w = FEASIBILITY_FRACTION * tolerance * super::norm2(q);
         let tau_z = tau_w / super::lemke::max_abs(m).max(1.0);
         let mut best = usize::MAX;
@@ -136,8 +137,8 @@ impl Pivoting {
             // rounding-level infeasibility of a near-singular basis only
             // leads away from it.
             let feasible = self.infeasible.is_empty();
-            if feasible || residual_with_w(q, &self.z, &self.w) <= tolerance {
-                let r = self.clamped_residual(m, q);
+            if feasible || scale.residual(&self.z, &self.w) <= tolerance {
+                let r = self.clamped_residual(m, q, &scale);
                 if feasible || r <= tolerance {
                     out.residual = r;
                     return out;
@@ -159,7 +160,7 @@ impl Pivoting {
 
     /// Clamps `self.z` to `z ≥ 0` (recomputing `self.w` if anything
     /// changed) and returns its residual on the original data.
-    fn clamped_residual(&mut self, m: &[f64], q: &[f64]) -> f64 {
+    fn clamped_residual(&mut self, m: &[f64], q: &[f64], scale: &ResidualScale) -> f64 {
         if self.z.iter().any(|&v| v < 0.0) {
             for v in self.z.iter_mut() {
                 *v = v.max(0.0);
@@ -170,7 +171,7 @@ impl Pivoting {
             self.x.extend(self.idx.iter().map(|&i| self.z[i]));
             self.w_from_support(m, q);
         }
-        residual_with_w(q, &self.z, &self.w)
+        scale.residual(&self.z, &self.w)
     }
 
     fn switch_all(&mut self) {

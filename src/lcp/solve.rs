@@ -55,7 +55,7 @@ use super::json_f64;
 use super::lemke::{
     max_abs, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
 };
-use super::{residual_with_w, w_into, w_unchecked, Lcp};
+use super::{w_into, w_unchecked, Lcp, ResidualScale};
 use serde::{Deserialize, Serialize};
 
 /// Which strategy of the driver produced an attempt.
@@ -428,6 +428,7 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
         };
     }
     let finite = lcp.is_finite();
+    let scale = ResidualScale::of(q);
     let mut sc = std::mem::take(&mut ws.scratch);
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
         v.clear();
@@ -492,13 +493,13 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
             *x = x.max(0.0);
         }
         w_into(m, q, &sc.z, &mut sc.w);
-        let mut resid = residual_with_w(q, &sc.z, &sc.w);
+        let mut resid = scale.residual(&sc.z, &sc.w);
         let mut polished = false;
         let mut basis_solves = 0;
         if opts.polish && resid > 0.0 && finite {
             let refined = run.tableau && termination == Termination::Solved;
             if refined {
-                polished |= refine(ws, &mut sc, m, q, &mut resid);
+                polished |= refine(ws, &mut sc, (m, q), &scale, &mut resid);
             }
             if (!refined || resid > opts.tolerance) && opts.polish_solves > 0 {
                 let pv = &mut sc.pivoting;
@@ -551,7 +552,7 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
     } else {
         let z = vec![0.0; n];
         let w = w_unchecked(m, q, &z);
-        let r = residual_with_w(q, &z, &w);
+        let r = scale.residual(&z, &w);
         (z, w, r)
     };
     ws.scratch = sc;
@@ -636,7 +637,13 @@ const REFINE_STEPS: usize = 3;
 /// Iterative refinement of the candidate `sc.z` (with `sc.w = M z + q` and
 /// residual `*resid`) on the basis left in `ws`; keeps each step that lowers
 /// the residual. Returns whether `z` changed.
-fn refine(ws: &Workspace, sc: &mut Scratch, m: &[f64], q: &[f64], resid: &mut f64) -> bool {
+fn refine(
+    ws: &Workspace,
+    sc: &mut Scratch,
+    (m, q): (&[f64], &[f64]),
+    scale: &ResidualScale,
+    resid: &mut f64,
+) -> bool {
     let mut changed = false;
     ws.basic_values(&mut sc.x);
     sc.z2.clear();
@@ -645,7 +652,7 @@ fn refine(ws: &Workspace, sc: &mut Scratch, m: &[f64], q: &[f64], resid: &mut f6
     for _ in 0..REFINE_STEPS {
         ws.refine_step(&mut sc.x, &sc.w, &mut sc.rho, &mut sc.z2);
         w_into(m, q, &sc.z2, &mut sc.w2);
-        let r2 = residual_with_w(q, &sc.z2, &sc.w2);
+        let r2 = scale.residual(&sc.z2, &sc.w2);
         if r2.is_nan() || r2 >= *resid {
             break;
         }
