@@ -34,11 +34,14 @@
 //! indeterminate); starting from the current point keeps its component in
 //! such a (near-)null space instead of replacing it by the shifted solve's
 //! (which turned feasible Lemke candidates into infeasible ones). On a
-//! regular basis the error contracts by `δ/λ` a step. `w` is computed with
-//! compensated dot products ([`super::dot2_plus`]).
+//! regular basis the error contracts by `δ/λ` a step. Within the
+//! iterations the residuals and `w` use the four-lane compensated product
+//! ([`super::dot2_plus_fast`]); the judged candidate's `w` is recomputed
+//! with the driver's ([`super::dot2_plus`]), so that its residual is the
+//! one [`super::residual`] gives.
 
 use super::polish::Lu;
-use super::{dot2_plus, ResidualScale};
+use super::{dot2_plus, dot2_plus_fast, ResidualScale};
 
 /// Solves with the shifted factorisation per basis: the first from the
 /// starting point, then iterative refinement against the unshifted matrix.
@@ -158,19 +161,19 @@ impl Pivoting {
         out
     }
 
-    /// Clamps `self.z` to `z ≥ 0` (recomputing `self.w` if anything
-    /// changed) and returns its residual on the original data.
+    /// Clamps `self.z` to `z ≥ 0`, recomputes `self.w` with the driver's
+    /// compensated products ([`dot2_plus`], so that the residual is the one
+    /// [`super::residual`] gives) and returns its residual on the original
+    /// data.
     fn clamped_residual(&mut self, m: &[f64], q: &[f64], scale: &ResidualScale) -> f64 {
-        if self.z.iter().any(|&v| v < 0.0) {
-            for v in self.z.iter_mut() {
-                *v = v.max(0.0);
-            }
-            self.idx.clear();
-            self.idx.extend((0..q.len()).filter(|&i| self.z[i] != 0.0));
-            self.x.clear();
-            self.x.extend(self.idx.iter().map(|&i| self.z[i]));
-            self.w_from_support(m, q);
+        for v in self.z.iter_mut() {
+            *v = v.max(0.0);
         }
+        self.idx.clear();
+        self.idx.extend((0..q.len()).filter(|&i| self.z[i] != 0.0));
+        self.x.clear();
+        self.x.extend(self.idx.iter().map(|&i| self.z[i]));
+        self.w_from_support(m, q, dot2_plus);
         scale.residual(&self.z, &self.w)
     }
 
@@ -219,7 +222,7 @@ impl Pivoting {
                     let mrow = &m[i * n..(i + 1) * n];
                     self.row.clear();
                     self.row.extend(idx.iter().map(|&j| mrow[j]));
-                    self.r.push(-dot2_plus(&self.row, &self.x, q[i]));
+                    self.r.push(-dot2_plus_fast(&self.row, &self.x, q[i]));
                 }
                 self.lu.solve_in_place(&mut self.r);
                 for (v, d) in self.x.iter_mut().zip(&self.r) {
@@ -235,20 +238,20 @@ impl Pivoting {
         for (&i, &v) in self.idx.iter().zip(&self.x) {
             self.z[i] = v;
         }
-        self.w_from_support(m, q);
+        self.w_from_support(m, q, dot2_plus_fast);
         true
     }
 
     /// `self.w = M z + q` for `z` given on its support (`self.idx`,
-    /// values `self.x`), compensated.
-    fn w_from_support(&mut self, m: &[f64], q: &[f64]) {
+    /// values `self.x`), with the compensated product `dot`.
+    fn w_from_support(&mut self, m: &[f64], q: &[f64], dot: fn(&[f64], &[f64], f64) -> f64) {
         let n = q.len();
         self.w.clear();
         for (i, &qi) in q.iter().enumerate() {
             let mrow = &m[i * n..(i + 1) * n];
             self.row.clear();
             self.row.extend(self.idx.iter().map(|&j| mrow[j]));
-            self.w.push(dot2_plus(&self.row, &self.x, qi));
+            self.w.push(dot(&self.row, &self.x, qi));
         }
     }
 }
