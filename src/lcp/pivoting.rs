@@ -24,10 +24,13 @@
 //! basis of the same contacts).
 //!
 //! **Basis solves.** `M_αα + δI` is factorised (LU with partial pivoting,
-//! `δ = 2⁻⁴⁰ max_i |M_ii|`, about 1e-12 relative), and [`SOLVES_PER_BASIS`]
-//! steps of iterative refinement against the unshifted `M_αα`, with
-//! compensated residuals, start from the current point (the candidate being
-//! polished, the previous step's impulses, the previous basis's solution).
+//! `δ = 2⁻⁴⁰ max_i |M_ii|`, about 1e-12 relative), and a step of iterative
+//! refinement against the unshifted `M_αα` in plain arithmetic starts from
+//! the current point (the candidate being polished, the previous step's
+//! impulses, the previous basis's solution): the switching needs only the
+//! signs (the warm start; the polish refines every basis). A basis that
+//! looks feasible gets the rest of [`SOLVES_PER_BASIS`] steps with
+//! compensated residuals before it is judged.
 //! The shift makes the solve defined for the singular but consistent
 //! systems of the contact LCPs (two points of facing edges have equal
 //! tangential columns: the split of their friction impulse is
@@ -43,8 +46,9 @@
 use super::polish::Lu;
 use super::{dot2_plus, dot2_plus_fast, ResidualScale};
 
-/// Solves with the shifted factorisation per basis: the first from the
-/// starting point, then iterative refinement against the unshifted matrix.
+/// Solves with the shifted factorisation of a basis that is judged: the
+/// first from the starting point (plain), then iterative refinement against
+/// the unshifted matrix (compensated).
 pub const SOLVES_PER_BASIS: usize = 3;
 
 /// Block steps allowed without a decrease of the number of infeasible
@@ -57,6 +61,27 @@ const SHIFT: f64 = 1.0 / (1u64 << 40) as f64;
 /// Infeasibility below this fraction of the driver's tolerance (times
 /// `‖q‖₂`) is rounding: the index does not switch.
 const FEASIBILITY_FRACTION: f64 = 1e-3;
+
+/// A dot product plus a constant, `Σ x_i y_i + c`.
+type Dot = fn(&[f64], &[f64], f64) -> f64;
+
+/// `Σ x_i y_i + c` in plain arithmetic, four partial sums.
+fn plain_dot(x: &[f64], y: &[f64], c: f64) -> f64 {
+    let mut acc = [0.0_f64; 4];
+    let (xc, yc) = (x.chunks_exact(4), y.chunks_exact(4));
+    let tail: f64 = xc
+        .remainder()
+        .iter()
+        .zip(yc.remainder())
+        .map(|(a, b)| a * b)
+        .sum();
+    for (a, b) in xc.zip(yc) {
+        for l in 0..4 {
+            acc[l] += a[l] * b[l];
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3]) + tail + c
+}
 
 /// Outcome of [`Pivoting::run`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -95,7 +120,12 @@ impl Pivoting {
     /// `tolerance` is the driver's acceptance threshold on the residual:
     /// infeasibility below `1e-3 · tolerance · ‖q‖₂` does not switch an
     /// index, and a basic solution whose residual meets the tolerance stops
-    /// the run. A feasible (or accepted) basis leaves its candidate, clamped
+    /// the run. With `fast`, the bases on the way are solved in plain
+    /// arithmetic (one solve each) and only one that looks feasible is
+    /// refined with compensated residuals; otherwise every basis is (the
+    /// polish, where accuracy matters more than the few solves: measured,
+    /// one more of the 2,841 corpus dumps is completed).
+    /// A feasible (or accepted) basis leaves its candidate, clamped
     /// to `z ≥ 0`, in `self.z`, `self.w` with its residual; otherwise the
     /// residual is `INFINITY`.
     pub(crate) fn run(
@@ -104,6 +134,7 @@ impl Pivoting {
         q: &[f64],
         max_solves: usize,
         tolerance: f64,
+        fast: bool,
     ) -> PivotingOutcome {
         let n = q.len();
         let mut out = PivotingOutcome {
@@ -121,30 +152,33 @@ impl Pivoting {
         let mut patience = BLOCK_STEPS_WITHOUT_PROGRESS;
         while out.solves < max_solves {
             out.solves += 1;
-            if !self.solve_basis(m, q) {
+            // The switching only needs signs: for speed, one solve in plain
+            // arithmetic, and a basis that looks feasible gets the accurate
+            // refinement before it is judged.
+            let (steps, dot) = if fast {
+                (1, plain_dot as Dot)
+            } else {
+                (SOLVES_PER_BASIS, dot2_plus_fast as Dot)
+            };
+            if !(self.factor_basis(m) && self.refine_basis(m, q, steps, dot)) {
                 return out;
             }
-            self.infeasible.clear();
-            for i in 0..n {
-                let bad = if self.alpha[i] {
-                    self.z[i] < -tau_z
-                } else {
-                    self.w[i] < -tau_w
-                };
-                if bad || !(self.z[i].is_finite() && self.w[i].is_finite()) {
-                    self.infeasible.push(i);
-                }
-            }
-            // A basic solution whose residual (negative z_i count in it)
-            // meets the tolerance is judged as it is: switching indices for
-            // rounding-level infeasibility of a near-singular basis only
-            // leads away from it.
-            let feasible = self.infeasible.is_empty();
-            if feasible || scale.residual(&self.z, &self.w) <= tolerance {
-                let r = self.clamped_residual(m, q, &scale);
-                if feasible || r <= tolerance {
-                    out.residual = r;
+            if self.infeasible_set(tau_z, tau_w, &scale, tolerance) {
+                let more = SOLVES_PER_BASIS - steps;
+                if !self.refine_basis(m, q, more, dot2_plus_fast) {
                     return out;
+                }
+                // A basic solution whose residual (negative z_i count in
+                // it) meets the tolerance is judged as it is: switching
+                // indices for rounding-level infeasibility of a
+                // near-singular basis only leads away from it.
+                if self.infeasible_set(tau_z, tau_w, &scale, tolerance) {
+                    let feasible = self.infeasible.is_empty();
+                    let r = self.clamped_residual(m, q, &scale);
+                    if feasible || r <= tolerance {
+                        out.residual = r;
+                        return out;
+                    }
                 }
             }
             if self.infeasible.len() < best {
@@ -177,52 +211,86 @@ impl Pivoting {
         scale.residual(&self.z, &self.w)
     }
 
+    /// Collects the infeasible indices of the basic solution in
+    /// `self.infeasible`; `true` if there are none or the residual
+    /// (negative `z_i` counting in it) meets the tolerance.
+    fn infeasible_set(
+        &mut self,
+        tau_z: f64,
+        tau_w: f64,
+        scale: &ResidualScale,
+        tolerance: f64,
+    ) -> bool {
+        self.infeasible.clear();
+        for i in 0..self.alpha.len() {
+            let bad = if self.alpha[i] {
+                self.z[i] < -tau_z
+            } else {
+                self.w[i] < -tau_w
+            };
+            if bad || !(self.z[i].is_finite() && self.w[i].is_finite()) {
+                self.infeasible.push(i);
+            }
+        }
+        self.infeasible.is_empty() || scale.residual(&self.z, &self.w) <= tolerance
+    }
+
     fn switch_all(&mut self) {
         for &i in &self.infeasible {
             self.alpha[i] = !self.alpha[i];
         }
     }
 
-    /// The basic solution of `self.alpha` into `self.z`, `self.w`; `false`
-    /// if the shifted matrix is singular or the solution not finite.
-    fn solve_basis(&mut self, m: &[f64], q: &[f64]) -> bool {
-        let n = q.len();
+    /// Factorises the shifted `M_αα + δI` of `self.alpha` (its indices in
+    /// `self.idx`) and starts `self.x` at the current point; `false` if it
+    /// is singular.
+    fn factor_basis(&mut self, m: &[f64]) -> bool {
+        let n = self.alpha.len();
         self.idx.clear();
         self.idx.extend((0..n).filter(|&i| self.alpha[i]));
         let k = self.idx.len();
         self.x.clear();
-        if k > 0 {
-            let idx = &self.idx;
-            let dmax = idx.iter().fold(0.0_f64, |a, &i| a.max(m[i * n + i].abs()));
-            let delta = if dmax > 0.0 {
-                SHIFT * dmax
-            } else {
-                SHIFT * super::lemke::max_abs(m)
-            };
-            let a = self.lu.matrix_mut(k);
-            for (r, &i) in idx.iter().enumerate() {
-                let mrow = &m[i * n..(i + 1) * n];
-                for (c, &j) in idx.iter().enumerate() {
-                    a[r * k + c] = mrow[j];
-                }
-                a[r * k + r] += delta;
+        if k == 0 {
+            return true;
+        }
+        let idx = &self.idx;
+        let dmax = idx.iter().fold(0.0_f64, |a, &i| a.max(m[i * n + i].abs()));
+        let delta = if dmax > 0.0 {
+            SHIFT * dmax
+        } else {
+            SHIFT * super::lemke::max_abs(m)
+        };
+        let a = self.lu.matrix_mut(k);
+        for (r, &i) in idx.iter().enumerate() {
+            let mrow = &m[i * n..(i + 1) * n];
+            for (c, &j) in idx.iter().enumerate() {
+                a[r * k + c] = mrow[j];
             }
-            if !self.lu.refactor(k) {
-                return false;
-            }
-            // Start from the current point: its component in a (near-)null
-            // space of M_αα is kept, not replaced by the shifted solve's.
-            self.x.extend(idx.iter().map(|&i| self.z[i]));
-            for _ in 0..SOLVES_PER_BASIS {
-                // r = −q_α − M_αα x, compensated: the refinement then
-                // converges to the correctly rounded solution of the
-                // unshifted system wherever it is determined.
+            a[r * k + r] += delta;
+        }
+        if !self.lu.refactor(k) {
+            return false;
+        }
+        // Start from the current point: its component in a (near-)null
+        // space of M_αα is kept, not replaced by the shifted solve's.
+        self.x.extend(idx.iter().map(|&i| self.z[i]));
+        true
+    }
+
+    /// `steps` steps of iterative refinement of `self.x` against the
+    /// unshifted `M_αα`, the residuals `−q_α − M_αα x` and then `self.w`
+    /// computed with `dot`; the basic solution into `self.z`, `self.w`.
+    /// `false` if it is not finite.
+    fn refine_basis(&mut self, m: &[f64], q: &[f64], steps: usize, dot: Dot) -> bool {
+        let n = q.len();
+        if !self.idx.is_empty() {
+            for _ in 0..steps {
                 self.r.clear();
-                for &i in idx {
+                for &i in &self.idx {
                     let mrow = &m[i * n..(i + 1) * n];
                     self.row.clear();
-                    self.row.extend(idx.iter().map(|&j| mrow[j]));
-                    self.r.push(-dot2_plus_fast(&self.row, &self.x, q[i]));
+                    self.row.extend(self.idx.iter().map(|&j| mrow[j]));
+                    self.r.push(-dot(&self.row, &self.x, q[i]));
                 }
                 self.lu.solve_in_place(&mut self.r);
                 for (v, d) in self.x.iter_mut().zip(&self.r) {
@@ -238,13 +306,13 @@ impl Pivoting {
         for (&i, &v) in self.idx.iter().zip(&self.x) {
             self.z[i] = v;
         }
-        self.w_from_support(m, q, dot2_plus_fast);
+        self.w_from_support(m, q, dot);
         true
     }
 
     /// `self.w = M z + q` for `z` given on its support (`self.idx`,
     /// values `self.x`), with the compensated product `dot`.
-    fn w_from_support(&mut self, m: &[f64], q: &[f64], dot: fn(&[f64], &[f64], f64) -> f64) {
+    fn w_from_support(&mut self, m: &[f64], q: &[f64], dot: Dot) {
         let n = q.len();
         self.w.clear();
         for (i, &qi) in q.iter().enumerate() {
