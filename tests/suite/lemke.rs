@@ -1829,3 +1829,40 @@ fn a_warm_start_never_accepts_a_non_solution() {
         "{counters:?}"
     );
 }
+
+#[test]
+fn contact_solver_warm_start_hits_on_the_same_contacts() {
+    // The elastic pool's contact problems at t = 0 with friction 0.3 (12 m
+    // detection distance: one group of 46 contacts and smaller ones),
+    // solved twice at successive times: the second solve of each finds the
+    // first one's basis by contact identity and is accepted without a
+    // Lemke pivot, with a residual within the tolerance on the (row-scaled)
+    // LCP that the solver solves. Without warm start nothing is tried.
+    use floebench::formulation::contact_solver::{
+        ContactSolver, SolverKind, LCP_WARM_HITS, LCP_WARM_MISSES,
+    };
+    let text = crate::common::case_text("elastic_pool");
+    let scn = crate::common::scenario(&text.replace("friction = 0.0", "friction = 0.3"));
+    assert_eq!(scn.contact.friction, 0.3);
+    let (lcps, _) = crate::moreau::problems_at_start(&scn, 12.0);
+    assert!(lcps.iter().any(|l| l.m >= 20), "a large group");
+    let mut warm = ContactSolver::with_warm_start(SolverKind::Lcp, None, true);
+    let mut cold = ContactSolver::new(SolverKind::Lcp, None);
+    assert!(warm.warm_start() && !cold.warm_start());
+    for lcp in &lcps {
+        let z1 = warm.solve(lcp, 0.0);
+        let z2 = warm.solve(lcp, 1.0);
+        let zc = cold.solve(lcp, 0.0);
+        assert_eq!(z1, zc, "the first solve has no history: cold");
+        let scaled = lcp.with_velocity_coulomb_rows();
+        let r = residual(&scaled.lcp.m, &scaled.lcp.q, &z2);
+        assert!(r <= SolveOptions::default().tolerance, "residual {r:e}");
+    }
+    let c = warm.counters();
+    assert_eq!(
+        c.count(&LCP_WARM_HITS).expect("declared"),
+        lcps.len() as u64
+    );
+    assert_eq!(c.count(&LCP_WARM_MISSES).expect("declared"), 0);
+    assert_eq!(cold.counters().count(&LCP_WARM_HITS).expect("declared"), 0);
+}
