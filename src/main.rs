@@ -135,8 +135,12 @@ enum Command {
         /// Timed batches per dump (the median is reported).
         #[arg(long, default_value_t = 5, requires = "time", value_parser = clap::value_parser!(u64).range(1..))]
         repeat: u64,
+        /// Warm-start every solve from the dump's own stored solution (the
+        /// cost of a warm start whose guess is right).
+        #[arg(long, requires = "time")]
+        warm: bool,
         /// Also write one CSV row per dump:
-        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us.
+        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots.
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
     },
@@ -245,10 +249,11 @@ fn main() -> ExitCode {
             path,
             time,
             repeat,
+            warm,
             csv,
         } => {
             if time {
-                time_lcps(&path, repeat as usize, csv.as_deref())
+                time_lcps(&path, repeat as usize, warm, csv.as_deref())
             } else if path.is_dir() {
                 eprintln!(
                     "error: {} is a folder: give one dump file, or --time to time every dump of it",
@@ -887,7 +892,7 @@ fn resolve_lcp(file: &Path) -> ExitCode {
     }
 }
 
-fn time_lcps(path: &Path, repeats: usize, csv: Option<&Path>) -> ExitCode {
+fn time_lcps(path: &Path, repeats: usize, warm: bool, csv: Option<&Path>) -> ExitCode {
     use floebench::lcp::timing::{self, TimingOptions};
     let files = if path.is_dir() {
         match timing::dump_files(path) {
@@ -906,6 +911,7 @@ fn time_lcps(path: &Path, repeats: usize, csv: Option<&Path>) -> ExitCode {
     }
     let opts = TimingOptions {
         repeats,
+        warm,
         ..TimingOptions::default()
     };
     let mut rows = Vec::with_capacity(files.len());
@@ -925,9 +931,14 @@ fn time_lcps(path: &Path, repeats: usize, csv: Option<&Path>) -> ExitCode {
         }
     }
     println!(
-        "{}: {} dumps, thread CPU per solve (median of {repeats} batches of >= 1 ms)",
+        "{}: {} dumps, thread CPU per solve (median of {repeats} batches of >= 1 ms){}",
         path.display(),
-        rows.len()
+        rows.len(),
+        if warm {
+            ", warm-started from each dump's stored solution"
+        } else {
+            ""
+        }
     );
     print!("{}", timing::format_summary(&timing::summarize(&rows)));
     ExitCode::SUCCESS

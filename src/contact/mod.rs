@@ -55,6 +55,29 @@ pub struct Contact {
     pub geom: ContactGeom,
 }
 
+/// The identity of a contact point from one step to the next: its two
+/// bodies and the vertex/edge features that produced it (for warm starts).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct ContactKey {
+    /// Index of the first body.
+    pub a: usize,
+    /// Index of the second body.
+    pub b: usize,
+    /// The features of bodies `a` and `b`.
+    pub feature: FeaturePair,
+}
+
+impl Contact {
+    /// This contact's identity ([`ContactKey`]).
+    pub fn key(&self) -> ContactKey {
+        ContactKey {
+            a: self.a,
+            b: self.b,
+            feature: self.geom.feature,
+        }
+    }
+}
+
 /// Replaces the content of `out` by the contact points of all pairs of
 /// `bodies` (world vertices, m) whose signed distance is at most `distance`
 /// (m, `≥ 0`), with the default [`NarrowOptions`].

@@ -35,7 +35,7 @@
 //! zero at an impact; for a penetrating sustained contact `c = g / h < 0`
 //! asks the contact to separate by `−g` over the step.
 
-use super::Contact;
+use super::{Contact, ContactKey};
 use crate::geometry::{cross, Vec2};
 use crate::lcp::Lcp;
 use crate::model::Scenario;
@@ -121,6 +121,8 @@ pub struct ContactLcp {
     /// Largest term of the free relative velocities `q` (a single body's
     /// contribution or an offset), m/s: the scale of their rounding.
     pub v_scale: f64,
+    /// Identity of each contact, in LCP order (for warm starts).
+    pub keys: Vec<ContactKey>,
 }
 
 /// One Jacobian column block: `(n, r × n)` for a direction `n` at lever arm `r`.
@@ -238,6 +240,7 @@ impl ContactLcp {
             minv,
             floes: group.floes.clone(),
             v_scale,
+            keys: group.contacts.iter().map(|&k| contacts[k].key()).collect(),
         }
     }
 
@@ -340,6 +343,7 @@ impl ContactLcp {
             minv: self.minv.clone(),
             floes: self.floes.clone(),
             v_scale: self.v_scale,
+            keys: self.keys.clone(),
         }
     }
 }

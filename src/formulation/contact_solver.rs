@@ -23,14 +23,42 @@
 //! Every accepted frictional impulse goes through the same Coulomb check
 //! ([`ContactSolver::check_coulomb`]) and into the contact log. The returned
 //! `z` is never NaN.
+//!
+//! **Warm start** ([`ContactSolver::with_warm_start`], off in
+//! [`ContactSolver::new`]: [`DEFAULT_WARM_START`]). Each contact is known by
+//! its [`ContactKey`] (bodies and the vertex/edge features of the narrow
+//! phase, stable while the same features touch); the support and impulses
+//! of its last accepted solution, at the current solve time or the
+//! previous one, give the guessed basis of the next LCP of those contacts
+//! ([`crate::lcp::solve_warm`]: principal pivoting on the original data,
+//! accepted on the driver's residual test, else the cold attempts). It
+//! changes results at the rounding level, which is why it is off by
+//! default. With it on, `check cases/` gives the same verdicts (306 checks,
+//! 0 claimed failures; only two energy-ledger residuals print other
+//! rounding: narrow_channel event-driven 1.5e-10 → 9.8e-11 J and
+//! sliding_floe event-driven 2.117e-12 → 2.103e-12 J), and `compare
+//! cases/` (4,263 warm hits, 49 misses) moves 51 of its 3,210 metrics: the
+//! pivot counts (sliding_floe 5,767 → 7, narrow_channel event-driven
+//! 11,807 → 2,101), energy-ledger residuals and zero-level values (kinetic
+//! energy 1e-35 J, angle differences 1e-18 rad) at rounding level, and on
+//! narrow_channel event-driven, whose event times depend on rounding,
+//! `integrator_steps` 20,777 → 20,733, `micro_bounces_absorbed` 998 → 982,
+//! `steps_cut_for_flight` 18 → 14 and `max_penetration_m` by 8e-10
+//! relative. The cause: a basis solve rounds its solution differently from
+//! Lemke's tableau, and a friction LCP with several solutions may be given
+//! another one.
 
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::ContactLcp;
+use crate::contact::ContactKey;
 use crate::lcp::SolveStatus;
-use crate::lcp::{solve, LcpDump, LcpSolution, SolveCounters, SolveOptions};
+use crate::lcp::{
+    solve, solve_warm, BasisGuess, LcpDump, LcpSolution, SolveCounters, SolveOptions,
+};
 use crate::record::clock::Sampler;
 use crate::record::profile::{bucket_of, BUCKET_BOUNDS};
 use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, SolveProfile, Unit};
+use std::collections::HashMap;
 use std::path::PathBuf;
 
 /// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
@@ -89,6 +117,21 @@ pub const LCP_FALLBACK_PERTURBED: Counter = Counter::sum(
 );
 /// LCPs no attempt solved.
 pub const LCP_FAILED: Counter = Counter::sum("lcp_failed", "LCPs no attempt solved");
+/// LCPs solved by the warm start from the previous basis of their contacts.
+pub const LCP_WARM_HITS: Counter = Counter::sum(
+    "lcp_warm_hits",
+    "LCPs solved by the warm start from the previous basis of their contacts",
+);
+/// Warm starts tried and rejected (the LCP then solved cold).
+pub const LCP_WARM_MISSES: Counter = Counter::sum(
+    "lcp_warm_misses",
+    "warm starts tried and rejected (the LCP then solved cold)",
+);
+/// LCPs accepted after principal pivoting completed a Lemke path.
+pub const LCP_COMPLETED_BY_PIVOTING: Counter = Counter::sum(
+    "lcp_completed_by_pivoting",
+    "LCPs accepted after principal pivoting completed a Lemke path that stopped next to a solution",
+);
 /// Largest accepted relative residual.
 pub const LCP_MAX_ACCEPTED_RESIDUAL: Counter = Counter::value(
     "lcp_max_accepted_residual",
@@ -167,6 +210,9 @@ const LCP_COUNTERS: &[&Counter] = &[
     &LCP_FALLBACK_ALTERNATIVE_RULE,
     &LCP_FALLBACK_PERTURBED,
     &LCP_FAILED,
+    &LCP_WARM_HITS,
+    &LCP_WARM_MISSES,
+    &LCP_COMPLETED_BY_PIVOTING,
     &LCP_SIZE_MAX,
     &LCP_MAX_ACCEPTED_RESIDUAL,
     &MAX_COULOMB_RATIO,
@@ -220,6 +266,93 @@ impl std::str::FromStr for SolverKind {
     }
 }
 
+/// Whether [`ContactSolver::new`] warm-starts the LCPs.
+pub const DEFAULT_WARM_START: bool = false;
+
+/// The basis and impulses of one contact in an accepted LCP solution:
+/// `(λ, β̃⁺, β̃⁻, α)`, the last three only with friction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct ContactBasis {
+    basic: [bool; 4],
+    z: [f64; 4],
+}
+
+/// The indices of contact `j`'s unknowns in an LCP of `m` contacts.
+fn unknowns(j: usize, m: usize, friction: bool) -> impl Iterator<Item = usize> {
+    let all = [j, m + 2 * j, m + 2 * j + 1, 3 * m + j];
+    all.into_iter().take(if friction { 4 } else { 1 })
+}
+
+/// The bases of the contacts of the last solves, by contact identity
+/// ([`ContactKey`]: bodies and features). Entries of the current time and
+/// of the previous one are kept; a contact seen at neither has no guess.
+#[derive(Debug, Clone, Default)]
+struct WarmCache {
+    t: f64,
+    current: HashMap<ContactKey, ContactBasis>,
+    previous: HashMap<ContactKey, ContactBasis>,
+}
+
+impl WarmCache {
+    /// Starts time `t` (s): the entries of an earlier time become the
+    /// previous ones.
+    fn at(&mut self, t: f64) {
+        if t != self.t {
+            self.previous = std::mem::take(&mut self.current);
+            self.t = t;
+        }
+    }
+
+    /// The guess for `lcp`: each matched contact's basis and impulses, an
+    /// unmatched one separating (`w` basic, `z = 0`); `None` if no contact
+    /// is matched.
+    fn guess(&self, lcp: &ContactLcp) -> Option<BasisGuess> {
+        let n = lcp.lcp.n;
+        let mut g = BasisGuess {
+            basic: vec![false; n],
+            z: vec![0.0; n],
+        };
+        let mut matched = false;
+        for (j, key) in lcp.keys.iter().enumerate() {
+            let Some(b) = self.current.get(key).or_else(|| self.previous.get(key)) else {
+                continue;
+            };
+            matched = true;
+            for (k, i) in unknowns(j, lcp.m, lcp.friction).enumerate() {
+                if i < n {
+                    g.basic[i] = b.basic[k];
+                    g.z[i] = b.z[k];
+                }
+            }
+        }
+        matched.then_some(g)
+    }
+
+    /// Keeps the basis (support) and impulses of an accepted solution `z`.
+    fn store(&mut self, lcp: &ContactLcp, z: &[f64]) {
+        for (j, key) in lcp.keys.iter().enumerate() {
+            let mut b = ContactBasis {
+                basic: [false; 4],
+                z: [0.0; 4],
+            };
+            for (k, i) in unknowns(j, lcp.m, lcp.friction).enumerate() {
+                let v = z.get(i).copied().unwrap_or(0.0);
+                b.basic[k] = v > 0.0;
+                b.z[k] = v;
+            }
+            self.current.insert(*key, b);
+        }
+    }
+}
+
+/// Which warm-start cache a solve uses: the sustained contacts of a step
+/// and the compression LCPs of impacts differ in kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Use {
+    Sustained,
+    Impact,
+}
+
 /// Lemke or the cone, with fallbacks, last resort, dumps and the Coulomb check.
 #[derive(Debug, Clone)]
 pub struct ContactSolver {
@@ -234,13 +367,32 @@ pub struct ContactSolver {
     log: ContactLog,
     profile: SolveProfile,
     timer: Sampler,
+    /// Warm-start caches (sustained, impact); `None`: warm start off.
+    warm: Option<[WarmCache; 2]>,
 }
 
 impl ContactSolver {
     /// A solver of `kind` with the default [`SolveOptions`] and
     /// [`ConeOptions`]; with `dump`, every LCP solved is written there as
-    /// `<seq>.json` (`000000.json`, …).
+    /// `<seq>.json` (`000000.json`, …). Warm start as
+    /// [`DEFAULT_WARM_START`].
     pub fn new(kind: SolverKind, dump: Option<PathBuf>) -> ContactSolver {
+        Self::with_warm_start(kind, dump, DEFAULT_WARM_START)
+    }
+
+    /// [`ContactSolver::new`] with the warm start on or off. With it, each
+    /// LCP first tries the complementary basis of the last accepted
+    /// solution of the same contacts (matched by [`ContactKey`]: bodies and
+    /// features; a contact without history starts separating), at this
+    /// solve's time or the previous one, with those impulses as starting
+    /// point ([`crate::lcp::solve_warm`]); a rejected guess falls back to
+    /// the cold attempts. Sustained contacts and impacts keep separate
+    /// histories. Counted: [`LCP_WARM_HITS`], [`LCP_WARM_MISSES`].
+    pub fn with_warm_start(
+        kind: SolverKind,
+        dump: Option<PathBuf>,
+        warm_start: bool,
+    ) -> ContactSolver {
         let mut counters = Counters::new(LCP_COUNTERS);
         if kind == SolverKind::Cone {
             counters.declare(CONE_COUNTERS);
@@ -257,7 +409,13 @@ impl ContactSolver {
             log: ContactLog::recording(),
             profile: SolveProfile::default(),
             timer: Sampler::new(BUCKET_BOUNDS.len() + 1),
+            warm: warm_start.then(Default::default),
         }
+    }
+
+    /// Whether the LCPs are warm-started.
+    pub fn warm_start(&self) -> bool {
+        self.warm.is_some()
     }
 
     /// The LCP solves so far by size (with the timer's cost).
@@ -267,11 +425,15 @@ impl ContactSolver {
         p
     }
 
-    /// Lemke with its fallbacks on `lcp`, timed and profiled by size.
-    fn lemke(&mut self, lcp: &ContactLcp) -> LcpSolution {
+    /// Lemke with its fallbacks on `lcp`, warm-started from `guess` if
+    /// given, timed and profiled by size.
+    fn lemke(&mut self, lcp: &ContactLcp, guess: Option<&BasisGuess>) -> LcpSolution {
         let k = bucket_of(lcp.lcp.n);
         let started = self.timer.begin(k);
-        let sol = solve(&lcp.lcp, &self.opts);
+        let sol = match guess {
+            Some(g) => solve_warm(&lcp.lcp, &self.opts, g),
+            None => solve(&lcp.lcp, &self.opts),
+        };
         let seconds = self.timer.end(k, started);
         if let Some(b) = self.profile.buckets.get_mut(k) {
             b.solves += 1;
@@ -320,6 +482,9 @@ impl ContactSolver {
         c.add(&LCP_FALLBACK_ALTERNATIVE_RULE, l.by_alternative_rule);
         c.add(&LCP_FALLBACK_PERTURBED, l.by_perturbed);
         c.add(&LCP_FAILED, l.failed);
+        c.add(&LCP_WARM_HITS, l.warm_hits);
+        c.add(&LCP_WARM_MISSES, l.warm_misses);
+        c.add(&LCP_COMPLETED_BY_PIVOTING, l.completed_by_pivoting);
         c.set(&LCP_MAX_ACCEPTED_RESIDUAL, l.max_accepted_residual);
         c.set(&MAX_COULOMB_RATIO, self.max_coulomb_ratio);
         c
@@ -331,15 +496,20 @@ impl ContactSolver {
     /// `t` is the simulation time, s (for the log and the dumps).
     pub fn solve(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
         match self.kind {
-            SolverKind::Lcp => self.solve_lcp(lcp, t),
+            SolverKind::Lcp => self.solve_lcp_for(lcp, t, Use::Sustained),
             SolverKind::Cone => self.solve_cone(lcp, t),
         }
     }
 
     /// Solves one contact problem as an LCP whatever the method in use (the
-    /// compression LCP of an impact, a failed cone solve): Lemke with the
-    /// fallbacks and the last resort.
+    /// compression LCP of an impact): Lemke with the fallbacks and the last
+    /// resort.
     pub fn solve_lcp(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
+        self.solve_lcp_for(lcp, t, Use::Impact)
+    }
+
+    /// [`ContactSolver::solve_lcp`] with the warm-start history of `usage`.
+    fn solve_lcp_for(&mut self, lcp: &ContactLcp, t: f64, usage: Use) -> Vec<f64> {
         // Only a frictional LCP has Coulomb rows to scale (and to copy).
         let scaled;
         let lcp = if lcp.friction {
@@ -348,15 +518,23 @@ impl ContactSolver {
         } else {
             lcp
         };
-        let sol = self.lemke(lcp);
+        let cache = self.warm.as_mut().map(|c| &mut c[usage as usize]);
+        let guess = cache.and_then(|c| {
+            c.at(t);
+            c.guess(lcp)
+        });
+        let sol = self.lemke(lcp, guess.as_ref());
         self.record_solve(lcp, &sol, t);
         if sol.status.is_solved() {
+            if let Some(c) = self.warm.as_mut() {
+                c[usage as usize].store(lcp, &sol.z);
+            }
             return sol.z;
         }
         if lcp.friction {
             self.counters.add(&LCP_LAST_RESORT_FRICTIONLESS, 1);
             let fl = lcp.frictionless();
-            let sol2 = self.lemke(&fl);
+            let sol2 = self.lemke(&fl, None);
             self.record_solve(&fl, &sol2, t);
             if sol2.status.is_solved() {
                 let mut z = vec![0.0; lcp.lcp.n];
@@ -384,7 +562,7 @@ impl ContactSolver {
             ConeStatus::Failed => {
                 c.add(&CONE_FAILED, 1);
                 c.add(&CONE_FALLBACK_LCP, 1);
-                return self.solve_lcp(lcp, t);
+                return self.solve_lcp_for(lcp, t, Use::Sustained);
             }
         }
         c.max(&CONE_MAX_PROJECTION_REL, sol.cone_excess);

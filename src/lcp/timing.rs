@@ -15,7 +15,10 @@
 //! by [`summarize`].
 
 use super::dump::{DumpError, LcpDump};
-use super::solve::{solve, LcpSolution, SolveOptions, SolveStatus, Strategy};
+use super::lemke::Termination;
+use super::solve::{
+    solve, solve_warm, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
+};
 use crate::record::clock::thread_cpu_seconds;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};
@@ -47,6 +50,10 @@ pub struct TimingOptions {
     pub min_batch_seconds: f64,
     /// Options of the driver.
     pub solve: SolveOptions,
+    /// Warm-start every solve ([`solve_warm`]) from the dump's own stored
+    /// solution (`basic = z > 0`, starting point `z`): the cost of a warm
+    /// start whose guess is right.
+    pub warm: bool,
 }
 
 impl Default for TimingOptions {
@@ -55,6 +62,7 @@ impl Default for TimingOptions {
             repeats: 5,
             min_batch_seconds: 1e-3,
             solve: SolveOptions::default(),
+            warm: false,
         }
     }
 }
@@ -79,26 +87,43 @@ pub struct TimedSolve {
     pub residual: f64,
     /// Median thread CPU time per solve, µs.
     pub cpu_us: f64,
+    /// What Lemke reported on the first (lexicographic) attempt
+    /// ([`Termination::Solved`] for `q >= 0`, which needs no attempt).
+    pub first_termination: Termination,
+    /// Pivots of the first attempt.
+    pub first_pivots: usize,
 }
 
 /// Name of the accepted attempt of `sol` as written in the CSV.
 pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
+    if sol.accepted_by == Some(Strategy::WarmStart) {
+        return String::from("WarmStart");
+    }
     match sol.attempts.iter().find(|a| a.accepted) {
         None => String::from("none"),
         Some(a) => match a.strategy {
             Strategy::Lexicographic => String::from("Lexicographic"),
             Strategy::AlternativeRule => String::from("AlternativeRule"),
             Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
+            Strategy::WarmStart => String::from("WarmStart"),
         },
     }
 }
 
 /// Solves `lcp` once (the returned solution) and then times it: the median
 /// over `opts.repeats` batches of the CPU time per solve, µs (see the
-/// module doc).
-pub fn time_solve(lcp: &super::Lcp, opts: &TimingOptions) -> (LcpSolution, f64) {
+/// module doc). With `guess`, every solve is [`solve_warm`] from it.
+pub fn time_solve(
+    lcp: &super::Lcp,
+    opts: &TimingOptions,
+    guess: Option<&BasisGuess>,
+) -> (LcpSolution, f64) {
+    let run = |l: &super::Lcp| match guess {
+        Some(g) => solve_warm(l, &opts.solve, g),
+        None => solve(l, &opts.solve),
+    };
     let t0 = thread_cpu_seconds();
-    let sol = solve(black_box(lcp), &opts.solve);
+    let sol = run(black_box(lcp));
     let first = (thread_cpu_seconds() - t0).max(0.0);
     let min_batch = if opts.min_batch_seconds.is_finite() {
         opts.min_batch_seconds.max(0.0)
@@ -117,7 +142,7 @@ pub fn time_solve(lcp: &super::Lcp, opts: &TimingOptions) -> (LcpSolution, f64) 
     while samples.len() < opts.repeats.max(1) {
         let t0 = thread_cpu_seconds();
         for _ in 0..batch {
-            black_box(solve(black_box(lcp), &opts.solve));
+            black_box(run(black_box(lcp)));
         }
         let dt = (thread_cpu_seconds() - t0).max(0.0);
         if dt < min_batch && batch < (1 << 24) {
@@ -160,7 +185,11 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
         path: path.to_path_buf(),
         source: std::io::Error::new(std::io::ErrorKind::InvalidData, e.to_string()),
     })?;
-    let (sol, cpu_us) = time_solve(&lcp, opts);
+    let guess = opts.warm.then(|| BasisGuess {
+        basic: dump.z.iter().map(|&v| v > 0.0).collect(),
+        z: dump.z.clone(),
+    });
+    let (sol, cpu_us) = time_solve(&lcp, opts, guess.as_ref());
     Ok(TimedSolve {
         file: path
             .file_name()
@@ -173,16 +202,24 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
         accepted_attempt: accepted_attempt_name(&sol),
         residual: sol.residual,
         cpu_us,
+        first_termination: sol
+            .attempts
+            .first()
+            .map_or(Termination::Solved, |a| a.termination),
+        first_pivots: sol.attempts.first().map_or(0, |a| a.pivots),
     })
 }
 
-/// The CSV text of `rows`: header
-/// `file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us`.
+/// The CSV header of [`csv`].
+pub const CSV_HEADER: &str =
+    "file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots";
+
+/// The CSV text of `rows`, with the header [`CSV_HEADER`].
 pub fn csv(rows: &[TimedSolve]) -> String {
-    let mut s = String::from("file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us\n");
+    let mut s = format!("{CSV_HEADER}\n");
     for r in rows {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{:e},{:.4}\n",
+            "{},{},{},{},{},{},{:e},{:.4},{},{}\n",
             r.file,
             r.n,
             r.contacts,
@@ -190,7 +227,9 @@ pub fn csv(rows: &[TimedSolve]) -> String {
             r.status.as_str(),
             r.accepted_attempt,
             r.residual,
-            r.cpu_us
+            r.cpu_us,
+            r.first_termination.as_str(),
+            r.first_pivots
         ));
     }
     s
@@ -211,6 +250,10 @@ pub struct BucketSummary {
     pub failures: usize,
     /// Problems solved by a fallback.
     pub fallbacks: usize,
+    /// Problems whose first attempt ended on a secondary ray.
+    pub rays: usize,
+    /// Problems whose first attempt reached the pivot cap.
+    pub caps: usize,
     /// Largest residual (0 if empty).
     pub max_residual: f64,
     /// Total CPU time of one solve of each problem, s.
@@ -237,6 +280,14 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
                     .iter()
                     .filter(|r| r.status == SolveStatus::SolvedByFallback)
                     .count(),
+                rays: sel
+                    .iter()
+                    .filter(|r| r.first_termination == Termination::RayTermination)
+                    .count(),
+                caps: sel
+                    .iter()
+                    .filter(|r| r.first_termination == Termination::MaxPivots)
+                    .count(),
                 max_residual: sel.iter().map(|r| r.residual).fold(0.0, f64::max),
                 total_seconds: sel.iter().fold(0.0, |a, r| a + r.cpu_us) * 1e-6,
             }
@@ -247,8 +298,17 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
 /// The summary as a fixed-width text table.
 pub fn format_summary(rows: &[BucketSummary]) -> String {
     let mut s = format!(
-        "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>11} {:>10}\n",
-        "unknowns", "count", "median µs", "pivots", "failures", "fallback", "max resid", "total s"
+        "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>6} {:>6} {:>11} {:>10}\n",
+        "unknowns",
+        "count",
+        "median µs",
+        "pivots",
+        "failures",
+        "fallback",
+        "rays",
+        "caps",
+        "max resid",
+        "total s"
     );
     for r in rows {
         if r.count == 0 {
@@ -256,13 +316,15 @@ pub fn format_summary(rows: &[BucketSummary]) -> String {
             continue;
         }
         s.push_str(&format!(
-            "{:<9} {:>6} {:>12.3} {:>9.1} {:>9} {:>9} {:>11.2e} {:>10.4}\n",
+            "{:<9} {:>6} {:>12.3} {:>9.1} {:>9} {:>9} {:>6} {:>6} {:>11.2e} {:>10.4}\n",
             r.label,
             r.count,
             r.median_us,
             r.median_pivots,
             r.failures,
             r.fallbacks,
+            r.rays,
+            r.caps,
             r.max_residual,
             r.total_seconds
         ));

@@ -264,7 +264,7 @@ fn elastic_frictionless_pool_keeps_its_kinetic_energy_at_every_step() {
 
 /// The contact problems of a scenario's floes at t = 0 within `distance` m
 /// (gaps ignored), with the case velocities as free velocities.
-fn problems_at_start(scn: &Scenario, distance: f64) -> (Vec<ContactLcp>, Vec<Gen>) {
+pub(crate) fn problems_at_start(scn: &Scenario, distance: f64) -> (Vec<ContactLcp>, Vec<Gen>) {
     let n = scn.floes.len();
     let sys = System::initial(scn);
     let mut cs = Vec::new();
