@@ -83,7 +83,7 @@
 //! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
 //!   Contacts* (Poisson's impact law).
 
-use super::contact_solver::{ContactSolver, SolverKind};
+use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_START};
 use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
@@ -147,6 +147,10 @@ pub struct EventDrivenSettings {
     /// (default: Lemke, exact Coulomb) or `"cone"` (the convex relaxation);
     /// impacts are always the compression LCP of Poisson's law.
     pub solver: SolverKind,
+    /// `warm_start`: start each LCP from the basis of its contacts' last
+    /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes
+    /// results at the rounding level; see [`ContactSolver::with_warm_start`]).
+    pub warm_start: bool,
 }
 
 impl EventDrivenSettings {
@@ -156,6 +160,7 @@ impl EventDrivenSettings {
         let s = EventDrivenSettings {
             penetration_tolerance: r.bounded(&PENETRATION_TOLERANCE)?,
             solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
+            warm_start: r.boolean("warm_start")?.unwrap_or(DEFAULT_WARM_START),
         };
         r.finish()?;
         Ok(s)
@@ -633,7 +638,11 @@ impl EventDriven {
             pen_tol,
             impact_speed,
             horizon,
-            solver: ContactSolver::new(settings.solver, opts.dump_lcp.clone()),
+            solver: ContactSolver::with_warm_start(
+                settings.solver,
+                opts.dump_lcp.clone(),
+                settings.warm_start,
+            ),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
             counters: Counters::new(COUNTERS),
@@ -1535,6 +1544,14 @@ impl Formulation for EventDriven {
             .number("contact_distance_m", self.distance, Unit::Metre)
             .number("penetration_tolerance_m", self.pen_tol, Unit::Metre)
             .text("solver", self.solver.kind().name())
+            .text(
+                "warm_start",
+                if self.solver.warm_start() {
+                    "on"
+                } else {
+                    "off"
+                },
+            )
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {

@@ -119,7 +119,7 @@
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
-use super::contact_solver::{ContactSolver, SolverKind};
+use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_START};
 use super::{
     check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
     NotClaimed,
@@ -231,6 +231,10 @@ pub struct MoreauSettings {
     /// `solver`: the one-step contact solver, `"lcp"` (default) or `"cone"`;
     /// the entry `moreau-cone` overrides it.
     pub solver: SolverKind,
+    /// `warm_start`: start each LCP from the basis of its contacts' last
+    /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes
+    /// results at the rounding level; see [`ContactSolver::with_warm_start`]).
+    pub warm_start: bool,
 }
 
 impl Default for MoreauSettings {
@@ -240,6 +244,7 @@ impl Default for MoreauSettings {
             theta: 0.5,
             gamma: 0.5,
             solver: SolverKind::Lcp,
+            warm_start: DEFAULT_WARM_START,
         }
     }
 }
@@ -254,6 +259,7 @@ impl MoreauSettings {
             theta: r.bounded(&THETA)?.unwrap_or(d.theta),
             gamma: r.bounded(&GAMMA)?.unwrap_or(d.gamma),
             solver: r.choice("solver")?.unwrap_or(d.solver),
+            warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
         };
         r.finish()?;
         Ok(s)
@@ -386,7 +392,11 @@ impl Moreau {
             gamma: s.gamma,
             model: ForceModel::new(&scn.floes),
             bp: BroadPhase::new(),
-            solver: ContactSolver::new(solver.unwrap_or(s.solver), opts.dump_lcp.clone()),
+            solver: ContactSolver::with_warm_start(
+                solver.unwrap_or(s.solver),
+                opts.dump_lcp.clone(),
+                s.warm_start,
+            ),
             counters: Counters::new(COUNTERS),
             records: Vec::new(),
             max_penetration: 0.0,
@@ -636,6 +646,14 @@ impl Formulation for Moreau {
             .number("theta", self.theta, Unit::Dimensionless)
             .number("gamma", self.gamma, Unit::Dimensionless)
             .text("solver", self.solver.kind().name())
+            .text(
+                "warm_start",
+                if self.solver.warm_start() {
+                    "on"
+                } else {
+                    "off"
+                },
+            )
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {

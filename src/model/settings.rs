@@ -157,6 +157,18 @@ impl SettingsReader<'_> {
         }
     }
 
+    /// A boolean (`true` or `false`).
+    pub fn boolean(&mut self, key: &'static str) -> Result<Option<bool>, CaseError> {
+        self.asked.push(key);
+        match self.table.values.get(key) {
+            None => Ok(None),
+            Some(toml::Value::Boolean(b)) => Ok(Some(*b)),
+            Some(other) => Err(self
+                .table
+                .error(Some(key), format!("{key} = {other} must be true or false"))),
+        }
+    }
+
     /// A choice among the names `T` parses (its error lists them).
     pub fn choice<T: std::str::FromStr<Err = String>>(
         &mut self,

@@ -320,6 +320,17 @@ impl Settings {
         self
     }
 
+    /// The choice called `name`, if there is one.
+    pub fn get_text(&self, name: &str) -> Option<&str> {
+        self.0
+            .iter()
+            .find(|s| s.name == name)
+            .and_then(|s| match &s.value {
+                SettingValue::Text(t) => Some(t.as_str()),
+                SettingValue::Number(_) => None,
+            })
+    }
+
     /// The number called `name`, if there is one.
     pub fn get(&self, name: &str) -> Option<f64> {
         self.0

@@ -1843,3 +1843,28 @@ fn contact_solver_warm_start_hits_on_the_same_contacts() {
     assert_eq!(c.count(&LCP_WARM_MISSES).expect("declared"), 0);
     assert_eq!(cold.counters().count(&LCP_WARM_HITS).expect("declared"), 0);
 }
+
+#[test]
+fn warm_start_setting_turns_the_warm_start_on_in_both_lcp_formulations() {
+    // `[formulation.<name>] warm_start = true` reaches the contact solver of
+    // event-driven and moreau: the sliding floe's sustained contact is the
+    // same from one solve to the next, so warm starts are tried and hit;
+    // without the key none is tried, and the summary says which.
+    use crate::common::{case_text, counter, run, scenario, with_formulation_table};
+    let text = case_text("sliding_floe");
+    for name in ["event-driven", "moreau"] {
+        let cold = run(&scenario(&text), name);
+        assert_eq!(counter(&cold, "lcp_warm_hits"), 0.0, "{name} cold");
+        assert_eq!(counter(&cold, "lcp_warm_misses"), 0.0, "{name} cold");
+        let table = with_formulation_table(&text, name, "warm_start = true");
+        assert_ne!(table, text);
+        let warm = run(&scenario(&table), name);
+        let hits = counter(&warm, "lcp_warm_hits");
+        assert!(hits > 0.0, "{name}: {hits} warm hits");
+        let setting = |r: &floebench::run::RunResult| {
+            r.summary.settings.get_text("warm_start").map(String::from)
+        };
+        assert_eq!(setting(&warm).as_deref(), Some("on"), "{name}");
+        assert_eq!(setting(&cold).as_deref(), Some("off"), "{name}");
+    }
+}
