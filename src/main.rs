@@ -93,7 +93,9 @@ enum Command {
         integrator: Option<IntegratorKind>,
         /// Runs of each (case, formulation), at least 1: CPU times are reported
         /// as median and spread, and the physics of the repeats must be
-        /// bit-identical (a difference is reported as a finding).
+        /// bit-identical (a difference is reported as a finding). With 2 or
+        /// more, a pair whose repeats take under 0.25 s of CPU in all is run
+        /// again until they take about that much (at most 200 runs).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
         repeat: u64,
         /// No progress bars.
@@ -115,7 +117,9 @@ enum Command {
         markdown: Option<PathBuf>,
         /// Runs of each (case, formulation), at least 1: CPU times are reported
         /// as median and spread, and the physics of the repeats must be
-        /// bit-identical (a difference is reported as a finding).
+        /// bit-identical (a difference is reported as a finding). With 2 or
+        /// more, a pair whose repeats take under 0.25 s of CPU in all is run
+        /// again until they take about that much (at most 200 runs).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
         repeat: u64,
         /// No progress bars.

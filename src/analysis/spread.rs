@@ -5,13 +5,23 @@
 //! Quantiles interpolate linearly between the sorted samples (the
 //! "type 7" definition: the `p`-quantile of `n` sorted samples is at the
 //! fractional index `p (n − 1)`), so the median of an even count is the
-//! mean of the two middle samples. Two figures are *tied* when their ranges
-//! (min–max) overlap: the repeats cannot tell them apart.
+//! mean of the two middle samples. Two measured times are *tied*
+//! ([`Spread::tied_with`]) when the repeats cannot tell them apart: their
+//! interquartile ranges overlap (their ranges, min–max, below [`IQR_FROM`]
+//! samples), or their medians differ by less than [`SPEED_MARGIN`], what
+//! the same run's median moves between identical batches.
 
 use serde::Serialize;
 
 /// Repeats from which the interquartile range is given.
 pub const IQR_FROM: usize = 4;
+
+/// Two medians closer than this ratio are tied whatever their spreads: the
+/// median CPU time of one (case, formulation) moves by up to about this
+/// much between identical `compare` runs on a shared machine, a spread
+/// measured within one batch does not see it (docs of
+/// [`crate::run::batch::TOP_UP_CPU`]; the README gives the measurement).
+pub const SPEED_MARGIN: f64 = 1.25;
 
 /// The spread of repeated measurements of one figure.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -61,10 +71,28 @@ impl Spread {
         self.samples.len()
     }
 
-    /// Whether the ranges of `self` and `other` overlap (the repeats cannot
-    /// tell the two figures apart).
+    /// Whether the ranges of `self` and `other` overlap.
     pub fn overlaps(&self, other: &Spread) -> bool {
         self.min <= other.max && other.min <= self.max
+    }
+
+    /// The interquartile range, or the range (min, max) below [`IQR_FROM`]
+    /// samples.
+    pub fn band(&self) -> (f64, f64) {
+        self.iqr.unwrap_or((self.min, self.max))
+    }
+
+    /// Whether the repeats cannot tell `self` and `other` apart: their
+    /// [`Spread::band`]s overlap, or their medians are within
+    /// [`SPEED_MARGIN`] of each other.
+    pub fn tied_with(&self, other: &Spread) -> bool {
+        let ((a0, a1), (b0, b1)) = (self.band(), other.band());
+        let (lo, hi) = if self.median <= other.median {
+            (self.median, other.median)
+        } else {
+            (other.median, self.median)
+        };
+        (a0 <= b1 && b0 <= a1) || hi < SPEED_MARGIN * lo
     }
 }
 
@@ -82,5 +110,13 @@ mod tests {
         assert!(Spread::of(&[1.0, 2.0]).overlaps(&Spread::of(&[2.0, 3.0])));
         assert!(!Spread::of(&[1.0, 2.0]).overlaps(&Spread::of(&[2.5, 3.0])));
         assert!(Spread::of(&[]).median.is_nan());
+        // Disjoint ranges, medians 1.5 and 2.0 (ratio 1.33): apart.
+        assert!(!Spread::of(&[1.4, 1.5, 1.6]).tied_with(&Spread::of(&[1.9, 2.0, 2.1])));
+        // Disjoint ranges, medians 1.5 and 1.7 (ratio 1.13): tied.
+        assert!(Spread::of(&[1.45, 1.5, 1.55]).tied_with(&Spread::of(&[1.65, 1.7, 1.75])));
+        // Four samples: the quartiles, not the outlier 9, decide.
+        let a = Spread::of(&[1.0, 1.0, 1.0, 1.0, 9.0]);
+        let b = Spread::of(&[3.0, 3.0, 3.0, 3.0]);
+        assert!(a.overlaps(&b) && !a.tied_with(&b));
     }
 }

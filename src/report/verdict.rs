@@ -257,7 +257,7 @@ fn speed(comp: &CaseComparison) -> Option<String> {
     if done.len() < 2 {
         return None;
     }
-    let groups = ranking::rank(&done, |d| d.1.median, |a, b| a.1.overlaps(&b.1));
+    let groups = ranking::rank(&done, |d| d.1.median, |a, b| a.1.tied_with(&b.1));
     let show = |g: &[(String, Spread)]| -> String {
         g.iter()
             .map(|(n, c)| format!("{n} ({})", cpu_text(c)))
@@ -272,13 +272,13 @@ fn speed(comp: &CaseComparison) -> Option<String> {
     };
     if groups.len() == 1 {
         return Some(format!(
-            "CPU time: all tied, their ranges overlap: {}.{note}",
+            "CPU time: all tied (the repeats cannot tell them apart): {}.{note}",
             show(&groups[0])
         ));
     }
     let fast = &groups[0];
     let tied = if fast.len() > 1 {
-        " (tied: their ranges overlap)"
+        " (tied: the repeats cannot tell them apart)"
     } else {
         ""
     };

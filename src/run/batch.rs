@@ -11,9 +11,11 @@
 //! The results come back in the order of the cases and, within a case, of
 //! its formulations, whatever order the runs finish in. With a repeat
 //! count `N` every pair runs `N` times (each repeat a run of its own on the
-//! pool); [`super::repeat::merge`] keeps the run of median CPU time, the
-//! timing of every repeat, and a finding for any repeat whose physics is
-//! not bit-identical.
+//! pool), and with `N ≥ 2` a cheap pair is topped up to about
+//! [`TOP_UP_CPU`] of CPU time in all (at most [`MAX_REPEATS`] runs), so
+//! that its median is measured on enough samples; [`super::repeat::merge`]
+//! keeps the run of median CPU time, the timing of every repeat, and a
+//! finding for any repeat whose physics is not bit-identical.
 //!
 //! An interrupt ([`super::interrupt`]) stops the batch: no new run starts,
 //! the runs in progress end at their next output time, and only the cases
@@ -248,43 +250,29 @@ pub fn run_jobs_aligned(
             })?;
         }
     }
-    let runs: Vec<(usize, usize)> = jobs
+    let mut runs: Vec<(usize, usize)> = jobs
         .iter()
         .enumerate()
         .flat_map(|(c, j)| (0..j.formulations.len() * j.repeat).map(move |k| (c, k / j.repeat)))
         .collect();
-    let results: Mutex<Vec<Option<Result<RunResult, String>>>> = Mutex::new(vec![None; runs.len()]);
-    let next = AtomicUsize::new(0);
     let multi = opts.progress.then(indicatif::MultiProgress::new);
-    let workers = opts.jobs.clamp(1, runs.len().max(1));
-    std::thread::scope(|s| {
-        for _ in 0..workers {
-            s.spawn(|| loop {
-                if interrupt::requested() {
-                    break;
-                }
-                let k = next.fetch_add(1, Ordering::SeqCst);
-                let Some(&(c, f)) = runs.get(k) else { break };
-                let scn = &jobs[c].scenario;
-                let runner = Runner::new(RunOptions {
-                    progress: opts.progress,
-                    multi: multi.clone(),
-                });
-                let out = formulation::build(&jobs[c].formulations[f], scn, &fopts)
-                    .map(|mut form| runner.run(scn, form.name(), form.formulation.as_mut()));
-                if let Ok(mut r) = results.lock() {
-                    r[k] = Some(out);
-                }
-            });
-        }
-    });
-    let mut results = results
-        .into_inner()
-        .map_err(|_| BatchError::Panicked("a run panicked".into()))?
-        .into_iter();
+    let mut results = execute(&jobs, &runs, opts, &fopts, multi.as_ref())?;
+    // Cheap pairs measured several times are topped up to TOP_UP_CPU.
+    let extra = top_up(&jobs, &runs, &results);
+    if !extra.is_empty() && !interrupt::requested() {
+        results.extend(execute(&jobs, &extra, opts, &fopts, multi.as_ref())?);
+        runs.extend(extra);
+    }
+    let mut by_pair: Vec<Vec<Vec<Outcome>>> = jobs
+        .iter()
+        .map(|j| j.formulations.iter().map(|_| Vec::new()).collect())
+        .collect();
+    for (&(c, f), r) in runs.iter().zip(results) {
+        by_pair[c][f].push(r);
+    }
     let interrupted = interrupt::requested();
     let mut out = Vec::with_capacity(jobs.len());
-    for job in jobs {
+    for (job, pairs) in jobs.into_iter().zip(by_pair) {
         let mut case = CaseRuns {
             runs: Vec::with_capacity(job.formulations.len()),
             timings: Vec::with_capacity(job.formulations.len()),
@@ -293,10 +281,11 @@ pub fn run_jobs_aligned(
             scenario: job.scenario,
         };
         let mut complete = true;
-        for name in &job.formulations {
-            let mut repeats = Vec::with_capacity(job.repeat);
-            for _ in 0..job.repeat {
-                match results.next().flatten() {
+        for (name, pair) in job.formulations.iter().zip(pairs) {
+            let wanted = pair.len();
+            let mut repeats = Vec::with_capacity(wanted);
+            for result in pair {
+                match result {
                     Some(Ok(r)) => repeats.push(r),
                     // Not started, or stopped, because of an interrupt: the
                     // case is left out (see the module doc).
@@ -315,7 +304,7 @@ pub fn run_jobs_aligned(
                     }
                 }
             }
-            let finished = repeats.len() == job.repeat
+            let finished = repeats.len() == wanted
                 && repeats
                     .iter()
                     .all(|r| !matches!(r.summary.end, EndReason::Interrupted { .. }));
@@ -334,4 +323,104 @@ pub fn run_jobs_aligned(
         out.push(complete.then_some(case));
     }
     Ok(out)
+}
+
+/// A pair measured several times (`repeat` ≥ 2) whose repeats take less
+/// CPU time in total than this (s) is repeated until they take about this
+/// much, at most [`MAX_REPEATS`] times: a run of 50 µs is then timed 200
+/// times (201), as its median over a few repeats moves by 1.5× between identical
+/// `compare` runs on a shared machine (measured on `cases/`, four runs of
+/// `--repeat 3`), while runs of a second keep their `repeat`.
+pub const TOP_UP_CPU: f64 = 0.25;
+
+/// The most runs of one pair the top-up ([`TOP_UP_CPU`]) asks for (odd,
+/// as every count it asks for).
+pub const MAX_REPEATS: usize = 201;
+
+/// The runs in all of a pair whose first `repeat` runs (≥ 2) have the
+/// median CPU time `median` (s): enough for [`TOP_UP_CPU`] in all, odd (the
+/// run kept, of median CPU time, is then one of them), at most
+/// [`MAX_REPEATS`]; `repeat` itself when they already take that much.
+pub fn top_up_count(median: f64, repeat: usize) -> usize {
+    if median.is_nan() || median <= 0.0 || median * repeat as f64 >= TOP_UP_CPU {
+        return repeat;
+    }
+    let want = (TOP_UP_CPU / median).ceil().min(MAX_REPEATS as f64) as usize;
+    let odd = want | 1;
+    odd.clamp(repeat, MAX_REPEATS.max(repeat))
+}
+
+/// The extra runs that bring every cheap pair measured several times to
+/// [`TOP_UP_CPU`] (see there): none for a single repeat, for a pair with a
+/// failed or interrupted run, or after an interrupt.
+fn top_up(jobs: &[CaseJob], runs: &[(usize, usize)], results: &[Outcome]) -> Vec<(usize, usize)> {
+    let mut extra = Vec::new();
+    for (c, job) in jobs.iter().enumerate() {
+        if job.repeat < 2 {
+            continue;
+        }
+        for f in 0..job.formulations.len() {
+            let mut cpu = Vec::with_capacity(job.repeat);
+            for (_, r) in runs.iter().zip(results).filter(|(&p, _)| p == (c, f)) {
+                match r {
+                    Some(Ok(r)) if r.summary.end == EndReason::Completed => {
+                        cpu.push(r.summary.timing.cpu_total)
+                    }
+                    _ => {
+                        cpu.clear();
+                        break;
+                    }
+                }
+            }
+            if cpu.len() != job.repeat {
+                continue;
+            }
+            let median = crate::analysis::spread::Spread::of(&cpu).median;
+            let target = top_up_count(median, job.repeat);
+            extra.extend(std::iter::repeat_n((c, f), target - job.repeat));
+        }
+    }
+    extra
+}
+
+/// What became of one run: `None` if it did not start or did not finish.
+type Outcome = Option<Result<RunResult, String>>;
+
+/// Runs `runs` (case, formulation index) of `jobs` on `opts.jobs` threads;
+/// one entry per run, in order: `None` for a run an interrupt left out (or
+/// that panicked).
+fn execute(
+    jobs: &[CaseJob],
+    runs: &[(usize, usize)],
+    opts: &BatchOptions,
+    fopts: &FormulationOptions,
+    multi: Option<&indicatif::MultiProgress>,
+) -> Result<Vec<Outcome>, BatchError> {
+    let results: Mutex<Vec<Outcome>> = Mutex::new(vec![None; runs.len()]);
+    let next = AtomicUsize::new(0);
+    let workers = opts.jobs.clamp(1, runs.len().max(1));
+    std::thread::scope(|s| {
+        for _ in 0..workers {
+            s.spawn(|| loop {
+                if interrupt::requested() {
+                    break;
+                }
+                let k = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&(c, f)) = runs.get(k) else { break };
+                let scn = &jobs[c].scenario;
+                let runner = Runner::new(RunOptions {
+                    progress: opts.progress,
+                    multi: multi.cloned(),
+                });
+                let out = formulation::build(&jobs[c].formulations[f], scn, fopts)
+                    .map(|mut form| runner.run(scn, form.name(), form.formulation.as_mut()));
+                if let Ok(mut r) = results.lock() {
+                    r[k] = Some(out);
+                }
+            });
+        }
+    });
+    results
+        .into_inner()
+        .map_err(|_| BatchError::Panicked("a run panicked".into()))
 }
