@@ -6,10 +6,12 @@
 //! "type 7" definition: the `p`-quantile of `n` sorted samples is at the
 //! fractional index `p (n − 1)`), so the median of an even count is the
 //! mean of the two middle samples. Two measured times are *tied*
-//! ([`Spread::tied_with`]) when the repeats cannot tell them apart: their
-//! interquartile ranges overlap (their ranges, min–max, below [`IQR_FROM`]
-//! samples), or their medians differ by less than [`SPEED_MARGIN`], what
-//! the same run's median moves between identical batches.
+//! ([`Spread::tied_with`]) when the repeats cannot tell them apart: the
+//! 95 % confidence intervals of their medians overlap
+//! ([`Spread::median_interval`], distribution-free: order statistics; the
+//! range for up to 7 samples), or their medians differ by less than
+//! [`SPEED_MARGIN`], what the same run's median moves between identical
+//! batches.
 
 use serde::Serialize;
 
@@ -36,6 +38,9 @@ pub struct Spread {
     pub max: f64,
     /// First and third quartiles, from [`IQR_FROM`] samples on.
     pub iqr: Option<(f64, f64)>,
+    /// The 95 % confidence interval of the median
+    /// ([`Spread::median_interval`]).
+    pub median_ci: (f64, f64),
 }
 
 impl Spread {
@@ -57,7 +62,21 @@ impl Spread {
                 s[i]
             }
         };
+        // Distribution-free: the median lies between the order statistics
+        // of ranks k and n − 1 − k (from 0) with probability about 95 % for
+        // k = ⌊(n − 1.96 √n) / 2⌋ (normal approximation of the binomial);
+        // k = 0 (the range) up to 7 samples.
+        let median_ci = match s.len() {
+            0 => (f64::NAN, f64::NAN),
+            n => {
+                let k = ((n as f64 - 1.96 * (n as f64).sqrt()) / 2.0)
+                    .floor()
+                    .max(0.0) as usize;
+                (s[k], s[n - 1 - k])
+            }
+        };
         Spread {
+            median_ci,
             samples: samples.to_vec(),
             median: q(0.5),
             min: q(0.0),
@@ -76,17 +95,19 @@ impl Spread {
         self.min <= other.max && other.min <= self.max
     }
 
-    /// The interquartile range, or the range (min, max) below [`IQR_FROM`]
-    /// samples.
-    pub fn band(&self) -> (f64, f64) {
-        self.iqr.unwrap_or((self.min, self.max))
+    /// The 95 % confidence interval of the median: the order statistics of
+    /// ranks `k` and `n − 1 − k` (from 0) for `k = ⌊(n − 1.96 √n)/2⌋`, the
+    /// range up to 7 samples (201 samples: ranks 86 and 114).
+    pub fn median_interval(&self) -> (f64, f64) {
+        self.median_ci
     }
 
-    /// Whether the repeats cannot tell `self` and `other` apart: their
-    /// [`Spread::band`]s overlap, or their medians are within
+    /// Whether the repeats cannot tell `self` and `other` apart: the
+    /// confidence intervals of their medians
+    /// ([`Spread::median_interval`]) overlap, or their medians are within
     /// [`SPEED_MARGIN`] of each other.
     pub fn tied_with(&self, other: &Spread) -> bool {
-        let ((a0, a1), (b0, b1)) = (self.band(), other.band());
+        let ((a0, a1), (b0, b1)) = (self.median_ci, other.median_ci);
         let (lo, hi) = if self.median <= other.median {
             (self.median, other.median)
         } else {
@@ -114,9 +135,15 @@ mod tests {
         assert!(!Spread::of(&[1.4, 1.5, 1.6]).tied_with(&Spread::of(&[1.9, 2.0, 2.1])));
         // Disjoint ranges, medians 1.5 and 1.7 (ratio 1.13): tied.
         assert!(Spread::of(&[1.45, 1.5, 1.55]).tied_with(&Spread::of(&[1.65, 1.7, 1.75])));
-        // Four samples: the quartiles, not the outlier 9, decide.
-        let a = Spread::of(&[1.0, 1.0, 1.0, 1.0, 9.0]);
-        let b = Spread::of(&[3.0, 3.0, 3.0, 3.0]);
+        // Up to 7 samples the interval is the range; from 8 on the
+        // outliers fall outside it.
+        assert_eq!(Spread::of(&[3.0, 1.0, 2.0]).median_interval(), (1.0, 3.0));
+        let wide: Vec<f64> = (0..8).map(f64::from).collect();
+        assert_eq!(Spread::of(&wide).median_interval(), (1.0, 6.0));
+        let mut a: Vec<f64> = vec![1.0; 200];
+        a.push(9.0);
+        let (a, b) = (Spread::of(&a), Spread::of(&[3.0; 201]));
+        assert_eq!(a.median_interval(), (1.0, 1.0));
         assert!(a.overlaps(&b) && !a.tied_with(&b));
     }
 }

@@ -244,8 +244,8 @@ pub fn write_report(
             "CPU times are each run's own thread CPU seconds (runs go in parallel), over {} of \
              each run: the median, then the range (min–max) and from four repeats the \
              interquartile range, every number to the digits that spread supports; two \
-             formulations are tied on speed when their interquartile ranges (ranges below four repeats) \
-             overlap or their medians are within 1.25×, and runs under 0.25 s are repeated until \
+             formulations are tied on speed when the 95 % confidence intervals of their medians \
+             (ranges up to 7 repeats) overlap or their medians are within 1.25×, and runs under 0.25 s are repeated until \
              they total that (docs/physics.md §6.6). The physics of the \
              repeats is bit-identical (checked). Δx is a floe's centre-of-mass distance between \
              two runs at the same output time, d̄ the mean equal-area floe diameter: every \
