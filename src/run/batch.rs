@@ -359,7 +359,8 @@ fn top_up(jobs: &[CaseJob], runs: &[(usize, usize)], results: &[Outcome]) -> Vec
         if job.repeat < 2 {
             continue;
         }
-        for f in 0..job.formulations.len() {
+        let mut more = vec![0; job.formulations.len()];
+        for (f, more) in more.iter_mut().enumerate() {
             let mut cpu = Vec::with_capacity(job.repeat);
             for (_, r) in runs.iter().zip(results).filter(|(&p, _)| p == (c, f)) {
                 match r {
@@ -376,8 +377,16 @@ fn top_up(jobs: &[CaseJob], runs: &[(usize, usize)], results: &[Outcome]) -> Vec
                 continue;
             }
             let median = crate::analysis::spread::Spread::of(&cpu).median;
-            let target = top_up_count(median, job.repeat);
-            extra.extend(std::iter::repeat_n((c, f), target - job.repeat));
+            *more = top_up_count(median, job.repeat) - job.repeat;
+        }
+        // Round robin over the case's formulations, so that a slow spell of
+        // the machine falls on all of them, not on one: what the verdicts
+        // compare is their ratio.
+        while more.iter().any(|&m| m > 0) {
+            for (f, m) in more.iter_mut().enumerate().filter(|(_, m)| **m > 0) {
+                extra.push((c, f));
+                *m -= 1;
+            }
         }
     }
     extra
