@@ -124,24 +124,37 @@ pub fn lcp_violation(m: &[f64], q: &[f64], z: &[f64], rel_tol: f64) -> Option<St
     if z.len() != n || m.len() != n * n {
         return Some(format!("sizes: z {}, q {n}, M {}", z.len(), m.len()));
     }
+    if let Some(i) = z.iter().position(|v| !v.is_finite()) {
+        return Some(format!("z[{i}] = {} is not finite", z[i]));
+    }
+    // z solves LCP(M, q) iff z/σ solves LCP(M, q/σ): judged on the scaled
+    // problem, so that a problem near the f64 range (q of 1e308, z of 1e307)
+    // does not overflow the check itself.
+    let sigma = max_abs(q).max(max_abs(z)).max(f64::MIN_POSITIVE);
+    let q: Vec<f64> = q.iter().map(|v| v / sigma).collect();
+    let z: Vec<f64> = z.iter().map(|v| v / sigma).collect();
     let w: Vec<f64> = (0..n)
         .map(|i| (0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>() + q[i])
         .collect();
-    let s = max_abs(q)
-        .max(max_abs(m) * max_abs(z))
+    let s = max_abs(&q)
+        .max(max_abs(m) * max_abs(&z))
         .max(f64::MIN_POSITIVE);
     for (i, (&zi, &wi)) in z.iter().zip(w.iter()).enumerate() {
         if zi.is_nan() || zi < 0.0 {
-            return Some(format!("z[{i}] = {zi} < 0"));
+            return Some(format!("z[{i}] = {} < 0", zi * sigma));
         }
         if wi.is_nan() || wi < -rel_tol * s {
-            return Some(format!("w[{i}] = {wi} < -{rel_tol}*{s}"));
+            return Some(format!(
+                "w[{i}] = {wi} < -{rel_tol}*{s} (scaled by {sigma})"
+            ));
         }
     }
     let ztw: f64 = z.iter().zip(w.iter()).map(|(a, b)| a * b).sum();
     let z1: f64 = z.iter().sum();
     if ztw.is_nan() || ztw.abs() > rel_tol * s * z1.max(f64::MIN_POSITIVE) {
-        return Some(format!("zᵀw = {ztw} too large (s = {s}, ‖z‖₁ = {z1})"));
+        return Some(format!(
+            "zᵀw = {ztw} too large (s = {s}, ‖z‖₁ = {z1}, scaled by {sigma})"
+        ));
     }
     None
 }

@@ -1868,3 +1868,22 @@ fn warm_start_setting_turns_the_warm_start_on_in_both_lcp_formulations() {
         assert_eq!(setting(&cold).as_deref(), Some("off"), "{name}");
     }
 }
+
+#[test]
+fn a_dump_at_the_edge_of_the_f64_range_is_solved_and_judged_scaled() {
+    // Found by the long fuzz run (seed 17, input 10800): a coast dump with
+    // one q entry mutated to 1e308. The driver solves it; a check that
+    // formed M z and zᵀw unscaled overflowed (zᵀw = NaN) and called it a
+    // false solve. z/σ solves LCP(M, q/σ): judged that way it holds.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/lcp_edge/fuzz_q_1e308.json");
+    let lcp = LcpDump::read(&path)
+        .expect("read")
+        .to_lcp()
+        .expect("an LCP");
+    assert!(lcp.q.iter().any(|v| v.abs() == 1e308));
+    let s = solve(&lcp, &SolveOptions::default());
+    assert!(s.status.is_solved(), "{:?}", s.status);
+    assert!(s.z.iter().all(|x| x.is_finite() && *x >= 0.0));
+    assert_eq!(lcp_violation(&lcp.m, &lcp.q, &s.z, 1e-8), None);
+}
