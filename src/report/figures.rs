@@ -16,6 +16,10 @@
 //!   times and rest marked), the distance slid (stop marked), a drifting
 //!   floe's speed against the steady drift speed, the inertial circles.
 //!
+//! - `animation.gif` ([`animate`]): the floe field over time, one panel per
+//!   formulation that completed, drawn as the snapshots are, at most
+//!   [`ANIMATION_FRAMES`] evenly spaced outputs.
+//!
 //! A formulation keeps its palette colour (its position in the comparison)
 //! on every chart; exact curves and thresholds are black ([`plot::EXACT`]),
 //! dashed so that a run on them stays visible. Every figure has a caption

@@ -19,7 +19,7 @@
 //! empty or constant data still give a valid chart. Files are written
 //! atomically (temporary name in the same folder, then rename).
 //!
-//! This file holds the public inputs and the four entry points; the drawing
+//! This file holds the public inputs and the entry points; the drawing
 //! is behind them, private: `render.rs` (both backends, fonts, files),
 //! `style.rs` (sizes, colours, title strip, filled polygons), `axis.rs`
 //! (bounds, scales, ticks and their labels, the mesh), `legend.rs`,
