@@ -1,5 +1,5 @@
-//! Writing a comparison: data first (CSV, JSON), then the plots, then the
-//! report page.
+//! Writing a comparison: data first (CSV, JSON), then the plots and the
+//! animation, then the report page.
 //!
 //! ```text
 //! <out>/index.md, index.html          the page: headline table, per case verdict, tables, plots
@@ -9,6 +9,7 @@
 //! <out>/<case>/summary.json           the case, each run's summary, the pairs, the verdict
 //! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json (as `floebench run`)
 //! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu
+//! <out>/<case>/animation.gif          the floes over time, one panel per completed run
 //! ```
 //!
 //! A case's folder replaces only a folder of the same report
@@ -19,7 +20,7 @@
 //! [`super::format::fmt_num`].
 
 use super::checks::checks_csv;
-use super::figures::{self, Figure};
+use super::figures::{self, Animation, Figure};
 use super::page::{self, Block};
 use super::parameters::{case_parameters, settings_table};
 use super::provenance::Provenance;
@@ -127,12 +128,13 @@ struct CaseSummary<'a> {
     checks: &'a [CheckOutcome],
 }
 
+/// What the page shows of a case folder: the verdict, the figures and the
+/// animation (`None` when no run completed).
+type CaseParts = (Vec<String>, Vec<Figure>, Option<Animation>);
+
 /// Writes one case's folder at `dir` (which must not exist yet): data, then
-/// the plots; returns the verdict and the figures.
-fn write_case(
-    comp: &CaseComparison,
-    dir: &Path,
-) -> Result<(Vec<String>, Vec<Figure>), ReportError> {
+/// the plots and the animation.
+fn write_case(comp: &CaseComparison, dir: &Path) -> Result<CaseParts, ReportError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     for r in &comp.runs {
         let d = dir.join(&r.summary.formulation);
@@ -195,7 +197,8 @@ fn write_case(
         write_atomic(&p, &bytes).map_err(io_err(&p))?;
     }
     let figs = figures::draw(comp, dir)?;
-    Ok((verdict, figs))
+    let anim = figures::animate(comp, dir)?;
+    Ok((verdict, figs, anim))
 }
 
 /// Replaces `target` by the complete folder `staged`.
@@ -268,7 +271,7 @@ pub fn write_report(
         if staged.exists() {
             std::fs::remove_dir_all(&staged).map_err(io_err(&staged))?;
         }
-        let (verdict, figs) = write_case(comp, &staged)?;
+        let (verdict, figs, anim) = write_case(comp, &staged)?;
         swap_into_place(&staged, &out.join(name))?;
         blocks.push(Block::Heading(2, name.clone()));
         blocks.push(Block::Para(format!(
@@ -307,6 +310,19 @@ pub fn write_report(
                 .map(|f| format!("**{}**: {}.", f.stem, f.caption))
                 .collect(),
         ));
+        match anim {
+            Some(a) => {
+                blocks.push(Block::Animation(
+                    format!("{name}: {}", a.alt),
+                    format!("{name}/{}", a.file),
+                ));
+                blocks.push(Block::Para(format!(
+                    "**Animation** (`{name}/{}`): {}.",
+                    a.file, a.caption
+                )));
+            }
+            None => blocks.push(Block::Para("**Animation**: none, no run completed.".into())),
+        }
     }
     let md = out.join("index.md");
     let html = out.join("index.html");

@@ -16,19 +16,25 @@
 //!   times and rest marked), the distance slid (stop marked), a drifting
 //!   floe's speed against the steady drift speed, the inertial circles.
 //!
+//! - `animation.gif` ([`animate`]): the floe field over time, one panel per
+//!   formulation that completed, drawn as the snapshots are, at most
+//!   [`ANIMATION_FRAMES`] evenly spaced outputs.
+//!
 //! A formulation keeps its palette colour (its position in the comparison)
 //! on every chart; exact curves and thresholds are black ([`plot::EXACT`]),
 //! dashed so that a run on them stays visible. Every figure has a caption
 //! for the page.
 
-use super::plot::{self, LineChart, Panel, PlanView, Scale, Series, StackedBars};
+use super::plot::{self, AnimationFrame, LineChart, Panel, PlanView, Scale, Series, StackedBars};
 use super::tables::{fastest, ratio_text};
 use super::ReportError;
 use crate::analysis::check::curves::exact_curves;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::frames;
 use crate::geometry::Vec2;
-use crate::run::RunResult;
+use crate::model::Scenario;
+use crate::run::{EndReason, RunResult, TrajectoryRow};
+use std::fmt::Write as _;
 use std::path::Path;
 
 /// A drawn figure: its alternative text and file stem (without extension).
@@ -51,6 +57,56 @@ fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
 
 fn polygon(points: impl IntoIterator<Item = Vec2>) -> Vec<(f64, f64)> {
     points.into_iter().map(|p| (p.x, p.y)).collect()
+}
+
+/// The obstacles of `scn` as polygons.
+fn obstacle_polygons(scn: &Scenario) -> Vec<Vec<(f64, f64)>> {
+    scn.obstacles
+        .iter()
+        .map(|o| polygon(o.polygon.iter().copied()))
+        .collect()
+}
+
+/// The floes of `frame` (one output time of a run of `scn`; `None`: an
+/// output the run did not reach, an empty panel) with `obstacles`, titled
+/// `title`: the panel of the snapshots and of the animation.
+fn field_panel(
+    scn: &Scenario,
+    frame: Option<&[TrajectoryRow]>,
+    title: String,
+    obstacles: &[Vec<(f64, f64)>],
+) -> Panel {
+    let mut world = Vec::new();
+    let floes = frame
+        .unwrap_or_default()
+        .iter()
+        .zip(&scn.floes)
+        .map(|(row, floe)| {
+            floe.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
+            polygon(world.iter().copied())
+        })
+        .collect();
+    Panel {
+        title,
+        floes,
+        obstacles: obstacles.to_vec(),
+    }
+}
+
+/// `t = … s` of `frame`, with as many decimals as the output interval and
+/// the duration of `scn` need (at most 6).
+fn time_stamp(scn: &Scenario, frame: &[TrajectoryRow]) -> String {
+    let t = frame.first().map_or(0.0, |r| r.t);
+    let decimals = |v: f64| {
+        (0..6)
+            .find(|&d| {
+                let s = v * 10f64.powi(d);
+                (s - s.round()).abs() <= 1e-6 * s.abs().max(1.0)
+            })
+            .unwrap_or(6) as usize
+    };
+    let d = decimals(scn.output_interval).max(decimals(scn.duration));
+    format!("t = {t:.d$} s")
 }
 
 /// The energy series `f` of every run, against time.
@@ -223,11 +279,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 ..Series::new(format!("floe {f}"), plot::EXACT, Vec::new())
             });
         }
-        let obstacles: Vec<Vec<(f64, f64)>> = scn
-            .obstacles
-            .iter()
-            .map(|o| polygon(o.polygon.iter().copied()))
-            .collect();
+        let obstacles = obstacle_polygons(scn);
         let stem = dir.join("paths");
         plot::plan_view(
             &PlanView {
@@ -250,30 +302,14 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
         rows.dedup();
         let mut panels = Vec::new();
-        let mut world = Vec::new();
         for &k in &rows {
             for r in &comp.runs {
-                let Some(frame) = frames(r, n).nth(k) else {
-                    panels.push(Panel {
-                        title: format!("{}: not reached", r.summary.formulation),
-                        floes: Vec::new(),
-                        obstacles: obstacles.clone(),
-                    });
-                    continue;
+                let frame = frames(r, n).nth(k);
+                let title = match frame {
+                    Some(f) => format!("{}, {}", r.summary.formulation, time_stamp(scn, f)),
+                    None => format!("{}: not reached", r.summary.formulation),
                 };
-                let floes = frame
-                    .iter()
-                    .zip(&scn.floes)
-                    .map(|(row, floe)| {
-                        floe.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
-                        polygon(world.iter().copied())
-                    })
-                    .collect();
-                panels.push(Panel {
-                    title: format!("{}, t = {} s", r.summary.formulation, frame[0].t),
-                    floes,
-                    obstacles: obstacles.clone(),
-                });
+                panels.push(field_panel(scn, frame, title, &obstacles));
             }
         }
         let stem = dir.join("snapshots");
@@ -367,12 +403,7 @@ fn exact_figures(
         let stem = dir.join(c.stem);
         let title = format!("{name}: {}", c.what);
         if c.plan {
-            let obstacles: Vec<Vec<(f64, f64)>> = comp
-                .scenario
-                .obstacles
-                .iter()
-                .map(|o| polygon(o.polygon.iter().copied()))
-                .collect();
+            let obstacles = obstacle_polygons(&comp.scenario);
             plot::plan_view(
                 &PlanView {
                     title: &title,
@@ -412,4 +443,116 @@ fn exact_figures(
         );
     }
     Ok(())
+}
+
+/// Most frames of an animation ([`animate`]).
+pub const ANIMATION_FRAMES: usize = 60;
+
+/// Most floe polygons an animation draws, over all its frames and panels:
+/// a large field gets fewer frames (at least 2), so that drawing its
+/// animation takes about a second (4 panels of 20 000 floes: 15 frames;
+/// measured by the ignored test `animation::demo_large_field`).
+pub const ANIMATION_POLYGONS: usize = 1_200_000;
+
+/// The output indices an animation shows of a run with `outputs` output
+/// times and `per_frame` floe polygons in a frame: evenly spaced (rounded
+/// to the nearest output), the first and the last always, at most
+/// [`ANIMATION_FRAMES`] and at most [`ANIMATION_POLYGONS`]` / per_frame`
+/// (but 2) of them; every output when there are fewer.
+pub fn animation_outputs(outputs: usize, per_frame: usize) -> Vec<usize> {
+    let most = ANIMATION_FRAMES.min((ANIMATION_POLYGONS / per_frame.max(1)).max(2));
+    let f = outputs.min(most);
+    if f < 2 {
+        return (0..f).collect();
+    }
+    (0..f)
+        .map(|i| (i * (outputs - 1) + (f - 1) / 2) / (f - 1))
+        .collect()
+}
+
+/// The animation of a comparison: its file in the case folder and how to
+/// read it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Animation {
+    /// The file name in the case folder (`animation.gif`).
+    pub file: String,
+    /// What it shows.
+    pub alt: String,
+    /// How to read it, for the page: frames, times, sizes.
+    pub caption: String,
+}
+
+/// Draws `animation.gif` into `dir`: the floe field over time, one panel
+/// per run of `comp` that completed (in the comparison's order, titled
+/// with its formulation), every panel and frame at the same extent and
+/// scale, each frame titled with its time stamp, at the outputs of
+/// [`animation_outputs`]. `None` (and no file) when no run completed.
+pub fn animate(comp: &CaseComparison, dir: &Path) -> Result<Option<Animation>, ReportError> {
+    let scn = &comp.scenario;
+    let n = scn.floes.len();
+    let (done, left_out): (Vec<&RunResult>, Vec<&RunResult>) = comp
+        .runs
+        .iter()
+        .partition(|r| r.summary.end == EndReason::Completed);
+    let per_run: Vec<Vec<&[TrajectoryRow]>> = done.iter().map(|r| frames(r, n).collect()).collect();
+    let Some(outputs) = per_run.first().map(Vec::len) else {
+        return Ok(None);
+    };
+    let picks = animation_outputs(outputs, n * done.len());
+    if picks.is_empty() {
+        return Ok(None);
+    }
+    let obstacles = obstacle_polygons(scn);
+    let shown: Vec<AnimationFrame> = picks
+        .iter()
+        .map(|&k| AnimationFrame {
+            title: format!("{}: {}", scn.name, time_stamp(scn, per_run[0][k])),
+            panels: done
+                .iter()
+                .zip(&per_run)
+                .map(|(r, fr)| {
+                    let frame = fr.get(k).copied();
+                    let name = &r.summary.formulation;
+                    let title = match frame {
+                        Some(_) => name.clone(),
+                        None => format!("{name}: not reached"),
+                    };
+                    field_panel(scn, frame, title, &obstacles)
+                })
+                .collect(),
+        })
+        .collect();
+    let file = "animation.gif";
+    let path = dir.join(file);
+    let (w, h) = plot::animation(done.len(), &shown, &path).map_err(plot_err(&path))?;
+    let names: Vec<&str> = done
+        .iter()
+        .map(|r| r.summary.formulation.as_str())
+        .collect();
+    let mut caption = format!(
+        "the floe field over time, one panel per formulation that completed ({}), every panel and frame at the same extent and scale, the time stamp in the title: {} of the {outputs} output times, evenly spaced from the first to the last (at most {ANIMATION_FRAMES} frames; a large field gets fewer, at most {ANIMATION_POLYGONS} floe polygons in all), {} frames per second, the last held {} s; {w}×{h} px (a panel at most {}×{} px, the image at most {} px wide)",
+        names.join(", "),
+        picks.len(),
+        100 / u32::from(plot::FRAME_DELAY_CS.max(1)),
+        f64::from(plot::LAST_FRAME_DELAY_CS) / 100.0,
+        plot::PANEL_MAX,
+        plot::PANEL_MAX,
+        plot::WIDTH_MAX,
+    );
+    if !left_out.is_empty() {
+        let names: Vec<&str> = left_out
+            .iter()
+            .map(|r| r.summary.formulation.as_str())
+            .collect();
+        let _ = write!(
+            caption,
+            "; not shown (did not complete): {}",
+            names.join(", ")
+        );
+    }
+    Ok(Some(Animation {
+        file: file.into(),
+        alt: format!("the floes over time, {}", names.join(", ")),
+        caption,
+    }))
 }

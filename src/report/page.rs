@@ -24,6 +24,9 @@ pub enum Block {
     },
     /// Images side by side: (alternative text, relative path of the PNG, relative path of the SVG).
     Figures(Vec<(String, String, String)>),
+    /// An animation (GIF) shown at its own size and linked: (alternative
+    /// text, relative path).
+    Animation(String, String),
     /// Preformatted text.
     Pre(String),
 }
@@ -70,6 +73,9 @@ pub fn markdown(blocks: &[Block]) -> String {
                     let _ = writeln!(s, "[![{alt}]({png})]({svg})");
                 }
                 s.push('\n');
+            }
+            Block::Animation(alt, path) => {
+                let _ = writeln!(s, "[![{alt}]({path})]({path})\n");
             }
             Block::Pre(text) => {
                 let _ = writeln!(s, "```text\n{}\n```\n", text.trim_end());
@@ -121,6 +127,7 @@ table{border-collapse:collapse;margin:.5em 0 1.2em;font-size:.9em}\
 th,td{border:1px solid #bbb;padding:.2em .5em;text-align:right}\
 th{background:#eee}td:first-child,th:first-child{text-align:left}\
 .figs{display:flex;flex-wrap:wrap;gap:8px}.figs img{width:580px;border:1px solid #ddd}\
+img.anim{max-width:100%;border:1px solid #ddd}\
 pre{background:#f6f6f6;padding:.5em;overflow-x:auto}\
 code{background:#f3f3f3;padding:0 .2em;border-radius:3px;font-size:.92em}";
 
@@ -180,6 +187,15 @@ pub fn html(title: &str, blocks: &[Block]) -> String {
                     );
                 }
                 s.push_str("</div>\n");
+            }
+            Block::Animation(alt, path) => {
+                let _ = writeln!(
+                    s,
+                    "<p><a href=\"{}\"><img class=\"anim\" src=\"{}\" alt=\"{}\"></a></p>",
+                    esc(path),
+                    esc(path),
+                    esc(alt)
+                );
             }
             Block::Pre(text) => {
                 let _ = writeln!(s, "<pre>{}</pre>", esc(text.trim_end()));

@@ -6,6 +6,7 @@
 
 mod common;
 
+mod animation;
 mod case_files;
 mod check;
 mod cli;

@@ -17,10 +17,17 @@ pub(super) struct Grid<'a> {
     pub(super) rows: usize,
     pub(super) cols: usize,
     pub(super) panels: &'a [Panel],
+    /// The data bounds (x, y) every panel shows ([`shared_bounds`]).
+    pub(super) bounds: (Range<f64>, Range<f64>),
+    /// Panel width (pixels).
+    pub(super) panel_w: u32,
+    /// Whether a panel may be at most as tall as it is wide (else its
+    /// plotting area's aspect ratio is the data's, clamped to 0.5–1.5).
+    pub(super) square: bool,
 }
 
-/// Panel width (pixels).
-const PANEL_W: u32 = 330;
+/// Panel width of a snapshot grid (pixels).
+pub(super) const PANEL_W: u32 = 330;
 
 /// Panel title height (pixels).
 const PANEL_TITLE: u32 = 28;
@@ -34,30 +41,39 @@ const PANEL_X_AREA: u32 = 44;
 /// Margin inside a panel (pixels).
 const PANEL_MARGIN: u32 = 8;
 
-impl Grid<'_> {
-    /// All vertices of all panels.
-    fn points(&self) -> impl Iterator<Item = &(f64, f64)> {
-        self.panels
-            .iter()
+/// The data bounds shared by `panels` (every vertex of every floe and
+/// obstacle), padded by 3 %.
+pub(super) fn shared_bounds<'p>(
+    panels: impl Iterator<Item = &'p Panel> + Clone,
+) -> (Range<f64>, Range<f64>) {
+    let points = || {
+        panels
+            .clone()
             .flat_map(|p| p.floes.iter().chain(&p.obstacles))
             .flatten()
-    }
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+    };
+    (
+        bounds(points().map(|p| p.0), 0.03),
+        bounds(points().map(|p| p.1), 0.03),
+    )
+}
 
-    /// Shared data bounds, padded by 3 %.
-    fn bounds(&self) -> (Range<f64>, Range<f64>) {
-        let ok = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
-        (
-            bounds(self.points().filter(ok).map(|p| p.0), 0.03),
-            bounds(self.points().filter(ok).map(|p| p.1), 0.03),
-        )
-    }
-
+impl Grid<'_> {
     /// Plotting area of one panel (pixels).
     fn plot_size(&self) -> (f64, f64) {
-        let (x, y) = self.bounds();
-        let pw = (PANEL_W - PANEL_Y_AREA - 2 * PANEL_MARGIN) as f64;
+        let (x, y) = &self.bounds;
+        let pw = self.panel_w.saturating_sub(PANEL_Y_AREA + 2 * PANEL_MARGIN) as f64;
         let aspect = ((y.end - y.start) / (x.end - x.start)).clamp(0.5, 1.5);
-        (pw, (pw * aspect).round())
+        let ph = (pw * aspect).round();
+        if self.square {
+            let most = self
+                .panel_w
+                .saturating_sub(PANEL_TITLE + PANEL_X_AREA + 2 * PANEL_MARGIN);
+            (pw, ph.min(most as f64))
+        } else {
+            (pw, ph)
+        }
     }
 }
 
@@ -66,7 +82,7 @@ impl Figure for Grid<'_> {
         let (_, ph) = self.plot_size();
         let panel_h = ph as u32 + PANEL_TITLE + PANEL_X_AREA + 2 * PANEL_MARGIN;
         (
-            (self.cols as u32 * PANEL_W).max(600),
+            (self.cols as u32 * self.panel_w).max(600),
             self.rows as u32 * panel_h + TITLE_H,
         )
     }
@@ -77,7 +93,7 @@ impl Figure for Grid<'_> {
             return Ok(());
         }
         let (w, _) = area.dim_in_pixel();
-        let area = area.margin(0, 0, (w - self.cols as u32 * PANEL_W.min(w)) / 2, 0);
+        let area = area.margin(0, 0, (w - (self.cols as u32 * self.panel_w).min(w)) / 2, 0);
         let cells: Vec<_> = area
             .split_evenly((self.rows, self.cols))
             .iter()
@@ -90,8 +106,7 @@ impl Figure for Grid<'_> {
             cw as f64 - (2 * PANEL_MARGIN + PANEL_Y_AREA) as f64,
             ch as f64 - (2 * PANEL_MARGIN + PANEL_X_AREA) as f64,
         );
-        let (x, y) = self.bounds();
-        let (x, y) = equal_aspect(&x, &y, plot);
+        let (x, y) = equal_aspect(&self.bounds.0, &self.bounds.1, plot);
         let (xf, yf) = (Fmt::linear(&x), Fmt::linear(&y));
         let (xfmt, yfmt) = (|v: &f64| xf.fmt(*v), |v: &f64| yf.fmt(*v));
         let (fill, edge) = (color(5).mix(0.55), color(0));

@@ -7,6 +7,8 @@
 //! - [`bar_chart`]: stacked bars, one bar per category, one segment per stage;
 //! - [`plan_view`]: floe paths in the plane at equal aspect ratio, obstacles in grey;
 //! - [`snapshot_grid`]: panels of floe polygons sharing the same bounds;
+//! - [`animation`]: a looping GIF of snapshot rows, one frame per time,
+//!   every frame with the same bounds and scale;
 //! - [`marked_panels`]: panels of lines through marked, labelled points on
 //!   linear or log axes (a sweep's work–precision plots).
 //!
@@ -17,13 +19,14 @@
 //! empty or constant data still give a valid chart. Files are written
 //! atomically (temporary name in the same folder, then rename).
 //!
-//! This file holds the public inputs and the four entry points; the drawing
+//! This file holds the public inputs and the entry points; the drawing
 //! is behind them, private: `render.rs` (both backends, fonts, files),
 //! `style.rs` (sizes, colours, title strip, filled polygons), `axis.rs`
 //! (bounds, scales, ticks and their labels, the mesh), `legend.rs`,
-//! `line.rs` (line charts and plan views), `bars.rs` (stacked bars) and
-//! `grid.rs` (snapshot grids).
+//! `line.rs` (line charts and plan views), `bars.rs` (stacked bars),
+//! `grid.rs` (snapshot grids) and `animation.rs` (their GIF frames).
 
+mod animation;
 mod axis;
 mod bars;
 mod grid;
@@ -33,6 +36,7 @@ mod marked;
 mod render;
 mod style;
 
+pub use animation::{FRAME_DELAY_CS, LAST_FRAME_DELAY_CS, PANEL_MAX, WIDTH_MAX};
 use bars::Bars;
 use grid::Grid;
 use line::Xy;
@@ -83,6 +87,10 @@ impl<E: std::error::Error + Send + Sync> From<DrawingAreaErrorKind<E>> for PlotE
         PlotError::Draw(e.to_string())
     }
 }
+
+/// Height of the title strip of every chart and animation frame (pixels):
+/// an animation's time stamp is there.
+pub const TITLE_HEIGHT: u32 = style::TITLE_H;
 
 /// Palette index of exact curves and thresholds (black), kept apart from
 /// the formulations' colours (the first indices).
@@ -190,6 +198,16 @@ pub struct Panel {
     pub floes: Vec<Vec<(f64, f64)>>,
     /// Obstacle polygons (vertices in metres).
     pub obstacles: Vec<Vec<(f64, f64)>>,
+}
+
+/// One frame of an [`animation`]: a row of panels at one time.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct AnimationFrame {
+    /// Title above the row, carrying the frame's time stamp, e.g.
+    /// `"head_on: t = 3.5 s"`.
+    pub title: String,
+    /// The panels, left to right (at most the animation's columns).
+    pub panels: Vec<Panel>,
 }
 
 /// A line through marked points, each with a label (e.g. the setting it
@@ -331,7 +349,28 @@ pub fn snapshot_grid(
             rows,
             cols,
             panels,
+            bounds: grid::shared_bounds(panels.iter()),
+            panel_w: grid::PANEL_W,
+            square: false,
         },
         stem,
     )
+}
+
+/// Writes `frames` as a looping animated GIF at `path` (atomically) and
+/// returns its size in pixels: every frame one row of `cols` panels drawn
+/// as by [`snapshot_grid`], all sharing the bounds of every panel of every
+/// frame (same extent and scale throughout). A panel is at most
+/// [`PANEL_MAX`] × [`PANEL_MAX`] pixels and the image at most [`WIDTH_MAX`]
+/// wide; each frame shows [`FRAME_DELAY_CS`], the last
+/// [`LAST_FRAME_DELAY_CS`] (centiseconds).
+///
+/// Fails with [`PlotError::Input`] when there is no frame or a frame has
+/// more panels than `cols`.
+pub fn animation(
+    cols: usize,
+    frames: &[AnimationFrame],
+    path: &Path,
+) -> Result<(u32, u32), PlotError> {
+    animation::write_gif(cols, frames, path)
 }

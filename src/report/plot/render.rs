@@ -23,7 +23,7 @@ pub(super) trait Figure {
 }
 
 /// Registers the DejaVu Sans font (regular and bold) once.
-fn ensure_font() -> Result<(), PlotError> {
+pub(super) fn ensure_font() -> Result<(), PlotError> {
     static OK: OnceLock<bool> = OnceLock::new();
     let ok = *OK.get_or_init(|| {
         register_font(FONT, FontStyle::Normal, dejavu::sans::regular()).is_ok()
