@@ -1495,7 +1495,7 @@ impl EventDriven {
 impl Formulation for EventDriven {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,

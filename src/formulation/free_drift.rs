@@ -58,7 +58,7 @@ impl FreeDrift {
 impl Formulation for FreeDrift {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,

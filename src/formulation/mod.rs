@@ -60,9 +60,14 @@ pub trait Formulation {
     /// on its own step grid ([`OwnState`]), whatever times it is asked for:
     /// `sys` on entry is the state it last wrote (or the initial state); a
     /// caller that passes any other state restarts the grid from it.
+    ///
+    /// `scn` is the run's own copy of the case: a formulation changes it
+    /// only where a floe breaks, through [`crate::fracture::apply_split`]
+    /// (which changes `scn.floes`, `scn.history` and `sys.bodies`
+    /// together); without a `[fracture]` table it never changes.
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,

@@ -603,7 +603,7 @@ fn group_energy(scn: &Scenario, w: &[Gen], floes: &[usize]) -> f64 {
 impl Formulation for Moreau {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,

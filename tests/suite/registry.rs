@@ -36,12 +36,13 @@ impl FrictionlessEventDriven {
 impl Formulation for FrictionlessEventDriven {
     fn advance(
         &mut self,
-        _scn: &Scenario,
+        _scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        self.inner.advance(&self.frictionless, sys, t_end, clock)
+        self.inner
+            .advance(&mut self.frictionless, sys, t_end, clock)
     }
 
     fn counters(&self) -> Counters {

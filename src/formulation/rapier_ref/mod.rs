@@ -804,7 +804,7 @@ impl RapierReference {
 impl Formulation for RapierReference {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,
