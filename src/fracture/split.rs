@@ -103,22 +103,27 @@ pub struct Piece {
 }
 
 /// The cut of `floe` in state `b` by the line through `point` along `dir`
-/// (world frame), or `None` (see [`cut`]).
+/// (world frame), or `None` (see [`cut`]). The cut's pieces are in the
+/// parent's centre frame: world axes, origin at its centre of mass (so
+/// that rounding does not grow with the distance to the world origin).
 pub fn cut_floe(floe: &Floe, b: &BodyState, point: &Vec2, dir: &Vec2) -> Option<Cut> {
-    let mut world = Vec::with_capacity(floe.shape.len());
-    floe.world_polygon(&b.position, b.angle, &mut world);
-    cut(&world, point, dir)
+    let mut rel = Vec::with_capacity(floe.shape.len());
+    floe.world_polygon(&Vec2::zeros(), b.angle, &mut rel);
+    cut(&rel, &(point - b.position), dir)
 }
 
 /// The two pieces (left, then right) of `floe` in state `b` along the cut
-/// `c` of its world outline ([`cut_floe`]); `None` if a piece has no area.
+/// `c` of its outline in its centre frame ([`cut_floe`]); `None` if a
+/// piece has no area.
 pub fn split(floe: &Floe, b: &BodyState, c: &Cut) -> Option<[Piece; 2]> {
     let piece = |poly: &[Vec2]| -> Option<Piece> {
         let props = area_properties(poly);
         if props.area.is_nan() || props.area <= 0.0 {
             return None;
         }
-        let r = props.centroid - b.position;
+        // The centre of mass relative to the parent's: the lever arm of
+        // the rigid velocity field.
+        let r = props.centroid;
         let velocity = b.velocity + perp(&r) * b.angular_velocity;
         let mut f = Floe::from_world_polygon(
             poly,
@@ -129,6 +134,7 @@ pub fn split(floe: &Floe, b: &BodyState, c: &Cut) -> Option<[Piece; 2]> {
             floe.origin,
         );
         f.parent = Some(floe.id);
+        f.position = b.position + f.position;
         Some(Piece {
             state: BodyState {
                 position: f.position,
