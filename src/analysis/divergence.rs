@@ -78,14 +78,20 @@ pub fn mean_diameter(scn: &Scenario) -> f64 {
         / scn.floes.len() as f64
 }
 
-/// The trajectory cut into frames: one slice of `n` rows per output time.
-pub fn frames(run: &RunResult, n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
-    row_frames(&run.trajectory, n)
+/// The trajectory cut into frames: one slice of rows per output time (the
+/// floes alive then, by id; every floe of the case when none breaks).
+pub fn frames(run: &RunResult) -> impl Iterator<Item = &[TrajectoryRow]> {
+    row_frames(&run.trajectory)
 }
 
 /// [`frames`] of trajectory rows.
-fn row_frames(rows: &[TrajectoryRow], n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
-    rows.chunks(n.max(1)).filter(move |c| c.len() == n)
+pub fn row_frames(rows: &[TrajectoryRow]) -> impl Iterator<Item = &[TrajectoryRow]> {
+    rows.chunk_by(|a, b| a.t == b.t)
+}
+
+/// Whether two frames hold the same floes, in the same order.
+fn same_floes(a: &[TrajectoryRow], b: &[TrajectoryRow]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.floe == y.floe)
 }
 
 /// The divergence between runs `a` and `b` of `scn`, over the output times
@@ -113,10 +119,15 @@ pub fn divergence_of_rows(
     (b, rows_b): (&str, &[TrajectoryRow]),
     threshold: f64,
 ) -> Result<PairDivergence, TimeMismatch> {
-    let n = scn.floes.len();
     let d = mean_diameter(scn);
     let mut samples = Vec::new();
-    for (fa, fb) in row_frames(rows_a, n).zip(row_frames(rows_b, n)) {
+    for (fa, fb) in row_frames(rows_a).zip(row_frames(rows_b)) {
+        // Runs whose floes broke differently are compared up to the first
+        // output where their floe sets differ (docs/physics.md §9.7).
+        if !same_floes(fa, fb) {
+            break;
+        }
+        let n = fa.len();
         let t = fa[0].t;
         if (t - fb[0].t).abs() > 1e-9 * t.abs().max(1.0) {
             return Err(TimeMismatch {

@@ -28,6 +28,7 @@ pub const ENTRY: Entry = Entry {
     settings: None,
     resolves_contacts: false,
     dumps_lcps: false,
+    supports_fracture: true,
     not_claimed: &[],
 };
 

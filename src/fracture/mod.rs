@@ -14,11 +14,11 @@ pub mod split;
 pub mod stress;
 
 use crate::contact::Contact;
-use crate::geometry::Vec2;
+use crate::geometry::{rotate, Vec2};
 use crate::model::fracture::{FloeRecord, FractureModel, FractureRecord};
 use crate::model::{Body, Scenario};
-use crate::state::System;
-use split::{cut_floe, split, Cut};
+use crate::state::{BodyState, System};
+use split::{conservation_error, cut_floe, split, Cut};
 use std::collections::BTreeMap;
 
 /// One impulse that a contact solve applied to a floe.
@@ -110,29 +110,62 @@ pub fn impulse_energy(pairs: &[PairLoad], mass: f64) -> f64 {
         .sum()
 }
 
+/// The line of a cut in a floe's body frame: a point (m, about its centre
+/// of mass, at angle 0) and a direction, so that it follows the floe if the
+/// split comes later than the decision (the fixed-step schemes split
+/// between steps).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BodyLine {
+    /// A point of the line, m.
+    pub point: Vec2,
+    /// Its direction (not normalised).
+    pub dir: Vec2,
+}
+
+impl BodyLine {
+    /// The line of world point `p` and direction `d` for a floe in state `b`.
+    pub fn of_world(b: &BodyState, p: &Vec2, d: &Vec2) -> BodyLine {
+        BodyLine {
+            point: rotate(&(p - b.position), -b.angle),
+            dir: rotate(d, -b.angle),
+        }
+    }
+
+    /// The cut of floe `floe` in state `b` on this line ([`cut_floe`]).
+    pub fn cut(&self, floe: &crate::model::Floe, b: &BodyState) -> Option<Cut> {
+        let p = b.position + rotate(&self.point, b.angle);
+        cut_floe(floe, b, &p, &rotate(&self.dir, b.angle))
+    }
+}
+
 /// The Brazilian cut of a floe under `pairs`: the chord through the centre
 /// of pressure of its most loaded pair, along that pair's impulse (the
-/// direction of the largest compressive load); `None` when there is no
-/// load or the line does not cut the floe.
-pub fn brazilian_cut(scn: &Scenario, sys: &System, floe: usize, pairs: &[PairLoad]) -> Option<Cut> {
+/// direction of the largest compressive load), with its line; `None` when
+/// there is no load or the line does not cut the floe.
+pub fn brazilian_cut(
+    scn: &Scenario,
+    sys: &System,
+    floe: usize,
+    pairs: &[PairLoad],
+) -> Option<(BodyLine, Cut)> {
     let most = pairs
         .iter()
         .max_by(|a, b| a.impulse.norm().total_cmp(&b.impulse.norm()))?;
-    cut_floe(
-        &scn.floes[floe],
-        &sys.bodies[floe],
-        &most.point,
-        &most.impulse,
-    )
+    let b = &sys.bodies[floe];
+    let line = BodyLine::of_world(b, &most.point, &most.impulse);
+    let cut = line.cut(&scn.floes[floe], b)?;
+    Some((line, cut))
 }
 
-/// A decision to break floe `floe` along `cut`.
+/// A decision to break floe `floe` on `line`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Decision {
     /// The floe (index).
     pub floe: usize,
-    /// Where it breaks.
-    pub cut: Cut,
+    /// Where it breaks, in its body frame.
+    pub line: BodyLine,
+    /// The cut's length at the decision, m.
+    pub length: f64,
     /// What the criterion measured.
     pub measure: f64,
     /// What it compared it with.
@@ -176,14 +209,15 @@ impl Fracturer {
                         continue;
                     }
                     let measure = impulse_energy(&pairs, f.mass);
-                    let Some(cut) = brazilian_cut(scn, sys, floe, &pairs) else {
+                    let Some((line, cut)) = brazilian_cut(scn, sys, floe, &pairs) else {
                         continue;
                     };
                     let threshold = s.toughness * f.thickness * cut.length;
                     if measure >= threshold {
                         out.push(Decision {
                             floe,
-                            cut,
+                            line,
+                            length: cut.length,
                             measure,
                             threshold,
                             crack_energy: threshold,
@@ -202,10 +236,11 @@ impl Fracturer {
                     let sigma = w.mean_stress(f.area, f.thickness, s.window);
                     let measure = stress::yield_measure(s, &sigma);
                     if measure > 1.0 {
-                        if let Some(cut) = brazilian_cut(scn, sys, floe, &pairs) {
+                        if let Some((line, cut)) = brazilian_cut(scn, sys, floe, &pairs) {
                             out.push(Decision {
                                 floe,
-                                cut,
+                                line,
+                                length: cut.length,
                                 measure,
                                 threshold: 1.0,
                                 crack_energy: 0.0,
@@ -247,8 +282,8 @@ impl Fracturer {
     }
 }
 
-/// Replaces floe `d.floe` of `scn` and `sys` by its two pieces along
-/// `d.cut` at time `sys.t`: the left piece takes the parent's index, the
+/// Replaces floe `d.floe` of `scn` and `sys` by its two pieces on
+/// `d.line` (at the floe's pose in `sys`) at time `sys.t`: the left piece takes the parent's index, the
 /// right one is appended (so every other floe keeps its index); the parent
 /// ends in `scn.history`, with the fracture's row, and `spent` (J) moves from
 /// the ledger's `dissipated` to its `fracture` column. Returns the pieces'
@@ -262,7 +297,9 @@ pub fn apply_split(
 ) -> Option<(usize, usize)> {
     let k = d.floe;
     let parent = scn.floes[k].clone();
-    let [mut left, mut right] = split(&parent, &sys.bodies[k], &d.cut)?;
+    let cut = d.line.cut(&parent, &sys.bodies[k])?;
+    let [mut left, mut right] = split(&parent, &sys.bodies[k], &cut)?;
+    let conservation = conservation_error(&parent, &sys.bodies[k], &[left.clone(), right.clone()]);
     let t = sys.t;
     let ids = [scn.history.next_id, scn.history.next_id + 1];
     scn.history.next_id += 2;
@@ -279,6 +316,7 @@ pub fn apply_split(
         measure: d.measure,
         threshold: d.threshold,
         energy: spent,
+        conservation,
     });
     scn.floes[k] = left.floe;
     sys.bodies[k] = left.state;

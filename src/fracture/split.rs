@@ -147,3 +147,34 @@ pub fn split(floe: &Floe, b: &BodyState, c: &Cut) -> Option<[Piece; 2]> {
     };
     Some([piece(&c.left)?, piece(&c.right)?])
 }
+
+/// The largest relative change that splitting `parent` (in state `b`) into
+/// `pieces` makes to area, mass, linear momentum, angular momentum about the
+/// parent's centre of mass and kinetic energy (the measure of
+/// [`crate::model::fracture::FractureRecord::conservation`]).
+pub fn conservation_error(parent: &Floe, b: &BodyState, pieces: &[Piece]) -> f64 {
+    let (mut area, mut mass, mut p, mut l, mut e) = (0.0, 0.0, Vec2::zeros(), 0.0, 0.0);
+    for q in pieces {
+        area += q.floe.area;
+        mass += q.floe.mass;
+        p += q.state.velocity * q.floe.mass;
+        let r = q.state.position - b.position;
+        l += q.floe.inertia * q.state.angular_velocity + q.floe.mass * cross(&r, &q.state.velocity);
+        e += q
+            .floe
+            .kinetic_energy(&q.state.velocity, q.state.angular_velocity);
+    }
+    let rel = |x: f64, x0: f64| (x - x0).abs() / x0.abs().max(f64::MIN_POSITIVE);
+    let pscale = (parent.mass * (b.velocity.norm() + b.angular_velocity.abs() * parent.radius))
+        .max(f64::MIN_POSITIVE);
+    let e0 = parent.kinetic_energy(&b.velocity, b.angular_velocity);
+    [
+        rel(area, parent.area),
+        rel(mass, parent.mass),
+        (p - b.velocity * parent.mass).norm() / pscale,
+        (l - parent.inertia * b.angular_velocity).abs() / (pscale * parent.radius),
+        if e0 > 0.0 { rel(e, e0) } else { e },
+    ]
+    .into_iter()
+    .fold(0.0, f64::max)
+}

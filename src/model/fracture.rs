@@ -4,8 +4,8 @@
 //!
 //! The table is read with the shared [`SettingsReader`], so a bad value is
 //! refused with the file, the line and the key, and every number is checked
-//! against its [`Limit`] (listed in [`LIMITS`], documented in
-//! docs/case-format.md). An absent table, or `model = "none"`, is no
+//! against its [`Limit`] (listed in [`super::limits::CASE_LIMITS`],
+//! documented in docs/case-format.md). An absent table, or `model = "none"`, is no
 //! fracture: every formulation then runs exactly as without fracture.
 
 use super::limits::Limit;
@@ -78,7 +78,7 @@ impl std::str::FromStr for YieldCurve {
 /// `toughness`: the fracture energy `G` of sea ice, J/m².
 pub const TOUGHNESS: Limit = Limit::range(
     "toughness",
-    "`[fracture]`",
+    "[fracture]",
     1e-3,
     1e6,
     "J/m^2",
@@ -88,7 +88,7 @@ pub const TOUGHNESS: Limit = Limit::range(
 /// `min_area`: a floe smaller than this never breaks, m².
 pub const MIN_AREA: Limit = Limit::range(
     "min_area",
-    "`[fracture]`",
+    "[fracture]",
     0.0,
     1e14,
     "m^2",
@@ -97,7 +97,7 @@ pub const MIN_AREA: Limit = Limit::range(
 /// `window`: the smoothing window of the stress criterion, s.
 pub const WINDOW: Limit = Limit::range(
     "window",
-    "`[fracture]`",
+    "[fracture]",
     0.0,
     1e6,
     "s",
@@ -107,16 +107,17 @@ pub const WINDOW: Limit = Limit::range(
 /// `mohr_q`: the slope ratio of the Mohr–Coulomb curve.
 pub const MOHR_Q: Limit = Limit::range(
     "mohr_q",
-    "`[fracture]`",
+    "[fracture]",
     1.0,
     100.0,
     "",
-    "q = tan²(π/4 + φ/2) ≥ 1 for a friction angle φ ≥ 0; 100 is φ ≈ 79°",
-);
+    "q = tan²(π/4 + φ/2) > 1 for a friction angle φ > 0 (1 makes the triangle unbounded); 100 is φ ≈ 79°",
+)
+.exclusive_min();
 /// `mohr_sigma_c`: the uniaxial compressive strength of the Mohr–Coulomb curve, Pa.
 pub const MOHR_SIGMA_C: Limit = Limit::range(
     "mohr_sigma_c",
-    "`[fracture]`",
+    "[fracture]",
     0.0,
     1e9,
     "Pa",
@@ -127,7 +128,7 @@ pub const MOHR_SIGMA_C: Limit = Limit::range(
 /// curve at its vertex, Pa.
 pub const MOHR_SIGMA_11: Limit = Limit::magnitude(
     "mohr_sigma_11",
-    "`[fracture]`",
+    "[fracture]",
     1e9,
     "Pa",
     "above the strength of any ice",
@@ -135,7 +136,7 @@ pub const MOHR_SIGMA_11: Limit = Limit::magnitude(
 /// `hibler_p_star`: Hibler's ice strength `P*`, N/m².
 pub const HIBLER_P_STAR: Limit = Limit::range(
     "hibler_p_star",
-    "`[fracture]`",
+    "[fracture]",
     0.0,
     1e9,
     "N/m^2",
@@ -145,7 +146,7 @@ pub const HIBLER_P_STAR: Limit = Limit::range(
 /// `hibler_c`: Hibler's concentration parameter `C`.
 pub const HIBLER_C: Limit = Limit::range(
     "hibler_c",
-    "`[fracture]`",
+    "[fracture]",
     0.0,
     100.0,
     "",
@@ -154,25 +155,12 @@ pub const HIBLER_C: Limit = Limit::range(
 /// `concentration`: the ice concentration `A` of Hibler's strength.
 pub const CONCENTRATION: Limit = Limit::range(
     "concentration",
-    "`[fracture]`",
+    "[fracture]",
     0.0,
     1.0,
     "",
     "an area fraction",
 );
-
-/// Every limit of the `[fracture]` table.
-pub const LIMITS: &[Limit] = &[
-    TOUGHNESS,
-    MIN_AREA,
-    WINDOW,
-    MOHR_Q,
-    MOHR_SIGMA_C,
-    MOHR_SIGMA_11,
-    HIBLER_P_STAR,
-    HIBLER_C,
-    CONCENTRATION,
-];
 
 /// Default `G`, J/m²: the middle of the 1.5–3.5 J/m² of sea ice (FloeDyn's
 /// documentation, from laboratory fracture toughness `K_IC` of 0.1–0.2
@@ -314,6 +302,24 @@ impl FloeRecord {
     }
 }
 
+impl FloeRecord {
+    /// The outline at centre `g` (m) and angle `theta` (rad) of its
+    /// trajectory, into `out` (m).
+    pub fn world_polygon(
+        &self,
+        g: &crate::geometry::Vec2,
+        theta: f64,
+        out: &mut Vec<crate::geometry::Vec2>,
+    ) {
+        let shape: Vec<crate::geometry::Vec2> = self
+            .polygon
+            .iter()
+            .map(|p| crate::geometry::Vec2::new(p[0], p[1]))
+            .collect();
+        crate::geometry::place(&shape, g, theta, out);
+    }
+}
+
 /// One fracture, a row of `fractures.csv`.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct FractureRecord {
@@ -333,6 +339,12 @@ pub struct FractureRecord {
     /// Energy the fracture took out of the contact dissipation into the
     /// ledger's `fracture` column, J.
     pub energy: f64,
+    /// The largest relative change the split made to what it conserves:
+    /// area, mass, kinetic energy (each relative to the parent's), linear
+    /// momentum (relative to `M (|v| + |ω| r)`) and angular momentum about
+    /// the parent's centre of mass (relative to `M (|v| + |ω| r) r`), `r`
+    /// the parent's radius (docs/physics.md §9.1; rounding only).
+    pub conservation: f64,
 }
 
 /// The floes that ended and the fractures of a run so far.

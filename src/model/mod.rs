@@ -13,7 +13,7 @@ pub mod fracture;
 pub mod limits;
 pub mod settings;
 
-use crate::geometry::{area_properties, radius_about, rotate, Vec2};
+use crate::geometry::{area_properties, radius_about, Vec2};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -112,8 +112,7 @@ impl Floe {
 
     /// The outline in world coordinates for a centre `g` and angle `theta`.
     pub fn world_polygon(&self, g: &Vec2, theta: f64, out: &mut Vec<Vec2>) {
-        out.clear();
-        out.extend(self.shape.iter().map(|p| g + rotate(p, theta)));
+        crate::geometry::place(&self.shape, g, theta, out);
     }
 
     /// Kinetic energy `½ M |v|² + ½ I ω²` at velocity `v` (m/s) and angular

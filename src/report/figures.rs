@@ -69,15 +69,25 @@ fn energy_series(comp: &CaseComparison, f: fn(&crate::run::EnergySample) -> f64)
 }
 
 /// Up to `k` floes that travel furthest (start to end) in `run`.
-fn travelling_floes(run: &RunResult, n: usize, k: usize) -> Vec<usize> {
-    let mut fr = frames(run, n);
-    let (Some(first), Some(last)) = (fr.next(), frames(run, n).last()) else {
+fn travelling_floes(run: &RunResult, k: usize) -> Vec<usize> {
+    let mut fr = frames(run);
+    let (Some(first), Some(last)) = (fr.next(), frames(run).last()) else {
         return Vec::new();
+    };
+    // A floe that broke is followed to its end: its last output.
+    let end = |a: &crate::run::TrajectoryRow| {
+        last.iter()
+            .find(|b| b.floe == a.floe)
+            .or_else(|| run.trajectory.iter().rev().find(|b| b.floe == a.floe))
+            .copied()
+            .unwrap_or(*a)
     };
     let mut d: Vec<(usize, f64)> = first
         .iter()
-        .zip(last)
-        .map(|(a, b)| (a.floe, (b.x - a.x).hypot(b.y - a.y)))
+        .map(|a| {
+            let b = end(a);
+            (a.floe, (b.x - a.x).hypot(b.y - a.y))
+        })
         .collect();
     d.sort_by(|a, b| b.1.total_cmp(&a.1));
     d.into_iter().take(k).map(|(i, _)| i).collect()
@@ -87,7 +97,6 @@ fn travelling_floes(run: &RunResult, n: usize, k: usize) -> Vec<usize> {
 pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
     let scn = &comp.scenario;
     let name = &scn.name;
-    let n = scn.floes.len();
     let mut figs = Vec::new();
     let mut add = |stem: &str, alt: String, caption: &str| {
         figs.push(Figure {
@@ -193,13 +202,16 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             );
         }
 
-        let chosen = travelling_floes(reference, n, 3);
+        let chosen = travelling_floes(reference, 3);
         // Colour: the formulation; dash: the floe; legend entries for both.
         let mut paths = Vec::new();
         let mut labels = Vec::new();
         for (i, r) in comp.runs.iter().enumerate() {
             for (j, &f) in chosen.iter().enumerate() {
-                let points: Vec<(f64, f64)> = frames(r, n).map(|fr| (fr[f].x, fr[f].y)).collect();
+                let points: Vec<(f64, f64)> = frames(r)
+                    .filter_map(|fr| fr.iter().find(|row| row.floe == f))
+                    .map(|row| (row.x, row.y))
+                    .collect();
                 if i == 0 {
                     if let Some(&end) = points.last() {
                         labels.push((format!("floe {f}"), end));
@@ -246,14 +258,14 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         );
 
         // Snapshots at the start, the middle and the end of the reference run.
-        let count = frames(reference, n).count();
+        let count = frames(reference).count();
         let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
         rows.dedup();
         let mut panels = Vec::new();
         let mut world = Vec::new();
         for &k in &rows {
             for r in &comp.runs {
-                let Some(frame) = frames(r, n).nth(k) else {
+                let Some(frame) = frames(r).nth(k) else {
                     panels.push(Panel {
                         title: format!("{}: not reached", r.summary.formulation),
                         floes: Vec::new(),
@@ -261,12 +273,14 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                     });
                     continue;
                 };
+                // Each floe alive then, the pieces of broken ones included,
+                // by its record.
                 let floes = frame
                     .iter()
-                    .zip(&scn.floes)
-                    .map(|(row, floe)| {
-                        floe.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
-                        polygon(world.iter().copied())
+                    .filter_map(|row| {
+                        let rec = r.floes.get(row.floe)?;
+                        rec.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
+                        Some(polygon(world.iter().copied()))
                     })
                     .collect();
                 panels.push(Panel {

@@ -66,6 +66,7 @@ const ENTRY: Entry = Entry {
     settings: None,
     resolves_contacts: true,
     dumps_lcps: true,
+    supports_fracture: false,
     not_claimed: &[NotClaimed {
         check: "sliding_stop",
         case: None,

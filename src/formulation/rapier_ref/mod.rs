@@ -159,6 +159,7 @@ pub const ENTRY: Entry = Entry {
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: false,
+    supports_fracture: false,
     not_claimed: &[
         NotClaimed {
             check: "head_on_v1",
