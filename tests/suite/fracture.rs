@@ -357,3 +357,28 @@ fn the_energy_criterion_breaks_a_rammed_floe_exactly_above_its_critical_speed() 
         "{e:?}"
     );
 }
+
+#[test]
+fn the_stress_criterion_breaks_a_floe_whose_window_stress_leaves_the_mohr_triangle() {
+    // The impact impulse (1 + e) M v0 = 2751 N·s over the 10 s window on a
+    // 10 m face, 1 m thick: a uniaxial σ2 = −27.5 Pa, beyond the compressive
+    // side σ1 + σ2 = −1.63 Pa of a Mohr triangle scaled down to σ_c = 10 Pa,
+    // σ_11 = −1.35 Pa (and inside the default one, σ_c = 250 kPa).
+    let base = RAM
+        .replace("SPEED", "0.02")
+        .replace("duration = 4.0", "duration = 40.0");
+    let weak = "model = \"stress\"\nmohr_sigma_c = 10.0\nmohr_sigma_11 = -1.35\nmin_area = 60.0";
+    for (table, breaks) in [(weak, true), ("model = \"stress\"", false)] {
+        let scn = scenario(&format!("{base}\n[fracture]\n{table}\n"));
+        let r = run(&scn, "event-driven");
+        assert_eq!(r.fractures.len(), usize::from(breaks), "{table}");
+        if let Some(f) = r.fractures.first() {
+            assert_eq!(f.model, "stress");
+            assert!(f.measure > 1.0 && f.threshold == 1.0);
+            assert_eq!(f.energy, 0.0, "the stress criterion spends no crack energy");
+            for piece in &r.floes[1..] {
+                assert!(rel(piece.area, 50.0) <= 1e-12, "the Brazilian halves");
+            }
+        }
+    }
+}
