@@ -306,6 +306,7 @@ pub fn apply_split(
     for (p, id) in [(&mut left, ids[0]), (&mut right, ids[1])] {
         p.floe.id = id;
         p.floe.t_birth = t;
+        p.floe.theta_birth = parent.theta_birth + sys.bodies[k].angle;
     }
     scn.history.ended.push(FloeRecord::of(&parent, Some(t)));
     scn.history.fractures.push(FractureRecord {

@@ -270,6 +270,9 @@ pub struct FloeRecord {
     pub parent: Option<usize>,
     /// When it began, s.
     pub t_birth: f64,
+    /// The orientation of its body frame at birth against its first
+    /// ancestor's at t = 0, rad (0 for the initial floes).
+    pub theta_birth: f64,
     /// When it broke, s (`null` if alive at the end).
     pub t_end: Option<f64>,
     /// Area, m².
@@ -292,6 +295,7 @@ impl FloeRecord {
             id: floe.id,
             parent: floe.parent,
             t_birth: floe.t_birth,
+            theta_birth: floe.theta_birth,
             t_end,
             area: floe.area,
             mass: floe.mass,

@@ -62,6 +62,11 @@ pub struct Floe {
     /// When the floe began, s (0 for the initial floes, the fracture's time
     /// for a piece).
     pub t_birth: f64,
+    /// The orientation of its body frame at birth, rad: the angle its
+    /// first ancestor had turned by then (0 for the initial floes), so that
+    /// `theta_birth + θ(t)` is its orientation against its first ancestor's
+    /// at t = 0.
+    pub theta_birth: f64,
 }
 
 /// Where a floe was declared.
@@ -107,6 +112,7 @@ impl Floe {
             id: 0,
             parent: None,
             t_birth: 0.0,
+            theta_birth: 0.0,
         }
     }
 

@@ -382,3 +382,35 @@ fn the_stress_criterion_breaks_a_floe_whose_window_stress_leaves_the_mohr_triang
         }
     }
 }
+
+#[test]
+fn runs_that_break_differently_are_compared_by_each_initial_floes_material() {
+    // The same ram, broken and whole: the two halves leave together at
+    // e v0, so the material of floe 0 follows the whole floe's path.
+    let broken = crate::common::load("fracture_ram");
+    let mut whole = broken.clone();
+    whole.fracture.model = floebench::model::fracture::FractureModel::None;
+    for name in ["event-driven", "moreau"] {
+        let a = run(&broken, name);
+        let b = run(&whole, name);
+        assert_eq!((a.fractures.len(), b.fractures.len()), (1, 0), "{name}");
+        let d = floebench::analysis::divergence::divergence(&broken, &a, &b, 0.1)
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(
+            d.samples.len(),
+            b.energy.len(),
+            "{name}: every output compared"
+        );
+        assert!(
+            d.max_rms_position_rel <= 1e-12,
+            "{name}: {}",
+            d.max_rms_position_rel
+        );
+        assert!(d.max_angle_rad <= 1e-12, "{name}: {}", d.max_angle_rad);
+        // The material rows of a run that did not break are its rows.
+        assert_eq!(
+            floebench::analysis::divergence::material_rows(&b),
+            b.trajectory
+        );
+    }
+}
