@@ -209,6 +209,10 @@ pub struct RunSummary {
     pub formulation: String,
     /// Number of floes at the start.
     pub floes: usize,
+    /// The case's fracture criterion (`energy`, `stress`), absent without
+    /// fracture.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fracture_model: Option<&'static str>,
     /// Number of fractures (0 without a `[fracture]` table).
     pub fractures: usize,
     /// Number of floes at the end.
@@ -400,6 +404,7 @@ impl Runner {
             case: scn.name.clone(),
             formulation: label.to_string(),
             floes: case.floes.len(),
+            fracture_model: scn.fracture.enabled().then(|| scn.fracture.model.name()),
             fractures: scn.history.fractures.len(),
             floes_at_end: scn.floes.len(),
             obstacles: scn.obstacles.len(),

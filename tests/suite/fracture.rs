@@ -301,6 +301,16 @@ fn the_energy_criterion_breaks_a_rammed_floe_exactly_above_its_critical_speed() 
     assert_eq!(fr.children, vec![1, 2]);
     assert_eq!(r.floes.len(), 3);
     assert_eq!(r.floes[0].t_end, Some(fr.t));
+    let metric = |name: &str| {
+        floebench::analysis::metrics::run_metrics(&r)
+            .iter()
+            .find(|m| m.metric == name)
+            .map(|m| m.value)
+    };
+    assert_eq!(metric("fractures"), Some(1.0));
+    assert_eq!(metric("floes_final"), Some(2.0));
+    assert!(metric("floe_area_min_final").is_some_and(|a| rel(a, 50.0) <= 1e-12));
+    assert_eq!(r.summary.fracture_model, Some("energy"));
     for piece in &r.floes[1..] {
         assert_eq!(piece.parent, Some(0));
         assert_eq!(piece.t_birth, fr.t);
