@@ -32,6 +32,13 @@ pub fn rotate(v: &Vec2, theta: f64) -> Vec2 {
     Vec2::new(c * v.x - s * v.y, s * v.x + c * v.y)
 }
 
+/// The outline `shape` (about a body's centre, at angle 0) placed at centre
+/// `g` and angle `theta` (rad), into `out` (m): `g + R(θ) p` for each `p`.
+pub fn place(shape: &[Vec2], g: &Vec2, theta: f64, out: &mut Vec<Vec2>) {
+    out.clear();
+    out.extend(shape.iter().map(|p| g + rotate(p, theta)));
+}
+
 /// Area, centroid and second moment of a polygon, per unit surface density.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AreaProperties {

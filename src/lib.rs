@@ -43,6 +43,7 @@ pub mod analysis;
 pub mod compare;
 pub mod contact;
 pub mod formulation;
+pub mod fracture;
 pub mod geometry;
 pub mod lcp;
 pub mod model;

@@ -45,12 +45,22 @@ pub struct Ledger {
     pub work_coriolis: f64,
     /// Kinetic energy removed by contacts (impacts, friction), J.
     pub dissipated: f64,
+    /// Of the energy contacts removed, the part fractures spent on their
+    /// cracks, J (docs/physics.md §9.4; zero without fracture). It is not
+    /// in `dissipated`: the balance is `E − E(0) − W_ext + D + F = 0`.
+    pub fracture: f64,
 }
 
 impl Ledger {
     /// Total work of the external forces, J.
     pub fn external_work(&self) -> f64 {
         self.work_air + self.work_water + self.work_coriolis
+    }
+
+    /// Energy removed from the floes by contacts, dissipated or spent on
+    /// cracks, `D + F`, J.
+    pub fn removed(&self) -> f64 {
+        self.dissipated + self.fracture
     }
 }
 

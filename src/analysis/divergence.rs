@@ -6,7 +6,9 @@
 //! wrapped: a floe that turned a full turn more has turned 2π more). The
 //! position difference is summarised by its RMS over floes, divided by the
 //! mean floe diameter `d̄` (the mean of the equal-area diameters
-//! `2·sqrt(A/π)`), and by its maximum over floes, in metres.
+//! `2·sqrt(A/π)`), and by its maximum over floes, in metres. Runs in which
+//! floes broke are compared by the material of each initial floe (the
+//! mass-weighted centre of its pieces, [`material_rows`]).
 
 use crate::model::Scenario;
 use crate::run::{RunResult, TrajectoryRow};
@@ -78,31 +80,119 @@ pub fn mean_diameter(scn: &Scenario) -> f64 {
         / scn.floes.len() as f64
 }
 
-/// The trajectory cut into frames: one slice of `n` rows per output time.
-pub fn frames(run: &RunResult, n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
-    row_frames(&run.trajectory, n)
+/// The trajectory cut into frames: one slice of rows per output time (the
+/// floes alive then, by id; every floe of the case when none breaks).
+pub fn frames(run: &RunResult) -> impl Iterator<Item = &[TrajectoryRow]> {
+    row_frames(&run.trajectory)
 }
 
 /// [`frames`] of trajectory rows.
-fn row_frames(rows: &[TrajectoryRow], n: usize) -> impl Iterator<Item = &[TrajectoryRow]> {
-    rows.chunks(n.max(1)).filter(move |c| c.len() == n)
+pub fn row_frames(rows: &[TrajectoryRow]) -> impl Iterator<Item = &[TrajectoryRow]> {
+    rows.chunk_by(|a, b| a.t == b.t)
+}
+
+/// Whether two frames hold the same floes, in the same order.
+fn same_floes(a: &[TrajectoryRow], b: &[TrajectoryRow]) -> bool {
+    a.len() == b.len() && a.iter().zip(b).all(|(x, y)| x.floe == y.floe)
 }
 
 /// The divergence between runs `a` and `b` of `scn`, over the output times
 /// both reached. `threshold` is on the RMS position difference relative to
 /// the mean floe diameter.
+///
+/// When a floe broke in either run, each initial floe is followed through
+/// its descendants instead ([`material_rows`]): the runs are compared by
+/// the mass-weighted centre and orientation of each initial floe's
+/// material, whatever their fracture histories (docs/physics.md §9.7).
 pub fn divergence(
     scn: &Scenario,
     a: &RunResult,
     b: &RunResult,
     threshold: f64,
 ) -> Result<PairDivergence, TimeMismatch> {
+    if a.fractures.is_empty() && b.fractures.is_empty() {
+        return divergence_of_rows(
+            scn,
+            (&a.summary.formulation, &a.trajectory),
+            (&b.summary.formulation, &b.trajectory),
+            threshold,
+        );
+    }
     divergence_of_rows(
         scn,
-        (&a.summary.formulation, &a.trajectory),
-        (&b.summary.formulation, &b.trajectory),
+        (&a.summary.formulation, &material_rows(a)),
+        (&b.summary.formulation, &material_rows(b)),
         threshold,
     )
+}
+
+/// The trajectory of each initial floe's material: at every output, one
+/// row per initial floe (id `r`) with the mass-weighted centre (m) and
+/// velocity (m/s) of its descendants alive then, and their mass-weighted
+/// orientation against its own at t = 0 (`theta_birth + θ`, rad) and
+/// angular velocity. For a floe that never broke these are its own. Mass
+/// is conserved by a split, so the weights of a root always sum to its
+/// mass.
+pub fn material_rows(run: &RunResult) -> Vec<TrajectoryRow> {
+    // Records are by id and a parent's id is below its pieces'.
+    let mut root: Vec<usize> = Vec::with_capacity(run.floes.len());
+    for (id, f) in run.floes.iter().enumerate() {
+        let r = f.parent.and_then(|p| root.get(p).copied()).unwrap_or(id);
+        root.push(r);
+    }
+    let roots = run.floes.iter().filter(|f| f.parent.is_none()).count();
+    let mut out = Vec::new();
+    for frame in row_frames(&run.trajectory) {
+        let mut acc = vec![[0.0f64; 7]; roots];
+        // A root with one floe alive (it never broke) is that floe's row.
+        let mut only: Vec<(usize, Option<TrajectoryRow>)> = vec![(0, None); roots];
+        for row in frame {
+            let (Some(&r), Some(f)) = (root.get(row.floe), run.floes.get(row.floe)) else {
+                continue;
+            };
+            let Some(a) = acc.get_mut(r) else { continue };
+            let m = f.mass;
+            let th = f.theta_birth + row.theta;
+            only[r].0 += 1;
+            only[r].1 = Some(TrajectoryRow {
+                floe: r,
+                theta: th,
+                ..*row
+            });
+            for (k, v) in [
+                m,
+                m * row.x,
+                m * row.y,
+                m * th,
+                m * row.vx,
+                m * row.vy,
+                m * row.omega,
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                a[k] += v;
+            }
+        }
+        for (r, a) in acc.iter().enumerate() {
+            let m = a[0];
+            if let (1, Some(row)) = only[r] {
+                out.push(row);
+            } else if m > 0.0 {
+                out.push(TrajectoryRow {
+                    t: frame[0].t,
+                    floe: r,
+                    x: a[1] / m,
+                    y: a[2] / m,
+                    theta: a[3] / m,
+                    vx: a[4] / m,
+                    vy: a[5] / m,
+                    omega: a[6] / m,
+                });
+            }
+        }
+    }
+    out
 }
 
 /// [`divergence`] of two trajectories given as (run label, rows), e.g. a
@@ -113,10 +203,15 @@ pub fn divergence_of_rows(
     (b, rows_b): (&str, &[TrajectoryRow]),
     threshold: f64,
 ) -> Result<PairDivergence, TimeMismatch> {
-    let n = scn.floes.len();
     let d = mean_diameter(scn);
     let mut samples = Vec::new();
-    for (fa, fb) in row_frames(rows_a, n).zip(row_frames(rows_b, n)) {
+    for (fa, fb) in row_frames(rows_a).zip(row_frames(rows_b)) {
+        // Rows of different floes cannot be compared ([`divergence`]
+        // compares runs that broke by their material instead).
+        if !same_floes(fa, fb) {
+            break;
+        }
+        let n = fa.len();
         let t = fa[0].t;
         if (t - fb[0].t).abs() > 1e-9 * t.abs().max(1.0) {
             return Err(TimeMismatch {

@@ -91,6 +91,18 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
         },
         "-",
     );
+    if s.fracture_model.is_some() {
+        // Fracture cases only (docs/physics.md §9): how many, into how
+        // many floes, the energy spent, and the smallest floe at the end.
+        push("fractures", s.fractures as f64, "count");
+        push("floes_final", s.floes_at_end as f64, "count");
+        push("fracture_energy", e.fracture, "J");
+        let alive = run.floes.iter().filter(|f| f.t_end.is_none());
+        let smallest = alive.map(|f| f.area).fold(f64::INFINITY, f64::min);
+        if smallest.is_finite() {
+            push("floe_area_min_final", smallest, "m^2");
+        }
+    }
     push("cpu_total", t.cpu_total, "s");
     push(
         "cpu_per_simulated_second",

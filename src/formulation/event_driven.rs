@@ -89,6 +89,7 @@ use super::{
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{Aabb, BroadPhase, Contact};
+use crate::fracture::{loads_of, Decision, Fracturer};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, rotate, Vec2};
 use crate::model::limits::Limit;
 use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
@@ -110,6 +111,7 @@ pub const ENTRY: Entry = Entry {
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: true,
+    supports_fracture: true,
     not_claimed: &[
         NotClaimed {
             check: "cradle_physical",
@@ -609,6 +611,11 @@ pub struct EventDriven {
     last: Option<StepRecord>,
     /// Flights within the contact distance in progress.
     flights: Vec<Flight>,
+    /// The fracture criterion's state (docs/physics.md §9).
+    fracture: Fracturer,
+    /// Floes to break, found by the impacts of this instant, with the
+    /// energy the impacts of their group dissipated (J).
+    pending: Vec<(Vec<Decision>, f64)>,
 }
 
 /// Keeps at most this many impact records.
@@ -651,6 +658,8 @@ impl EventDriven {
             own: OwnState::default(),
             last: None,
             flights: Vec::new(),
+            fracture: Fracturer::default(),
+            pending: Vec::new(),
         })
     }
 
@@ -744,6 +753,18 @@ impl EventDriven {
                 self.counters.add(&IMPACT_ENERGY_INCREASES, 1);
             }
             sys.ledger.dissipated += before - after;
+            if Fracturer::enabled(scn) && slow.is_none() {
+                // The impulses applied: (1 + e) times the compression's.
+                let k = 1.0 + e;
+                let normal: Vec<f64> = lcp.normal(&z).iter().map(|v| v * k).collect();
+                let tangential: Vec<f64> = lcp.tangential(&z).iter().map(|v| v * k).collect();
+                let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
+                let loads = loads_of(scn, &group, &normal, &tangential);
+                let decisions = self.fracture.decide(scn, sys, &loads);
+                if !decisions.is_empty() {
+                    self.pending.push((decisions, before - after));
+                }
+            }
             self.solver.log_mut().push_event(ContactEvent {
                 t: sys.t,
                 contacts: g.contacts.len(),
@@ -1328,7 +1349,7 @@ impl EventDriven {
     /// [`EventDriven::last`] for the states reported inside it.
     fn step(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         end: f64,
         clock: &mut StageClock,
@@ -1360,6 +1381,9 @@ impl EventDriven {
             }
             any = true;
             rounds += 1;
+            if !self.pending.is_empty() {
+                break;
+            }
             if rounds >= MAX_IMPACT_ROUNDS {
                 self.counters.add(&IMPACT_ROUNDS_CAPPED, 1);
                 break;
@@ -1367,6 +1391,19 @@ impl EventDriven {
         }
         if any {
             self.counters.add(&IMPACT_INSTANTS, 1);
+        }
+        // Fractures at this instant (docs/physics.md §9.5): the floes break
+        // after the impact that broke them, and the instant starts again
+        // with the new floe set (its contacts detected anew).
+        if !self.pending.is_empty() {
+            for (decisions, dissipated) in std::mem::take(&mut self.pending) {
+                self.fracture.apply(scn, sys, &decisions, dissipated);
+            }
+            self.integ.floes_changed(scn);
+            // Flights name pairs by body ids, which the new floes shift.
+            self.flights.clear();
+            self.last = None;
+            return Ok(());
         }
         // 3. Trial step with sustained contact forces, bounded by the
         // scheme alone (never by the output times).
@@ -1504,7 +1541,7 @@ impl EventDriven {
 impl Formulation for EventDriven {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,

@@ -28,6 +28,7 @@ pub const ENTRY: Entry = Entry {
     settings: None,
     resolves_contacts: false,
     dumps_lcps: false,
+    supports_fracture: true,
     not_claimed: &[],
 };
 
@@ -58,7 +59,7 @@ impl FreeDrift {
 impl Formulation for FreeDrift {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,

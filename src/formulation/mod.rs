@@ -60,9 +60,14 @@ pub trait Formulation {
     /// on its own step grid ([`OwnState`]), whatever times it is asked for:
     /// `sys` on entry is the state it last wrote (or the initial state); a
     /// caller that passes any other state restarts the grid from it.
+    ///
+    /// `scn` is the run's own copy of the case: a formulation changes it
+    /// only where a floe breaks, through [`crate::fracture::apply_split`]
+    /// (which changes `scn.floes`, `scn.history` and `sys.bodies`
+    /// together); without a `[fracture]` table it never changes.
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,
@@ -284,6 +289,10 @@ pub struct Entry {
     /// Whether `--dump-lcp` writes its contact problems (it solves them as
     /// LCPs by the shared contact solver).
     pub dumps_lcps: bool,
+    /// Whether it breaks floes when the case asks for it (a `[fracture]`
+    /// table with a model, docs/physics.md §9); one that does not is not
+    /// run on such a case (a run of it is refused).
+    pub supports_fracture: bool,
     /// The checks it does not claim; every other check that applies is
     /// claimed.
     pub not_claimed: &'static [NotClaimed],
@@ -293,7 +302,8 @@ impl Entry {
     /// Whether the formulation applies to `scn` (what `compare` and `check`
     /// run by default).
     pub fn applies(&self, scn: &Scenario) -> bool {
-        self.resolves_contacts || scn.contact_free()
+        (self.resolves_contacts || scn.contact_free())
+            && (self.supports_fracture || !scn.fracture.enabled())
     }
 
     /// The reason the formulation does not claim `check` on `case`, or
@@ -349,6 +359,19 @@ impl Instance {
 /// The formulation called `name`, set up for `scn`.
 pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<Instance, String> {
     let entry = entry(name)?;
+    if scn.fracture.enabled() && !entry.supports_fracture {
+        return Err(format!(
+            "{name} does not break floes yet, and case `{}` asks for it ([fracture] model = \"{}\"); formulations that do: {}",
+            scn.name,
+            scn.fracture.model.name(),
+            REGISTRY
+                .iter()
+                .filter(|e| e.supports_fracture)
+                .map(|e| e.name)
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
     Ok(Instance {
         entry,
         formulation: (entry.build)(scn, opts)?,

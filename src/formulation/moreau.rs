@@ -126,6 +126,7 @@ use super::{
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{BroadPhase, Contact};
+use crate::fracture::{loads_of, Decision, Fracturer};
 use crate::geometry::Vec2;
 use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
@@ -159,6 +160,7 @@ pub const ENTRY: Entry = Entry {
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: true,
+    supports_fracture: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",
@@ -178,6 +180,7 @@ pub const CONE_ENTRY: Entry = Entry {
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: false,
+    supports_fracture: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",
@@ -362,6 +365,11 @@ pub struct Moreau {
     activation_tolerance: f64,
     /// The state on the step grid `t_k = k h`.
     grid: FixedGrid,
+    /// The fracture criterion's state (docs/physics.md §9).
+    fracture: Fracturer,
+    /// Floes to break at the end of the step, found by its contact
+    /// problems, with the energy each group's impulses dissipated (J).
+    pending: Vec<(Vec<Decision>, f64)>,
 }
 
 impl Moreau {
@@ -402,6 +410,8 @@ impl Moreau {
             max_penetration: 0.0,
             activation_tolerance,
             grid: FixedGrid::new(s.step),
+            fracture: Fracturer::default(),
+            pending: Vec::new(),
         })
     }
 
@@ -577,6 +587,15 @@ impl Moreau {
                     .max(&CONTACT_ENERGY_INCREASE_MAX, after - before);
             }
             sys.ledger.dissipated += before - after;
+            if Fracturer::enabled(scn) {
+                // The step's impulses, on the floes at q_k.
+                let group: Vec<&Contact> = g.contacts.iter().map(|&k| &active[k]).collect();
+                let loads = loads_of(scn, &group, &lcp.normal(&z), &lcp.tangential(&z));
+                let decisions = self.fracture.decide(scn, sys, &loads);
+                if !decisions.is_empty() {
+                    self.pending.push((decisions, before - after));
+                }
+            }
             if dv.iter().flatten().any(|d| d.abs() > negligible) {
                 self.solver.log_mut().push_event(ContactEvent {
                     t: sys.t,
@@ -613,7 +632,7 @@ fn group_energy(scn: &Scenario, w: &[Gen], floes: &[usize]) -> f64 {
 impl Formulation for Moreau {
     fn advance(
         &mut self,
-        scn: &Scenario,
+        scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,
@@ -623,6 +642,15 @@ impl Formulation for Moreau {
         for _ in 0..steps {
             self.step_once(scn, &mut cur, self.step, clock)?;
             self.grid.stepped(&mut cur);
+            // Fractures between steps (docs/physics.md §9.5): at t_{k+1},
+            // on the lines the step's contact problems chose, carried with
+            // the floes.
+            if !self.pending.is_empty() {
+                for (decisions, dissipated) in std::mem::take(&mut self.pending) {
+                    self.fracture.apply(scn, &mut cur, &decisions, dissipated);
+                }
+                self.model = ForceModel::new(&scn.floes);
+            }
         }
         self.grid.finish(sys, cur, t_end);
         Ok(())

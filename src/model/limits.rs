@@ -510,6 +510,15 @@ pub const CASE_LIMITS: &[Limit] = &[
     TOLERANCE,
     FILE_BYTES,
     RUN_BYTES,
+    super::fracture::TOUGHNESS,
+    super::fracture::MIN_AREA,
+    super::fracture::WINDOW,
+    super::fracture::MOHR_Q,
+    super::fracture::MOHR_SIGMA_C,
+    super::fracture::MOHR_SIGMA_11,
+    super::fracture::HIBLER_P_STAR,
+    super::fracture::HIBLER_C,
+    super::fracture::CONCENTRATION,
 ];
 
 /// Bytes a run keeps per output time and floe: the trajectory row (64 B)

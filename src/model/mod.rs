@@ -9,14 +9,16 @@
 
 pub mod case;
 pub mod field;
+pub mod fracture;
 pub mod limits;
 pub mod settings;
 
-use crate::geometry::{area_properties, radius_about, rotate, Vec2};
+use crate::geometry::{area_properties, radius_about, Vec2};
 use serde::Serialize;
 use std::collections::BTreeMap;
 
 pub use case::{load_case_with, parse_case_with, CaseError};
+pub use fracture::{FloeHistory, FractureSettings};
 pub use settings::{SettingsReader, SettingsTable, TableSpec};
 
 /// Default ice density, kg/m³.
@@ -47,8 +49,24 @@ pub struct Floe {
     pub area_moment: f64,
     /// Largest distance from the centre of mass to a vertex, m.
     pub radius: f64,
-    /// Where the floe comes from in the case file (for messages).
+    /// Where the floe comes from in the case file (for messages; a piece
+    /// keeps its first ancestor's).
     pub origin: FloeOrigin,
+    /// Stable id: the index in the case (listed floes first, then each
+    /// field's) for the initial floes; the next free id for each piece of a
+    /// fracture (docs/physics.md §9). It is the `floe` column of
+    /// `trajectory.csv`.
+    pub id: usize,
+    /// The floe this one is a piece of (`None` for the initial floes).
+    pub parent: Option<usize>,
+    /// When the floe began, s (0 for the initial floes, the fracture's time
+    /// for a piece).
+    pub t_birth: f64,
+    /// The orientation of its body frame at birth, rad: the angle its
+    /// first ancestor had turned by then (0 for the initial floes), so that
+    /// `theta_birth + θ(t)` is its orientation against its first ancestor's
+    /// at t = 0.
+    pub theta_birth: f64,
 }
 
 /// Where a floe was declared.
@@ -91,13 +109,16 @@ impl Floe {
             inertia: surface_density * props.polar_moment,
             area_moment: props.polar_moment,
             origin,
+            id: 0,
+            parent: None,
+            t_birth: 0.0,
+            theta_birth: 0.0,
         }
     }
 
     /// The outline in world coordinates for a centre `g` and angle `theta`.
     pub fn world_polygon(&self, g: &Vec2, theta: f64, out: &mut Vec<Vec2>) {
-        out.clear();
-        out.extend(self.shape.iter().map(|p| g + rotate(p, theta)));
+        crate::geometry::place(&self.shape, g, theta, out);
     }
 
     /// Kinetic energy `½ M |v|² + ½ I ω²` at velocity `v` (m/s) and angular
@@ -314,6 +335,12 @@ pub struct Scenario {
     /// the state of an earlier run (`floebench run --from`, see
     /// [`crate::state::restart`]).
     pub restart: Option<Restart>,
+    /// The `[fracture]` table (absent: no fracture, docs/physics.md §9).
+    pub fracture: FractureSettings,
+    /// The floes that ended and the fractures so far. Empty for a case as
+    /// loaded; during a run the floe set `floes` changes only by a fracture
+    /// ([`crate::fracture::apply_split`]), which records here what it did.
+    pub history: FloeHistory,
 }
 
 /// The earlier run a scenario starts from.

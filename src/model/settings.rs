@@ -31,6 +31,9 @@ pub struct SettingsTable {
     key_lines: BTreeMap<String, usize>,
     #[serde(skip)]
     duration: Option<f64>,
+    /// How messages name the table (`[formulation.moreau]`, `[fracture]`).
+    #[serde(skip)]
+    header: String,
 }
 
 /// The parser of one table: checks it and reports errors with their line.
@@ -62,7 +65,15 @@ impl SettingsTable {
             line,
             key_lines,
             duration,
+            header: format!("[formulation.{name}]"),
         }
+    }
+
+    /// The same table named `header` in messages (e.g. `[fracture]`, a
+    /// table outside `[formulation.*]` read with the same reader).
+    pub fn with_header(mut self, header: &str) -> SettingsTable {
+        self.header = header.to_string();
+        self
     }
 
     /// An empty table (a case that does not write it: every default).
@@ -84,7 +95,7 @@ impl SettingsTable {
             line: key
                 .and_then(|k| self.key_lines.get(k).copied())
                 .or(self.line),
-            message: format!("[formulation.{}] {}", self.name, message.into()),
+            message: format!("{} {}", self.header, message.into()),
         }
     }
 

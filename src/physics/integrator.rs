@@ -184,6 +184,19 @@ impl SmoothIntegrator {
         }
     }
 
+    /// Follows a change of the floe set of `scn` (a fracture: floe indices
+    /// kept, pieces appended): the per-floe data are rebuilt for the new
+    /// floes, the step memory of the floes kept is kept, the work counters
+    /// go on.
+    pub fn floes_changed(&mut self, scn: &Scenario) {
+        let mut fresh = SmoothIntegrator::new(scn, Some(self.kind));
+        fresh.stats = self.stats;
+        for (h, old) in fresh.hint.iter_mut().zip(&self.hint) {
+            *h = *old;
+        }
+        *self = fresh;
+    }
+
     /// The method in use.
     pub fn kind(&self) -> IntegratorKind {
         self.kind

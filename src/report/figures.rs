@@ -71,19 +71,21 @@ fn obstacle_polygons(scn: &Scenario) -> Vec<Vec<(f64, f64)>> {
 /// output the run did not reach, an empty panel) with `obstacles`, titled
 /// `title`: the panel of the snapshots and of the animation.
 fn field_panel(
-    scn: &Scenario,
+    run: &RunResult,
     frame: Option<&[TrajectoryRow]>,
     title: String,
     obstacles: &[Vec<(f64, f64)>],
 ) -> Panel {
     let mut world = Vec::new();
+    // Each floe alive then, the pieces of broken ones included, by its
+    // record.
     let floes = frame
         .unwrap_or_default()
         .iter()
-        .zip(&scn.floes)
-        .map(|(row, floe)| {
-            floe.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
-            polygon(world.iter().copied())
+        .filter_map(|row| {
+            let rec = run.floes.get(row.floe)?;
+            rec.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
+            Some(polygon(world.iter().copied()))
         })
         .collect();
     Panel {
@@ -125,15 +127,25 @@ fn energy_series(comp: &CaseComparison, f: fn(&crate::run::EnergySample) -> f64)
 }
 
 /// Up to `k` floes that travel furthest (start to end) in `run`.
-fn travelling_floes(run: &RunResult, n: usize, k: usize) -> Vec<usize> {
-    let mut fr = frames(run, n);
-    let (Some(first), Some(last)) = (fr.next(), frames(run, n).last()) else {
+fn travelling_floes(run: &RunResult, k: usize) -> Vec<usize> {
+    let mut fr = frames(run);
+    let (Some(first), Some(last)) = (fr.next(), frames(run).last()) else {
         return Vec::new();
+    };
+    // A floe that broke is followed to its end: its last output.
+    let end = |a: &crate::run::TrajectoryRow| {
+        last.iter()
+            .find(|b| b.floe == a.floe)
+            .or_else(|| run.trajectory.iter().rev().find(|b| b.floe == a.floe))
+            .copied()
+            .unwrap_or(*a)
     };
     let mut d: Vec<(usize, f64)> = first
         .iter()
-        .zip(last)
-        .map(|(a, b)| (a.floe, (b.x - a.x).hypot(b.y - a.y)))
+        .map(|a| {
+            let b = end(a);
+            (a.floe, (b.x - a.x).hypot(b.y - a.y))
+        })
         .collect();
     d.sort_by(|a, b| b.1.total_cmp(&a.1));
     d.into_iter().take(k).map(|(i, _)| i).collect()
@@ -143,7 +155,6 @@ fn travelling_floes(run: &RunResult, n: usize, k: usize) -> Vec<usize> {
 pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
     let scn = &comp.scenario;
     let name = &scn.name;
-    let n = scn.floes.len();
     let mut figs = Vec::new();
     let mut add = |stem: &str, alt: String, caption: &str| {
         figs.push(Figure {
@@ -249,13 +260,16 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             );
         }
 
-        let chosen = travelling_floes(reference, n, 3);
+        let chosen = travelling_floes(reference, 3);
         // Colour: the formulation; dash: the floe; legend entries for both.
         let mut paths = Vec::new();
         let mut labels = Vec::new();
         for (i, r) in comp.runs.iter().enumerate() {
             for (j, &f) in chosen.iter().enumerate() {
-                let points: Vec<(f64, f64)> = frames(r, n).map(|fr| (fr[f].x, fr[f].y)).collect();
+                let points: Vec<(f64, f64)> = frames(r)
+                    .filter_map(|fr| fr.iter().find(|row| row.floe == f))
+                    .map(|row| (row.x, row.y))
+                    .collect();
                 if i == 0 {
                     if let Some(&end) = points.last() {
                         labels.push((format!("floe {f}"), end));
@@ -298,18 +312,18 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         );
 
         // Snapshots at the start, the middle and the end of the reference run.
-        let count = frames(reference, n).count();
+        let count = frames(reference).count();
         let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
         rows.dedup();
         let mut panels = Vec::new();
         for &k in &rows {
             for r in &comp.runs {
-                let frame = frames(r, n).nth(k);
+                let frame = frames(r).nth(k);
                 let title = match frame {
                     Some(f) => format!("{}, {}", r.summary.formulation, time_stamp(scn, f)),
                     None => format!("{}: not reached", r.summary.formulation),
                 };
-                panels.push(field_panel(scn, frame, title, &obstacles));
+                panels.push(field_panel(r, frame, title, &obstacles));
             }
         }
         let stem = dir.join("snapshots");
@@ -494,7 +508,7 @@ pub fn animate(comp: &CaseComparison, dir: &Path) -> Result<Option<Animation>, R
         .runs
         .iter()
         .partition(|r| r.summary.end == EndReason::Completed);
-    let per_run: Vec<Vec<&[TrajectoryRow]>> = done.iter().map(|r| frames(r, n).collect()).collect();
+    let per_run: Vec<Vec<&[TrajectoryRow]>> = done.iter().map(|r| frames(r).collect()).collect();
     let Some(outputs) = per_run.first().map(Vec::len) else {
         return Ok(None);
     };
@@ -517,7 +531,7 @@ pub fn animate(comp: &CaseComparison, dir: &Path) -> Result<Option<Animation>, R
                         Some(_) => name.clone(),
                         None => format!("{name}: not reached"),
                     };
-                    field_panel(scn, frame, title, &obstacles)
+                    field_panel(r, frame, title, &obstacles)
                 })
                 .collect(),
         })

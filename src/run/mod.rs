@@ -16,6 +16,7 @@ pub mod output;
 pub mod repeat;
 
 use crate::formulation::Formulation;
+use crate::model::fracture::{FloeRecord, FractureRecord};
 use crate::model::Scenario;
 use crate::record::{
     thread_cpu_seconds, ContactLog, Counters, Settings, SolveProfile, StageClock, StageTimes,
@@ -29,7 +30,8 @@ use std::time::{Duration, Instant};
 pub struct TrajectoryRow {
     /// Time, s.
     pub t: f64,
-    /// Floe index (listed floes first, then fields).
+    /// Floe id (listed floes first, then fields, then the pieces of
+    /// fractures in the order they were made).
     pub floe: usize,
     /// Centre of mass x, m.
     pub x: f64,
@@ -60,7 +62,9 @@ pub struct EnergySample {
     pub work_coriolis: f64,
     /// Cumulative energy dissipated by contacts, J.
     pub dissipated: f64,
-    /// Balance residual `E(t) − E(0) − W_ext + D`, J.
+    /// Cumulative energy spent on cracks by fractures, J.
+    pub fracture: f64,
+    /// Balance residual `E(t) − E(0) − W_ext + D + F`, J.
     pub residual: f64,
 }
 
@@ -133,7 +137,7 @@ fn first_non_finite(
         } else {
             continue;
         };
-        return Some((i, what.to_string()));
+        return Some((scn.floes.get(i).map_or(i, |f| f.id), what.to_string()));
     }
     let ledger = [
         (sample.kinetic, "kinetic energy"),
@@ -141,6 +145,7 @@ fn first_non_finite(
         (sample.work_water, "work of the water drag"),
         (sample.work_coriolis, "work of the Coriolis force"),
         (sample.dissipated, "dissipated energy"),
+        (sample.fracture, "fracture energy"),
         (sample.residual, "energy residual"),
     ];
     ledger
@@ -164,11 +169,13 @@ pub struct EnergyTotals {
     pub work_coriolis: f64,
     /// Dissipated by contacts, J.
     pub dissipated: f64,
+    /// Spent on cracks by fractures, J.
+    pub fracture: f64,
     /// Final balance residual, J.
     pub residual: f64,
     /// Largest |residual| over the samples, J.
     pub max_abs_residual: f64,
-    /// Scale of the exchanges, `E(0) + |W_air| + |W_water| + |W_cor| + D`, J:
+    /// Scale of the exchanges, `E(0) + |W_air| + |W_water| + |W_cor| + |D| + |F|`, J:
     /// the residual is judged relative to it.
     pub exchanged: f64,
 }
@@ -200,8 +207,16 @@ pub struct RunSummary {
     pub case: String,
     /// Formulation name.
     pub formulation: String,
-    /// Number of floes.
+    /// Number of floes at the start.
     pub floes: usize,
+    /// The case's fracture criterion (`energy`, `stress`), absent without
+    /// fracture.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fracture_model: Option<&'static str>,
+    /// Number of fractures (0 without a `[fracture]` table).
+    pub fractures: usize,
+    /// Number of floes at the end.
+    pub floes_at_end: usize,
     /// Number of obstacles.
     pub obstacles: usize,
     /// Requested duration, s.
@@ -241,6 +256,11 @@ pub struct RunResult {
     /// What the formulation recorded of its contact impulses and impacts
     /// (bounded; empty for formulations that record nothing).
     pub contacts: ContactLog,
+    /// Every floe that existed during the run (`floes.json`): the initial
+    /// ones, then the pieces, by id.
+    pub floes: Vec<FloeRecord>,
+    /// Every fracture (`fractures.csv`), in time order.
+    pub fractures: Vec<FractureRecord>,
 }
 
 /// Options of a run.
@@ -283,7 +303,11 @@ impl Runner {
     /// Runs `form` on `scn` from t = 0 to the case's duration; `label` names
     /// the run (the formulation's registry name, see
     /// [`crate::formulation::Instance`]).
-    pub fn run(&self, scn: &Scenario, label: &str, form: &mut dyn Formulation) -> RunResult {
+    pub fn run(&self, case: &Scenario, label: &str, form: &mut dyn Formulation) -> RunResult {
+        // The floe set may change during the run (fracture): the run works
+        // on its own copy of the scenario.
+        let mut scn_run = case.clone();
+        let scn = &mut scn_run;
         // Measure the cost of a clock read before the run, not inside it.
         crate::record::clock::monotonic_read_cost();
         let wall0 = Instant::now();
@@ -356,6 +380,7 @@ impl Runner {
             work_water: 0.0,
             work_coriolis: 0.0,
             dissipated: 0.0,
+            fracture: 0.0,
             residual: 0.0,
         });
         let totals = EnergyTotals {
@@ -365,18 +390,23 @@ impl Runner {
             work_water: last.work_water,
             work_coriolis: last.work_coriolis,
             dissipated: last.dissipated,
+            fracture: last.fracture,
             residual: last.residual,
             max_abs_residual: energy.iter().map(|s| s.residual.abs()).fold(0.0, f64::max),
             exchanged: e0
                 + last.work_air.abs()
                 + last.work_water.abs()
                 + last.work_coriolis.abs()
-                + last.dissipated.abs(),
+                + last.dissipated.abs()
+                + last.fracture.abs(),
         };
         let summary = RunSummary {
             case: scn.name.clone(),
             formulation: label.to_string(),
-            floes: scn.floes.len(),
+            floes: case.floes.len(),
+            fracture_model: scn.fracture.enabled().then(|| scn.fracture.model.name()),
+            fractures: scn.history.fractures.len(),
+            floes_at_end: scn.floes.len(),
             obstacles: scn.obstacles.len(),
             duration: scn.duration,
             restart: scn.restart.clone(),
@@ -401,8 +431,19 @@ impl Runner {
             summary,
             final_state: sys,
             contacts: form.take_contact_log(),
+            floes: floe_records(scn),
+            fractures: scn.history.fractures.clone(),
         }
     }
+}
+
+/// Every floe of a run's scenario at its end: those that ended and those
+/// alive, by id.
+fn floe_records(scn: &Scenario) -> Vec<FloeRecord> {
+    let mut out: Vec<FloeRecord> = scn.history.ended.clone();
+    out.extend(scn.floes.iter().map(|f| FloeRecord::of(f, None)));
+    out.sort_by_key(|r| r.id);
+    out
 }
 
 fn record(
@@ -412,10 +453,10 @@ fn record(
     trajectory: &mut Vec<TrajectoryRow>,
     energy: &mut Vec<EnergySample>,
 ) {
-    for (i, b) in sys.bodies.iter().enumerate() {
+    for (b, f) in sys.bodies.iter().zip(&scn.floes) {
         trajectory.push(TrajectoryRow {
             t: sys.t,
-            floe: i,
+            floe: f.id,
             x: b.position.x,
             y: b.position.y,
             theta: b.angle,
@@ -438,7 +479,8 @@ fn sample(scn: &Scenario, sys: &System, e0: f64) -> EnergySample {
         work_water: l.work_water,
         work_coriolis: l.work_coriolis,
         dissipated: l.dissipated,
-        residual: e - e0 - l.external_work() + l.dissipated,
+        fracture: l.fracture,
+        residual: e - e0 - l.external_work() + l.dissipated + l.fracture,
     }
 }
 

@@ -1,4 +1,6 @@
-//! Writing a run's results: `trajectory.csv`, `energy.csv`, `summary.json`.
+//! Writing a run's results: `trajectory.csv`, `energy.csv`, `summary.json`,
+//! `floes.json` (every floe that existed) and `fractures.csv` (one row per
+//! fracture; only its header without fracture).
 //!
 //! Every file is written to a temporary name in the output folder and renamed
 //! into place, so a reader never sees a half-written file.
@@ -43,16 +45,53 @@ pub fn trajectory_csv(result: &RunResult) -> String {
     s
 }
 
+/// The first line of `energy.csv`.
+pub const ENERGY_HEADER: &str =
+    "t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,residual";
+
 /// The energy ledger as CSV:
-/// `t,kinetic,work_air,work_water,work_coriolis,dissipated,residual` (s, then J).
+/// `t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,residual` (s, then J).
 pub fn energy_csv(result: &RunResult) -> String {
     let mut s = String::with_capacity(96 * result.energy.len() + 80);
-    s.push_str("t,kinetic,work_air,work_water,work_coriolis,dissipated,residual\n");
+    s.push_str(ENERGY_HEADER);
+    s.push('\n');
     for e in &result.energy {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{}",
-            e.t, e.kinetic, e.work_air, e.work_water, e.work_coriolis, e.dissipated, e.residual
+            "{},{},{},{},{},{},{},{}",
+            e.t,
+            e.kinetic,
+            e.work_air,
+            e.work_water,
+            e.work_coriolis,
+            e.dissipated,
+            e.fracture,
+            e.residual
+        );
+    }
+    s
+}
+
+/// The first line of `fractures.csv`.
+pub const FRACTURES_HEADER: &str = "t,parent,children,model,measure,threshold";
+
+/// The fractures as CSV: `t,parent,children,model,measure,threshold` (s,
+/// id, ids joined by `;`, name, then the criterion's unit: J for `energy`,
+/// Pa for `stress`).
+pub fn fractures_csv(result: &RunResult) -> String {
+    let mut s = String::from(FRACTURES_HEADER);
+    s.push('\n');
+    for f in &result.fractures {
+        let children: Vec<String> = f.children.iter().map(|c| c.to_string()).collect();
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{}",
+            f.t,
+            f.parent,
+            children.join(";"),
+            f.model,
+            f.measure,
+            f.threshold
         );
     }
     s
@@ -85,6 +124,7 @@ fn non_finite(result: &RunResult) -> Option<String> {
             ("work_water", e.work_water),
             ("work_coriolis", e.work_coriolis),
             ("dissipated", e.dissipated),
+            ("fracture", e.fracture),
             ("residual", e.residual),
             ("t", e.t),
         ];
@@ -95,7 +135,7 @@ fn non_finite(result: &RunResult) -> Option<String> {
     None
 }
 
-/// Writes the three output files into `dir`; returns their paths. Refuses
+/// Writes the five output files into `dir`; returns their paths. Refuses
 /// (before writing anything) a result with a non-finite number in its
 /// trajectory or ledger: the runner ends a run at the last finite output,
 /// so this is a safety net that names the number.
@@ -110,6 +150,11 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
             "summary.json",
             serde_json::to_vec_pretty(&result.summary).map_err(io::Error::other)?,
         ),
+        (
+            "floes.json",
+            serde_json::to_vec_pretty(&result.floes).map_err(io::Error::other)?,
+        ),
+        ("fractures.csv", fractures_csv(result).into_bytes()),
     ];
     let mut paths = Vec::new();
     for (name, bytes) in files {

@@ -44,7 +44,20 @@ fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
         "2 floes every 0.5 s over 20 s"
     );
     let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
-    assert!(energy.starts_with("t,kinetic,work_air,work_water,work_coriolis,dissipated,residual\n"));
+    assert!(energy
+        .starts_with("t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,residual\n"));
+    let floes: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("floes.json")).unwrap()).unwrap();
+    let floes = floes.as_array().unwrap();
+    assert_eq!(floes.len(), 2, "the two floes of the case, none broken");
+    for (i, f) in floes.iter().enumerate() {
+        assert_eq!(f["id"], i);
+        assert!(f["parent"].is_null() && f["t_end"].is_null());
+        assert_eq!(f["t_birth"], 0.0);
+        assert!(f["mass"].as_f64().unwrap() > 0.0 && f["polygon"].as_array().unwrap().len() >= 3);
+    }
+    let fractures = std::fs::read_to_string(out.join("fractures.csv")).unwrap();
+    assert_eq!(fractures, "t,parent,children,model,measure,threshold\n");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["end"]["reason"], "completed");

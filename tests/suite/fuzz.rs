@@ -495,7 +495,15 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
     }
     let mut files = listed();
     files.sort();
-    if files != ["energy.csv", "summary.json", "trajectory.csv"] {
+    if files
+        != [
+            "energy.csv",
+            "floes.json",
+            "fractures.csv",
+            "summary.json",
+            "trajectory.csv",
+        ]
+    {
         return Err(format!("partial file: the folder holds {files:?}"));
     }
     for (name, rows) in [

@@ -18,9 +18,10 @@
 //! energy ledger by the energy the run exchanged.
 
 use crate::common::{case_text, cases_dir};
+use floebench::analysis::divergence::row_frames;
 use floebench::formulation::{build, parse_case, FormulationOptions, REGISTRY};
 use floebench::model::Scenario;
-use floebench::run::{batch, RunOptions, RunResult, Runner};
+use floebench::run::{batch, RunOptions, RunResult, Runner, TrajectoryRow};
 use std::path::Path;
 
 /// Relative tolerance of the comparison.
@@ -65,7 +66,10 @@ fn run_at(text: &str, interval: f64, name: &str) -> Result<RunResult, String> {
 /// the output times they share, each relative to its scale (module doc),
 /// with the number of shared times.
 fn largest_difference(scn: &Scenario, a: &RunResult, b: &RunResult) -> (f64, usize) {
-    let n = scn.floes.len();
+    // One frame of rows per energy sample: the floes alive then (pieces of
+    // broken floes included).
+    let fa: Vec<&[TrajectoryRow]> = row_frames(&a.trajectory).collect();
+    let fb: Vec<&[TrajectoryRow]> = row_frames(&b.trajectory).collect();
     let r_max = scn.floes.iter().map(|f| f.radius).fold(0.0, f64::max);
     let speed = a
         .trajectory
@@ -94,9 +98,14 @@ fn largest_difference(scn: &Scenario, a: &RunResult, b: &RunResult) -> (f64, usi
         ] {
             worst = worst.max((x - y).abs() / energy);
         }
-        for i in 0..n {
-            let (p, q) = (&a.trajectory[ka * n + i], &b.trajectory[kb * n + i]);
-            assert_eq!((p.floe, q.floe), (i, i));
+        assert_eq!(
+            fa[ka].len(),
+            fb[kb].len(),
+            "the same floes at t = {} s",
+            ea.t
+        );
+        for (p, q) in fa[ka].iter().zip(fb[kb]) {
+            assert_eq!(p.floe, q.floe);
             worst = worst
                 .max((p.x - q.x).hypot(p.y - q.y) / (2.0 * r_max))
                 .max((p.vx - q.vx).hypot(p.vy - q.vy) / speed)

@@ -36,12 +36,13 @@ impl FrictionlessEventDriven {
 impl Formulation for FrictionlessEventDriven {
     fn advance(
         &mut self,
-        _scn: &Scenario,
+        _scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
-        self.inner.advance(&self.frictionless, sys, t_end, clock)
+        self.inner
+            .advance(&mut self.frictionless, sys, t_end, clock)
     }
 
     fn counters(&self) -> Counters {
@@ -65,6 +66,7 @@ const ENTRY: Entry = Entry {
     settings: None,
     resolves_contacts: true,
     dumps_lcps: true,
+    supports_fracture: false,
     not_claimed: &[NotClaimed {
         check: "sliding_stop",
         case: None,

@@ -4,6 +4,7 @@
 //! [`super`]).
 
 use super::exact::head_on_velocities;
+use super::exact::ram_critical_speed_of;
 use super::measure::{final_velocity, rest_time, sampled_penetration};
 use super::setup::{Bouncing, Drift, Inertial, Sliding};
 use super::structure::{
@@ -11,16 +12,20 @@ use super::structure::{
     GEOMETRY_MATCH,
 };
 use super::{
-    CheckOutcome, CRADLE_TOLERANCE, ENERGY_CONSERVED_TOLERANCE, FREE_DRIFT_TOLERANCE,
-    HEAD_ON_TOLERANCE, IMPACT_ENERGY_TOLERANCE, INERTIAL_PERIOD_TOLERANCE, LEDGER_TOLERANCE,
-    MOMENTUM_TOLERANCE, REST_SPEED_FRACTION, SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
+    CheckOutcome, CRADLE_TOLERANCE, ENERGY_CONSERVED_TOLERANCE, FRACTURE_CONSERVATION_TOLERANCE,
+    FREE_DRIFT_TOLERANCE, HEAD_ON_TOLERANCE, IMPACT_ENERGY_TOLERANCE, INERTIAL_PERIOD_TOLERANCE,
+    LEDGER_TOLERANCE, MOMENTUM_TOLERANCE, RAM_CRITICAL_SPEED_TOLERANCE, REST_SPEED_FRACTION,
+    SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
 };
+use crate::analysis::divergence::row_frames;
 use crate::contact::signed_distance;
 use crate::formulation::contact_solver::COULOMB_SLACK;
 use crate::formulation::event_driven::{
     floe_length_scale, EventDrivenSettings, DEFAULT_PENETRATION_FRACTION,
 };
+use crate::fracture::split::cut;
 use crate::geometry::{cross, Vec2};
+use crate::model::fracture::FractureModel;
 use crate::model::Scenario;
 use crate::record::counters::common::MAX_PENETRATION;
 use crate::run::{EndReason, RunResult, TrajectoryRow};
@@ -93,14 +98,20 @@ pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     energy_conserved(&mut r);
     coulomb(&mut r);
     penetration(&mut r);
-    symmetry(&mut r);
-    head_on(&mut r);
-    bouncing(&mut r);
-    sliding(&mut r);
-    cradle(&mut r);
-    cannon(&mut r);
-    free_drift(&mut r);
-    inertial(&mut r);
+    // The checks read from the case's initial floes follow those floes
+    // through the run: they apply to a run whose floes did not break.
+    if run.fractures.is_empty() {
+        symmetry(&mut r);
+        head_on(&mut r);
+        bouncing(&mut r);
+        sliding(&mut r);
+        cradle(&mut r);
+        cannon(&mut r);
+        free_drift(&mut r);
+        inertial(&mut r);
+    }
+    fracture_conservation(&mut r);
+    ram_critical_speed(&mut r);
     ledger(&mut r);
     r.out
 }
@@ -118,14 +129,13 @@ fn momentum(r: &mut Rows) {
         .floes
         .iter()
         .fold(Vec2::zeros(), |s, f| s + f.velocity * f.mass);
-    let n = scn.floes.len();
-    let worst = r
-        .run
-        .trajectory
-        .chunks(n)
+    // Each floe alive at an output, with its own mass (the pieces of broken
+    // floes included).
+    let mass = |id: usize| r.run.floes.get(id).map_or(f64::NAN, |f| f.mass);
+    let worst = row_frames(&r.run.trajectory)
         .map(|rows| {
             let p = rows.iter().fold(Vec2::zeros(), |s, row| {
-                s + Vec2::new(row.vx, row.vy) * scn.floes[row.floe].mass
+                s + Vec2::new(row.vx, row.vy) * mass(row.floe)
             });
             (p - p0).norm() / scale
         })
@@ -231,7 +241,7 @@ fn penetration(r: &mut Rows) {
     if scn.floes.len() < 2 && scn.obstacles.is_empty() {
         return;
     }
-    let sampled = sampled_penetration(scn, &r.run.trajectory);
+    let sampled = sampled_penetration(scn, r.run);
     let own = r
         .run
         .summary
@@ -712,6 +722,82 @@ fn inertial_period(inr: &Inertial, rows: &[TrajectoryRow]) -> Option<(f64, f64, 
         first.t,
         last.t,
     ))
+}
+
+fn fracture_conservation(r: &mut Rows) {
+    let fr = &r.run.fractures;
+    if fr.is_empty() {
+        return;
+    }
+    let worst = fr.iter().map(|f| f.conservation).fold(0.0, f64::max);
+    r.push(
+        "fracture_conservation",
+        "every split conserves area, mass, momenta and kinetic energy",
+        worst,
+        Some(0.0),
+        FRACTURE_CONSERVATION_TOLERANCE,
+        "1",
+        format!(
+            "{} fractures, {} floes at the end",
+            fr.len(),
+            r.run.summary.floes_at_end
+        ),
+    )
+    .scale = Some(1.0);
+}
+
+fn ram_critical_speed(r: &mut Rows) {
+    let scn = r.scn;
+    if scn.fracture.model != FractureModel::Energy
+        || scn.floes.len() != 1
+        || !no_forcing(scn)
+        || scn.floes[0].angular_velocity != 0.0
+    {
+        return;
+    }
+    let f = &scn.floes[0];
+    let v0 = f.velocity.norm();
+    if v0 == 0.0 {
+        return;
+    }
+    let d = f.velocity / v0;
+    if translation_gap(scn, 0, &d).is_none_or(|(_, rays)| rays < 2)
+        || !self_symmetric(scn, f.position, d)
+    {
+        return;
+    }
+    let Some(chord) = cut(&initial_polygon(scn, 0), &f.position, &d) else {
+        return;
+    };
+    let vc = ram_critical_speed_of(
+        scn.fracture.toughness,
+        f.thickness,
+        chord.length,
+        scn.contact.restitution,
+        f.mass,
+    );
+    if v0 <= vc * (1.0 + RAM_CRITICAL_SPEED_TOLERANCE) {
+        return;
+    }
+    let measured = r
+        .run
+        .fractures
+        .first()
+        .map_or(f64::NAN, |fr| v0 * (fr.threshold / fr.measure).sqrt());
+    r.push(
+        "ram_critical_speed",
+        "the critical speed of a floe rammed into a coast (energy criterion)",
+        measured,
+        Some(vc),
+        RAM_CRITICAL_SPEED_TOLERANCE * vc,
+        "m/s",
+        format!(
+            "v0 = {v0} m/s, chord {:.6} m; {} fractures",
+            chord.length,
+            r.run.fractures.len()
+        ),
+    )
+    .scale = Some(vc);
 }
 
 fn ledger(r: &mut Rows) {

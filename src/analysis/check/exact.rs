@@ -66,3 +66,12 @@ pub fn steady_drift_velocity(scn: &Scenario, i: usize) -> Option<Vec2> {
     }
     (g(u).norm() <= 1e-10 * scale).then_some(u)
 }
+
+/// The critical speed (m/s) of a floe of mass `m` (kg) and thickness `h`
+/// (m) rammed face-on into a fixed coast with restitution `e`, under the
+/// energy criterion of toughness `g` (J/m²) with chord `l` (m): the impact
+/// impulse `(1 + e) M v` delivers `½ (1 + e)² M v²`, which reaches `G h L`
+/// at `v_c = sqrt(2 G h L / ((1 + e)² M))` (docs/physics.md §9.6).
+pub fn ram_critical_speed_of(g: f64, h: f64, l: f64, e: f64, m: f64) -> f64 {
+    (2.0 * g * h * l / ((1.0 + e).powi(2) * m)).sqrt()
+}

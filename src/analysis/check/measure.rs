@@ -2,7 +2,7 @@
 //! comes to rest, the deepest overlap at the output times, a floe's final
 //! velocity.
 
-use super::structure::world_polygon;
+use crate::analysis::divergence::row_frames;
 use crate::contact::{signed_distance, Aabb, BroadPhase};
 use crate::geometry::Vec2;
 use crate::model::Scenario;
@@ -23,21 +23,28 @@ pub fn rest_time(rows: &[TrajectoryRow], floe: usize, speed: f64) -> Option<f64>
 }
 
 /// The deepest overlap (m, ≥ 0) between two floes or a floe and an obstacle
-/// at the output times of `rows`: the minimum translation distance
-/// ([`signed_distance`]) of every overlapping pair.
-pub fn sampled_penetration(scn: &Scenario, rows: &[TrajectoryRow]) -> f64 {
-    let n = scn.floes.len();
-    if n == 0 {
-        return 0.0;
-    }
+/// at the output times of `run`: the minimum translation distance
+/// ([`signed_distance`]) of every overlapping pair, each floe alive at that
+/// time drawn from its record ([`RunResult::floes`]: the pieces of broken
+/// floes included).
+pub fn sampled_penetration(scn: &Scenario, run: &RunResult) -> f64 {
     let mut bp = BroadPhase::new();
     let mut pairs = Vec::new();
     let mut deepest = 0.0f64;
-    for sample in rows.chunks(n) {
+    for sample in row_frames(&run.trajectory) {
+        let n = sample.len();
         let mut polys: Vec<Vec<Vec2>> = sample
             .iter()
-            .map(|r| world_polygon(scn, r.floe, &Vec2::new(r.x, r.y), r.theta))
+            .filter_map(|r| {
+                let mut p = Vec::new();
+                let rec = run.floes.get(r.floe)?;
+                rec.world_polygon(&Vec2::new(r.x, r.y), r.theta, &mut p);
+                Some(p)
+            })
             .collect();
+        if polys.len() != n {
+            continue;
+        }
         polys.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
         let boxes: Vec<Aabb> = polys
             .iter()

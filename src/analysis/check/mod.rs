@@ -21,6 +21,8 @@
 //! | `cannon_velocities` | two floes in a row at the same velocity toward an obstacle, no forcing, symmetric; the front one rebounds before they meet and leaves the wall for good | final velocities | [`CRADLE_TOLERANCE`] × `v0` |
 //! | `free_drift_velocity` | no obstacle, constant wind and current, water drag, duration ≥ 20 drag time constants | final velocity of each floe | [`FREE_DRIFT_TOLERANCE`] |
 //! | `inertial_period` | one floe, no obstacle or spin, still ocean, `f ≠ 0`, a calm of at least one period after the wind stops | `2π Δt / Δφ` of the velocity's turning in the calm | [`INERTIAL_PERIOD_TOLERANCE`] × `2π/\|f\|` |
+//! | `fracture_conservation` | the run broke a floe | the largest relative change a split made to area, mass, linear and angular momentum, kinetic energy | [`FRACTURE_CONSERVATION_TOLERANCE`] |
+//! | `ram_critical_speed` | `[fracture] model = "energy"`, one floe moving without spin toward an obstacle it meets face-on (two contact rays), no forcing, the configuration symmetric about the line of motion, faster than the closed-form critical speed `v_c` | `v0 sqrt(threshold / measure)` of the run's first fracture | [`RAM_CRITICAL_SPEED_TOLERANCE`] × `v_c` |
 //! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
 //!
 //! Whether a formulation *claims* a check is decided by one table,
@@ -55,7 +57,9 @@ mod measure;
 mod setup;
 mod structure;
 
-pub use exact::{head_on_velocities, steady_drift_velocity, wind_acceleration};
+pub use exact::{
+    head_on_velocities, ram_critical_speed_of, steady_drift_velocity, wind_acceleration,
+};
 pub use measure::{rest_time, sampled_penetration};
 pub use setup::{Bouncing, Drift, Inertial, Sliding};
 pub use structure::{find_symmetry, mirror_pairing, no_forcing, translation_gap, Axis};
@@ -184,6 +188,20 @@ pub const FREE_DRIFT_TIME_CONSTANTS: f64 = 20.0;
 /// ledger (unbooked dissipation, work of a force) is a sizeable fraction of
 /// the exchanges.
 pub const LEDGER_TOLERANCE: f64 = 1e-6;
+
+/// `fracture_conservation`: a split partitions the parent and gives the
+/// pieces its rigid velocity field, so only the rounding of the polygon
+/// formulas (about 1e-15 relative, done in the parent's centre frame)
+/// changes what it conserves; a piece given the parent's velocity instead
+/// changes the angular momentum and the energy at order one.
+pub const FRACTURE_CONSERVATION_TOLERANCE: f64 = 1e-12;
+
+/// `ram_critical_speed`, relative to `v_c`: the run's measure is the impact
+/// impulse, exact to the LCP's residual of 1e-10 of the velocities, so the
+/// critical speed it implies is exact to about that; a criterion off by a
+/// factor (the restitution forgotten, the impulse of one contact point
+/// instead of the pair's) moves it at order one.
+pub const RAM_CRITICAL_SPEED_TOLERANCE: f64 = 1e-6;
 
 /// The reason formulation `formulation` does not claim `check` on `case`
 /// (its registry entry's [`formulation::NotClaimed`] list), or `None` when

@@ -9,7 +9,9 @@
 use crate::geometry::Vec2;
 use crate::state::BodyState;
 use rapier2d_f64::math::{Rot2, Vector as RVec};
-use rapier2d_f64::prelude::{ColliderBuilder, MassProperties, RigidBody, RigidBodyBuilder};
+use rapier2d_f64::prelude::{
+    Collider, ColliderBuilder, ContactManifold, MassProperties, RigidBody, RigidBodyBuilder,
+};
 
 /// A project vector as a rapier vector.
 #[inline]
@@ -73,4 +75,34 @@ pub(super) fn convex_polygon(vertices: &[Vec2]) -> Option<ColliderBuilder> {
 /// polar moment of inertia `inertia` about it (kg·m²).
 pub(super) fn mass_properties(m: f64, inertia: f64) -> MassProperties {
     MassProperties::new(RVec::ZERO, m, inertia)
+}
+
+/// The contact impulses of one manifold between colliders `c1` and `c2`:
+/// for each point with an impulse, its world position midway between the
+/// two surfaces (m), the manifold's world normal (from `c1` to `c2`), and
+/// the normal and tangential impulses (N·s) rapier applied over the last
+/// step (the impulse `λ n + β t` acts on `c2`, its opposite on `c1`; `t` is
+/// the normal turned by +90°, the 2-D basis rapier builds on the normal).
+pub(super) fn manifold_impulses(
+    m: &ContactManifold,
+    c1: &Collider,
+    c2: &Collider,
+) -> Vec<(Vec2, Vec2, Vec2, f64, f64)> {
+    let n = from_rapier(m.data.normal);
+    let t = Vec2::new(-n.y, n.x);
+    m.points
+        .iter()
+        .filter(|p| p.data.impulse != 0.0 || p.data.tangent_impulse[0] != 0.0)
+        .map(|p| {
+            let a = from_rapier(c1.position().transform_point(p.local_p1));
+            let b = from_rapier(c2.position().transform_point(p.local_p2));
+            (
+                (a + b) * 0.5,
+                n,
+                t,
+                p.data.impulse,
+                p.data.tangent_impulse[0],
+            )
+        })
+        .collect()
 }

@@ -14,8 +14,8 @@ use crate::model::field::generate_field;
 use crate::model::limits::{self, check_count, Limit};
 use crate::model::settings::{SettingsTable, TableSpec};
 use crate::model::{
-    ContactLaw, Environment, Floe, FloeOrigin, Fluid, IntegratorKind, IntegratorSettings, Obstacle,
-    Scenario, VelocitySeries,
+    ContactLaw, Environment, Floe, FloeHistory, FloeOrigin, Fluid, FractureSettings,
+    IntegratorKind, IntegratorSettings, Obstacle, Scenario, VelocitySeries,
 };
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -49,6 +49,11 @@ pub(super) fn build(
     fields(ctx, case.field, &mut floes, &obstacles)?;
     let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
     let integrator = integrator(ctx, case.integrator, header.duration)?;
+    let fracture = fracture_table(ctx, case.fracture, &floes)?;
+    for (i, f) in floes.iter_mut().enumerate() {
+        f.id = i;
+    }
+    let history = FloeHistory::new(floes.len());
     Ok(Scenario {
         name: header.name,
         description: header.description,
@@ -61,6 +66,8 @@ pub(super) fn build(
         integrator,
         formulation_settings,
         restart: None,
+        fracture,
+        history,
     })
 }
 
@@ -285,6 +292,34 @@ fn formulation_tables(
         }
     }
     Ok(formulation_settings)
+}
+
+/// `[fracture]` (optional: absent means no fracture), read by
+/// [`FractureSettings::from_table`] with the line of each key.
+fn fracture_table(
+    ctx: &Ctx,
+    spec: Option<Spanned<toml::Table>>,
+    floes: &[Floe],
+) -> Result<FractureSettings, CaseError> {
+    let Some(spec) = spec else {
+        return Ok(FractureSettings::default());
+    };
+    let span = spec.span();
+    let values = spec.into_inner();
+    let key_lines = values
+        .keys()
+        .filter_map(|k| ctx.key_line(&span, k).map(|l| (k.clone(), l)))
+        .collect();
+    let t = SettingsTable::new(
+        "fracture",
+        values,
+        ctx.file.to_path_buf(),
+        Some(ctx.line_of(span.start)),
+        key_lines,
+        None,
+    )
+    .with_header("[fracture]");
+    FractureSettings::from_table(&t, floes)
 }
 
 /// `[integrator]` (optional): method, tolerance, largest step (which also

@@ -74,6 +74,7 @@ pub(super) struct CaseFile {
     pub(super) field: Vec<Spanned<FieldSpec>>,
     pub(super) formulation: Option<Spanned<BTreeMap<String, Spanned<toml::Table>>>>,
     pub(super) integrator: Option<Spanned<IntegratorSpec>>,
+    pub(super) fracture: Option<Spanned<toml::Table>>,
 }
 
 #[derive(Deserialize)]

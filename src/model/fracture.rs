@@ -1,0 +1,373 @@
+//! The `[fracture]` table of a case (docs/case-format.md, docs/physics.md
+//! §9) and the record of a changing floe set: the floes that ended and the
+//! fractures of a run.
+//!
+//! The table is read with the shared [`SettingsReader`], so a bad value is
+//! refused with the file, the line and the key, and every number is checked
+//! against its [`Limit`] (listed in [`super::limits::CASE_LIMITS`],
+//! documented in docs/case-format.md). An absent table, or `model = "none"`, is no
+//! fracture: every formulation then runs exactly as without fracture.
+
+use super::limits::Limit;
+use super::settings::SettingsTable;
+use super::{CaseError, Floe};
+use serde::Serialize;
+
+/// Which fracture criterion a run uses (docs/physics.md §9.2, §9.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FractureModel {
+    /// No floe breaks (the default, and an absent table).
+    #[default]
+    None,
+    /// The impulse energy of a contact solve against `G h L` (§9.2).
+    Energy,
+    /// The floe-averaged stress against a yield curve (§9.3).
+    Stress,
+}
+
+impl FractureModel {
+    /// The name as written in the case file and in `fractures.csv`.
+    pub fn name(self) -> &'static str {
+        match self {
+            FractureModel::None => "none",
+            FractureModel::Energy => "energy",
+            FractureModel::Stress => "stress",
+        }
+    }
+}
+
+impl std::str::FromStr for FractureModel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "none" => Ok(FractureModel::None),
+            "energy" => Ok(FractureModel::Energy),
+            "stress" => Ok(FractureModel::Stress),
+            other => Err(format!(
+                "model = \"{other}\" is not a fracture model; expected \"none\", \"energy\" or \"stress\""
+            )),
+        }
+    }
+}
+
+/// The yield curve of the stress criterion (docs/physics.md §9.3).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum YieldCurve {
+    /// Mohr–Coulomb in principal stresses (the default, as in SubZero).
+    #[default]
+    Mohr,
+    /// Hibler's (1979) elliptical curve.
+    Hibler,
+}
+
+impl std::str::FromStr for YieldCurve {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "mohr" => Ok(YieldCurve::Mohr),
+            "hibler" => Ok(YieldCurve::Hibler),
+            other => Err(format!(
+                "yield = \"{other}\" is not a yield curve; expected \"mohr\" or \"hibler\""
+            )),
+        }
+    }
+}
+
+/// `toughness`: the fracture energy `G` of sea ice, J/m².
+pub const TOUGHNESS: Limit = Limit::range(
+    "toughness",
+    "[fracture]",
+    1e-3,
+    1e6,
+    "J/m^2",
+    "the physical 1.5–3.5 J/m² and FloeDyn's ×5000 (1.25e4) both fit",
+)
+.exclusive_min();
+/// `min_area`: a floe smaller than this never breaks, m².
+pub const MIN_AREA: Limit = Limit::range(
+    "min_area",
+    "[fracture]",
+    0.0,
+    1e14,
+    "m^2",
+    "the area of a 10 000 km square, above any floe",
+);
+/// `window`: the smoothing window of the stress criterion, s.
+pub const WINDOW: Limit = Limit::range(
+    "window",
+    "[fracture]",
+    0.0,
+    1e6,
+    "s",
+    "about 12 days; the mean force of a window needs a duration",
+)
+.exclusive_min();
+/// `mohr_q`: the slope ratio of the Mohr–Coulomb curve.
+pub const MOHR_Q: Limit = Limit::range(
+    "mohr_q",
+    "[fracture]",
+    1.0,
+    100.0,
+    "",
+    "q = tan²(π/4 + φ/2) > 1 for a friction angle φ > 0 (1 makes the triangle unbounded); 100 is φ ≈ 79°",
+)
+.exclusive_min();
+/// `mohr_sigma_c`: the uniaxial compressive strength of the Mohr–Coulomb curve, Pa.
+pub const MOHR_SIGMA_C: Limit = Limit::range(
+    "mohr_sigma_c",
+    "[fracture]",
+    0.0,
+    1e9,
+    "Pa",
+    "above the strength of any ice (about 1e7 Pa for small samples)",
+)
+.exclusive_min();
+/// `mohr_sigma_11`: the tensile-side principal stress of the Mohr–Coulomb
+/// curve at its vertex, Pa.
+pub const MOHR_SIGMA_11: Limit = Limit::magnitude(
+    "mohr_sigma_11",
+    "[fracture]",
+    1e9,
+    "Pa",
+    "above the strength of any ice",
+);
+/// `hibler_p_star`: Hibler's ice strength `P*`, N/m².
+pub const HIBLER_P_STAR: Limit = Limit::range(
+    "hibler_p_star",
+    "[fracture]",
+    0.0,
+    1e9,
+    "N/m^2",
+    "above the strength of any ice",
+)
+.exclusive_min();
+/// `hibler_c`: Hibler's concentration parameter `C`.
+pub const HIBLER_C: Limit = Limit::range(
+    "hibler_c",
+    "[fracture]",
+    0.0,
+    100.0,
+    "",
+    "20 is Hibler's; exp(−100) makes open ice of any strength",
+);
+/// `concentration`: the ice concentration `A` of Hibler's strength.
+pub const CONCENTRATION: Limit = Limit::range(
+    "concentration",
+    "[fracture]",
+    0.0,
+    1.0,
+    "",
+    "an area fraction",
+);
+
+/// Default `G`, J/m²: the middle of the 1.5–3.5 J/m² of sea ice (FloeDyn's
+/// documentation, from laboratory fracture toughness `K_IC` of 0.1–0.2
+/// MPa·m^½ and `G = K_IC² / E'`; docs/physics.md §9.2).
+pub const DEFAULT_TOUGHNESS: f64 = 2.5;
+/// Default smoothing window of the stress criterion, s: 10 s, a few LCP
+/// solves of the fixed-step schemes (1 s steps) and long enough that one
+/// impact's impulse alone does not read as a stress.
+pub const DEFAULT_WINDOW: f64 = 10.0;
+
+/// The `[fracture]` table, defaults resolved.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FractureSettings {
+    /// The criterion (default `none`).
+    pub model: FractureModel,
+    /// `G`, J/m² (default [`DEFAULT_TOUGHNESS`]).
+    pub toughness: f64,
+    /// A floe of smaller area never breaks, m² (default: a quarter of the
+    /// smallest initial floe: two halvings).
+    pub min_area: f64,
+    /// The stress criterion's yield curve (default `mohr`).
+    pub yield_curve: YieldCurve,
+    /// The stress smoothing window, s (default [`DEFAULT_WINDOW`]).
+    pub window: f64,
+    /// Mohr–Coulomb `q` (default 5.2, SubZero).
+    pub mohr_q: f64,
+    /// Mohr–Coulomb `σ_c`, Pa (default 2.5e5, SubZero).
+    pub mohr_sigma_c: f64,
+    /// Mohr–Coulomb `σ_11`, Pa (default −3.375e4, SubZero).
+    pub mohr_sigma_11: f64,
+    /// Hibler `P*`, N/m² (default 2.25e5).
+    pub hibler_p_star: f64,
+    /// Hibler `C` (default 20).
+    pub hibler_c: f64,
+    /// Ice concentration `A` of Hibler's strength (default 1: compact ice).
+    pub concentration: f64,
+}
+
+impl Default for FractureSettings {
+    fn default() -> Self {
+        FractureSettings {
+            model: FractureModel::None,
+            toughness: DEFAULT_TOUGHNESS,
+            min_area: 0.0,
+            yield_curve: YieldCurve::Mohr,
+            window: DEFAULT_WINDOW,
+            mohr_q: 5.2,
+            mohr_sigma_c: 2.5e5,
+            mohr_sigma_11: -3.375e4,
+            hibler_p_star: 2.25e5,
+            hibler_c: 20.0,
+            concentration: 1.0,
+        }
+    }
+}
+
+impl FractureSettings {
+    /// Whether floes can break.
+    pub fn enabled(&self) -> bool {
+        self.model != FractureModel::None
+    }
+
+    /// Reads the table for the initial `floes` (the default `min_area` is a
+    /// quarter of the smallest one's area); errors name the line and key.
+    pub fn from_table(t: &SettingsTable, floes: &[Floe]) -> Result<FractureSettings, CaseError> {
+        let mut s = FractureSettings {
+            min_area: 0.25 * floes.iter().map(|f| f.area).fold(f64::INFINITY, f64::min),
+            ..FractureSettings::default()
+        };
+        if !s.min_area.is_finite() {
+            s.min_area = 0.0;
+        }
+        let mut r = t.read();
+        if let Some(m) = r.choice::<FractureModel>("model")? {
+            s.model = m;
+        }
+        if let Some(y) = r.choice::<YieldCurve>("yield")? {
+            s.yield_curve = y;
+        }
+        let numbers: [(&Limit, &mut f64); 9] = [
+            (&TOUGHNESS, &mut s.toughness),
+            (&MIN_AREA, &mut s.min_area),
+            (&WINDOW, &mut s.window),
+            (&MOHR_Q, &mut s.mohr_q),
+            (&MOHR_SIGMA_C, &mut s.mohr_sigma_c),
+            (&MOHR_SIGMA_11, &mut s.mohr_sigma_11),
+            (&HIBLER_P_STAR, &mut s.hibler_p_star),
+            (&HIBLER_C, &mut s.hibler_c),
+            (&CONCENTRATION, &mut s.concentration),
+        ];
+        for (limit, slot) in numbers {
+            if let Some(v) = r.bounded(limit)? {
+                *slot = v;
+            }
+        }
+        r.finish()?;
+        Ok(s)
+    }
+}
+
+/// One floe that existed during a run, as `floes.json` lists it.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FloeRecord {
+    /// Stable id (the `floe` column of `trajectory.csv`).
+    pub id: usize,
+    /// The floe it is a piece of (`null` for the initial floes).
+    pub parent: Option<usize>,
+    /// When it began, s.
+    pub t_birth: f64,
+    /// The orientation of its body frame at birth against its first
+    /// ancestor's at t = 0, rad (0 for the initial floes).
+    pub theta_birth: f64,
+    /// When it broke, s (`null` if alive at the end).
+    pub t_end: Option<f64>,
+    /// Area, m².
+    pub area: f64,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Polar moment of inertia about its centre of mass, kg·m².
+    pub inertia: f64,
+    /// Thickness, m.
+    pub thickness: f64,
+    /// Outline in its body frame (centre of mass at the origin, at angle 0
+    /// of its trajectory), counter-clockwise, m.
+    pub polygon: Vec<[f64; 2]>,
+}
+
+impl FloeRecord {
+    /// The record of `floe`, ended at `t_end` (s) or alive.
+    pub fn of(floe: &Floe, t_end: Option<f64>) -> FloeRecord {
+        FloeRecord {
+            id: floe.id,
+            parent: floe.parent,
+            t_birth: floe.t_birth,
+            theta_birth: floe.theta_birth,
+            t_end,
+            area: floe.area,
+            mass: floe.mass,
+            inertia: floe.inertia,
+            thickness: floe.thickness,
+            polygon: floe.shape.iter().map(|p| [p.x, p.y]).collect(),
+        }
+    }
+}
+
+impl FloeRecord {
+    /// The outline at centre `g` (m) and angle `theta` (rad) of its
+    /// trajectory, into `out` (m).
+    pub fn world_polygon(
+        &self,
+        g: &crate::geometry::Vec2,
+        theta: f64,
+        out: &mut Vec<crate::geometry::Vec2>,
+    ) {
+        let shape: Vec<crate::geometry::Vec2> = self
+            .polygon
+            .iter()
+            .map(|p| crate::geometry::Vec2::new(p[0], p[1]))
+            .collect();
+        crate::geometry::place(&shape, g, theta, out);
+    }
+}
+
+/// One fracture, a row of `fractures.csv`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FractureRecord {
+    /// Time, s.
+    pub t: f64,
+    /// The floe that broke.
+    pub parent: usize,
+    /// The ids of its pieces.
+    pub children: Vec<usize>,
+    /// The criterion (`energy`, `stress`).
+    pub model: &'static str,
+    /// What the criterion measured (J for `energy`; the yield function,
+    /// Pa, for `stress`).
+    pub measure: f64,
+    /// What it was compared with (J for `energy`: `G h L`; 0 for `stress`).
+    pub threshold: f64,
+    /// Energy the fracture took out of the contact dissipation into the
+    /// ledger's `fracture` column, J.
+    pub energy: f64,
+    /// The largest relative change the split made to what it conserves:
+    /// area, mass, kinetic energy (each relative to the parent's), linear
+    /// momentum (relative to `M (|v| + |ω| r)`) and angular momentum about
+    /// the parent's centre of mass (relative to `M (|v| + |ω| r) r`), `r`
+    /// the parent's radius (docs/physics.md §9.1; rounding only).
+    pub conservation: f64,
+}
+
+/// The floes that ended and the fractures of a run so far.
+#[derive(Debug, Clone, PartialEq, Default, Serialize)]
+pub struct FloeHistory {
+    /// The floes that broke, with their end time.
+    pub ended: Vec<FloeRecord>,
+    /// Every fracture, in time order.
+    pub fractures: Vec<FractureRecord>,
+    /// The id the next piece gets.
+    pub next_id: usize,
+}
+
+impl FloeHistory {
+    /// The history of a case of `n` initial floes (ids `0..n`).
+    pub fn new(n: usize) -> FloeHistory {
+        FloeHistory {
+            next_id: n,
+            ..FloeHistory::default()
+        }
+    }
+}
