@@ -1553,6 +1553,7 @@ impl Formulation for EventDriven {
         }
         let end = scn.duration.max(t_end);
         while cur.t < t_end {
+            super::poll_interrupt(cur.t)?;
             self.step(scn, &mut cur, end, clock)?;
         }
         let out = clock.time(Stage::Integration, || {

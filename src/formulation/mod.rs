@@ -51,6 +51,25 @@ pub enum FormulationError {
     /// Anything else, with a message naming the floe or contact.
     #[error("{0}")]
     Other(String),
+    /// SIGINT or SIGTERM arrived between two steps of the formulation's own
+    /// grid ([`crate::run::interrupt`]), at the time `t` of its state, s:
+    /// the run ends at its last output time, as at an output.
+    #[error("interrupted at t = {t} s")]
+    Interrupted {
+        /// The formulation's own time when it stopped, s.
+        t: f64,
+    },
+}
+
+/// [`FormulationError::Interrupted`] at `t` if a signal asked the runs to
+/// stop: the step loops of the formulations poll it once per step (an
+/// atomic load), so a run whose outputs are far apart still stops at once.
+pub fn poll_interrupt(t: f64) -> Result<(), FormulationError> {
+    if crate::run::interrupt::requested() {
+        Err(FormulationError::Interrupted { t })
+    } else {
+        Ok(())
+    }
 }
 
 /// A strategy for advancing a scenario in time.

@@ -640,6 +640,7 @@ impl Formulation for Moreau {
         let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
         // Steps of h on the grid t_k = k h (module doc).
         for _ in 0..steps {
+            super::poll_interrupt(cur.t)?;
             self.step_once(scn, &mut cur, self.step, clock)?;
             self.grid.stepped(&mut cur);
             // Fractures between steps (docs/physics.md §9.5): at t_{k+1},

@@ -2,12 +2,13 @@
 //!
 //! [`install`] (called once by the command line, never by the library on its
 //! own) makes the first SIGINT or SIGTERM set a flag instead of killing the
-//! process. Every run polls it at each output time ([`requested`]): an
-//! interrupted run ends there with [`super::EndReason::Interrupted`], its
-//! outputs written up to that output time, and the batch runner starts no
-//! new run. A second signal has the default effect (the process ends at
-//! once), so a run that takes long to reach its next output can still be
-//! stopped.
+//! process. Every run polls it at each output time ([`requested`]), and the
+//! formulations poll it at each step of their own grid
+//! ([`crate::formulation::poll_interrupt`]): an interrupted run ends with
+//! [`super::EndReason::Interrupted`], its outputs written up to its last
+//! output time, and the batch runner starts no new run. A second signal has
+//! the default effect (the process ends at once), so a step that takes long
+//! can still be stopped.
 //!
 //! The handler only stores to an atomic flag, which is async-signal-safe.
 

@@ -15,7 +15,7 @@ pub mod interrupt;
 pub mod output;
 pub mod repeat;
 
-use crate::formulation::Formulation;
+use crate::formulation::{Formulation, FormulationError};
 use crate::model::fracture::{FloeRecord, FractureRecord};
 use crate::model::Scenario;
 use crate::record::{
@@ -338,11 +338,19 @@ impl Runner {
                 break;
             }
             let mut next = sys.clone();
-            if let Err(e) = form.advance(scn, &mut next, t, &mut clock) {
-                end = EndReason::Failed {
-                    message: format!("at t = {} s: {e}", sys.t),
-                };
-                break;
+            match form.advance(scn, &mut next, t, &mut clock) {
+                Ok(()) => {}
+                // A signal between two steps: ended as at an output time.
+                Err(FormulationError::Interrupted { .. }) => {
+                    end = EndReason::Interrupted { t: sys.t };
+                    break;
+                }
+                Err(e) => {
+                    end = EndReason::Failed {
+                        message: format!("at t = {} s: {e}", sys.t),
+                    };
+                    break;
+                }
             }
             next.t = t;
             if let Some((floe, quantity)) = first_non_finite(&next, scn, &sample(scn, &next, e0)) {

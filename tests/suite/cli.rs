@@ -361,6 +361,43 @@ fn sigint_ends_a_run_with_its_outputs_written_up_to_the_last_output_time() {
 }
 
 #[test]
+fn sigint_between_two_outputs_stops_the_formulation_at_its_next_step() {
+    // One output, at the end of 6 h: the formulations poll the signal once
+    // per step of their own grid, so the run ends interrupted at its last
+    // output (t = 0), not after the whole run.
+    let dir = tempdir();
+    let text = std::fs::read_to_string(case_path("fields/field_200_coast"))
+        .unwrap()
+        .replace("output_interval = 300.0", "output_interval = 21600.0");
+    assert!(text.contains("output_interval = 21600.0"));
+    let case = dir.path().join("field_200_coast.toml");
+    std::fs::write(&case, text).unwrap();
+    for f in ["event-driven", "moreau-cone", "rapier"] {
+        let out = dir.path().join(f);
+        let (code, stderr) = interrupt_after(
+            &[
+                "run".as_ref(),
+                case.as_os_str(),
+                "-f".as_ref(),
+                f.as_ref(),
+                "-o".as_ref(),
+                out.as_os_str(),
+                "--quiet".as_ref(),
+            ],
+            "field_200_coast:",
+            std::time::Duration::from_millis(1500),
+            libc::SIGINT,
+        );
+        assert_eq!(code, Some(130), "{f}: {stderr}");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                .unwrap();
+        assert_eq!(summary["end"]["reason"], "interrupted", "{f}: {summary}");
+        assert_eq!(summary["t_reached"].as_f64(), Some(0.0), "{f}");
+    }
+}
+
+#[test]
 fn sigterm_during_compare_keeps_the_cases_that_finished() {
     let dir = tempdir();
     let out = dir.path().join("report");

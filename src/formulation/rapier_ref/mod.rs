@@ -935,6 +935,7 @@ impl Formulation for RapierReference {
         self.sync_in(&cur.bodies);
         // Steps of h on the grid t_k = k h.
         for _ in 0..steps {
+            super::poll_interrupt(cur.t)?;
             self.step(scn, &mut cur, self.settings.step, clock)?;
             self.grid.stepped(&mut cur);
             // Fractures between steps (docs/physics.md §9.5): the parent's
