@@ -240,6 +240,32 @@ pub struct RunSummary {
     /// CPU time (split like the stages).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub lcp_profile: Option<SolveProfile>,
+    /// The stepping counters per simulated hour (1/h): every counter whose
+    /// name starts with `steps` (steps taken, rejected, cut by each kind of
+    /// event), `integrator_steps`, `integrator_rejected_steps`,
+    /// `events_located`, `impacts` and `lcp_solves`, divided by the time
+    /// reached in hours ([`per_simulated_hour`]); empty at t = 0.
+    pub per_simulated_hour: std::collections::BTreeMap<String, f64>,
+}
+
+/// The stepping counters of `counters` per simulated hour over `t` s (see
+/// [`RunSummary::per_simulated_hour`]).
+pub fn per_simulated_hour(counters: &Counters, t: f64) -> std::collections::BTreeMap<String, f64> {
+    const ALSO: [&str; 5] = [
+        "integrator_steps",
+        "integrator_rejected_steps",
+        "events_located",
+        "impacts",
+        "lcp_solves",
+    ];
+    if t.is_nan() || t <= 0.0 {
+        return Default::default();
+    }
+    counters
+        .iter()
+        .filter(|(c, _)| c.name.starts_with("steps") || ALSO.contains(&c.name))
+        .map(|(c, v)| (c.name.to_string(), v * 3600.0 / t))
+        .collect()
 }
 
 /// The recorded result of a run.
@@ -408,6 +434,7 @@ impl Runner {
                 + last.dissipated.abs()
                 + last.fracture.abs(),
         };
+        let counters = form.counters();
         let summary = RunSummary {
             case: scn.name.clone(),
             formulation: label.to_string(),
@@ -430,7 +457,8 @@ impl Runner {
             },
             energy: totals,
             settings: form.settings(),
-            counters: form.counters(),
+            per_simulated_hour: per_simulated_hour(&counters, sys.t),
+            counters,
             lcp_profile,
         };
         RunResult {

@@ -309,3 +309,32 @@ fn events_of_pairs_already_in_contact_are_counted_apart() {
     let (r, _) = run(&load("bouncing_floe"));
     assert_eq!(counter(&r, "events_of_pairs_in_contact"), 0.0);
 }
+
+#[test]
+fn the_summary_gives_the_stepping_counters_per_simulated_hour() {
+    let scn = crate::common::load("narrow_channel");
+    let r = crate::common::run(&scn, "event-driven");
+    let rates = &r.summary.per_simulated_hour;
+    let hours = r.summary.t_reached / 3600.0;
+    for name in [
+        "steps",
+        "steps_rejected_penetration",
+        "events_located",
+        "lcp_solves",
+    ] {
+        let per_hour = rates
+            .get(name)
+            .copied()
+            .unwrap_or_else(|| panic!("no {name}: {rates:?}"));
+        let count = crate::common::counter(&r, name);
+        assert!(count > 0.0, "{name}");
+        assert!(
+            (per_hour * hours - count).abs() <= 1e-9 * count,
+            "{name}: {per_hour}/h"
+        );
+    }
+    assert!(
+        !rates.contains_key("max_penetration_m"),
+        "only stepping counters"
+    );
+}
