@@ -2,11 +2,13 @@
 //! differs ([`super::divergence`]), every figure in long format
 //! ([`super::metrics`]), the physical checks of every run
 //! ([`super::check`]), the spread of the CPU times over the repeats
-//! ([`super::spread`]) and whether the case is chaotic ([`super::chaos`]).
+//! ([`super::spread`]), whether the case is chaotic ([`super::chaos`]) and,
+//! when floes can break, the floe-size distributions ([`super::floe_sizes`]).
 
 use super::chaos::{self, ChaosProbe};
 use super::check::{self, CheckOutcome};
 use super::divergence::{self, PairDivergence, TimeMismatch};
+use super::floe_sizes::{floe_sizes, FloeSizes};
 use super::metrics::{self, MetricRow};
 use super::spread::Spread;
 use crate::model::Scenario;
@@ -40,6 +42,9 @@ pub struct CaseComparison {
     pub checks: Vec<CheckOutcome>,
     /// Every figure of the runs and of the pairs.
     pub metrics: Vec<MetricRow>,
+    /// The floe-size distributions, at the start and at the end of every
+    /// run (empty unless floes can break: [`floe_sizes`]).
+    pub floe_sizes: Vec<FloeSizes>,
 }
 
 /// Measures the runs of one case: the divergence of every pair, every
@@ -86,6 +91,7 @@ pub fn assess(
         rows.extend(metrics::chaos_metrics(&scenario.name, c));
     }
     let checks = check::check_runs(&scenario, &runs);
+    let sizes = floe_sizes(&scenario, &runs);
     Ok(CaseComparison {
         path,
         scenario,
@@ -97,5 +103,6 @@ pub fn assess(
         pairs,
         checks,
         metrics: rows,
+        floe_sizes: sizes,
     })
 }

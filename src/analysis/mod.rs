@@ -6,6 +6,8 @@
 //! - [`metrics`]: every figure of a run and of a pair of runs, in long format;
 //! - [`comparison`]: one case's runs with their divergences, figures and checks;
 //! - [`chaos`]: whether a case is chaotic (the growth of a 1e-12 perturbation);
+//! - [`floe_sizes`]: the floe-size distribution of a fracture case, at the
+//!   start and at the end of every run;
 //! - [`spread`]: median and spread of repeated measurements (CPU times);
 //! - [`ranking`]: formulations ranked by a figure, with ties (errors to exact
 //!   answers, dissipation, CPU time).
@@ -14,6 +16,7 @@ pub mod chaos;
 pub mod check;
 pub mod comparison;
 pub mod divergence;
+pub mod floe_sizes;
 pub mod metrics;
 pub mod ranking;
 pub mod spread;

@@ -6,9 +6,10 @@
 //! <out>/<case>/metrics.csv            case,formulation,other,metric,value,unit (long format)
 //! <out>/<case>/divergence.csv         t,a,b,rms_position_rel,max_position_m,rms_angle_rad,max_angle_rad
 //! <out>/<case>/checks.csv             case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note
+//! <out>/<case>/floe_sizes.csv         formulation,when,area_m2,count_at_least (cases whose floes can break)
 //! <out>/<case>/summary.json           the case, each run's summary, the pairs, the verdict
 //! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json (as `floebench run`)
-//! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu
+//! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu, floe_sizes
 //! <out>/<case>/animation.gif          the floes over time, one panel per completed run
 //! ```
 //!
@@ -31,6 +32,7 @@ use crate::analysis::chaos::ChaosProbe;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::{self, PairDivergence};
+use crate::analysis::floe_sizes::FloeSizes;
 use crate::analysis::metrics::MetricRow;
 use crate::analysis::spread::Spread;
 use crate::run::output::{self, write_atomic};
@@ -75,6 +77,18 @@ pub fn divergence_csv(pairs: &[PairDivergence]) -> String {
                 d.rms_angle_rad,
                 d.max_angle_rad
             );
+        }
+    }
+    s
+}
+
+/// `floe_sizes.csv`: one row per point of each distribution
+/// (`formulation` empty for the start, the case's initial floes).
+pub fn floe_sizes_csv(sizes: &[FloeSizes]) -> String {
+    let mut s = String::from("formulation,when,area_m2,count_at_least\n");
+    for d in sizes {
+        for (a, n) in &d.points {
+            let _ = writeln!(s, "{},{},{a},{n}", d.formulation, d.when.name());
         }
     }
     s
@@ -186,12 +200,18 @@ fn write_case(comp: &CaseComparison, dir: &Path) -> Result<CaseParts, ReportErro
         path: dir.join("summary.json"),
         source: std::io::Error::other(e),
     })?;
-    let files = [
+    let mut files = vec![
         ("metrics.csv", metrics_csv(&comp.metrics).into_bytes()),
         ("divergence.csv", divergence_csv(&comp.pairs).into_bytes()),
         ("checks.csv", checks_csv(&comp.checks).into_bytes()),
         ("summary.json", json),
     ];
+    if !comp.floe_sizes.is_empty() {
+        files.push((
+            "floe_sizes.csv",
+            floe_sizes_csv(&comp.floe_sizes).into_bytes(),
+        ));
+    }
     for (name, bytes) in files {
         let p = dir.join(name);
         write_atomic(&p, &bytes).map_err(io_err(&p))?;

@@ -9,6 +9,10 @@
 //!   travel furthest in the reference run), every formulation;
 //! - `snapshots`: the floe field at the start, middle and end, one column
 //!   per formulation;
+//! - `floe_sizes` (cases whose floes can break): the number of floes of
+//!   area at least `A` against `A`, log–log, of the initial floes (black
+//!   dashes) and of the floes alive at the end of every run, from the data
+//!   of `floe_sizes.csv` ([`crate::analysis::floe_sizes`]);
 //! - `cpu`: CPU time per stage of the run of median CPU time, one stacked bar
 //!   per formulation, its ratio to the fastest median above it;
 //! - `exact_*`: where the checks know the exact motion
@@ -31,6 +35,7 @@ use super::ReportError;
 use crate::analysis::check::curves::exact_curves;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::frames;
+use crate::analysis::floe_sizes::When;
 use crate::geometry::Vec2;
 use crate::model::Scenario;
 use crate::run::{EndReason, RunResult, TrajectoryRow};
@@ -189,6 +194,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 x_label: "t (s)",
                 y_label,
                 series: &energy_series(comp, f),
+                x_scale: Scale::Linear,
                 y_scale: Scale::Linear,
                 marks: &[],
             },
@@ -245,6 +251,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                     x_label: "t (s)",
                     y_label: "RMS position difference / mean floe diameter d̄ (-)",
                     series: &series,
+                    x_scale: Scale::Linear,
                     y_scale: Scale::Auto,
                     marks: &[],
                 },
@@ -342,6 +349,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         );
         exact_figures(comp, dir, &mut add)?;
     }
+    floe_size_figure(comp, dir, &mut add)?;
 
     let categories: Vec<String> = comp
         .runs
@@ -393,6 +401,80 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
     Ok(figs)
 }
 
+/// The corners of the staircase of a complementary cumulative count
+/// (`points` ascending in area): the count `N_k` holds on `(A_{k−1}, A_k]`
+/// and drops to `N_{k+1}` just above `A_k`.
+fn staircase(points: &[(f64, usize)]) -> Vec<(f64, f64)> {
+    let mut out = Vec::with_capacity(2 * points.len());
+    for (k, &(a, n)) in points.iter().enumerate() {
+        if k > 0 {
+            out.push((points[k - 1].0, n as f64));
+        }
+        out.push((a, n as f64));
+    }
+    out
+}
+
+/// `floe_sizes`: the floe-size distributions of `comp` (none drawn when it
+/// has none).
+fn floe_size_figure(
+    comp: &CaseComparison,
+    dir: &Path,
+    add: &mut impl FnMut(&str, String, &str),
+) -> Result<(), ReportError> {
+    if comp.floe_sizes.is_empty() {
+        return Ok(());
+    }
+    let series: Vec<Series> = comp
+        .floe_sizes
+        .iter()
+        .map(|d| match d.when {
+            When::Start => Series {
+                dash: Some(1),
+                ..Series::new("start (every run)", plot::EXACT, staircase(&d.points))
+            },
+            When::End => {
+                let i = comp
+                    .runs
+                    .iter()
+                    .position(|r| r.summary.formulation == d.formulation)
+                    .unwrap_or(0);
+                let label = match comp.runs.get(i) {
+                    Some(r) if r.summary.end != EndReason::Completed => format!(
+                        "{}, where it stopped (t = {} s)",
+                        d.formulation, r.summary.t_reached
+                    ),
+                    _ => format!("{}, end", d.formulation),
+                };
+                Series::new(label, i, staircase(&d.points))
+            }
+        })
+        .collect();
+    let stem = dir.join("floe_sizes");
+    plot::line_chart(
+        &LineChart {
+            title: &format!(
+                "{}: floe sizes at the start and the end",
+                comp.scenario.name
+            ),
+            x_label: "floe area A (m²)",
+            y_label: "floes of area ≥ A (count)",
+            series: &series,
+            x_scale: Scale::Log,
+            y_scale: Scale::Log,
+            marks: &[],
+        },
+        &stem,
+    )
+    .map_err(plot_err(&stem))?;
+    add(
+        "floe_sizes",
+        "floe-size distribution at the start and the end".into(),
+        "the number of floes whose area is at least A against A (a complementary cumulative count, log–log; data in floe_sizes.csv): the initial floes in black dashes, the floes alive at the end of each run in its colour; a run that broke floes moves its curve to smaller areas and larger counts, a single size is a dot; the runs' curves are dashed differently so that coinciding ones stay visible, but coinciding dots hide each other (the CSV has every one)",
+    );
+    Ok(())
+}
+
 /// The plots of the exact curves of `comp` ([`exact_curves`]): each run's
 /// measurement (its colour) and the exact curve (black dashes), marked
 /// instants as vertical lines.
@@ -434,6 +516,7 @@ fn exact_figures(
                     x_label: &c.x_label,
                     y_label: &c.y_label,
                     series: &series,
+                    x_scale: Scale::Linear,
                     y_scale: Scale::Linear,
                     marks: &c.marks,
                 },

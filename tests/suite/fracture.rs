@@ -3,7 +3,7 @@
 //! validated, `model = "none"` is no fracture, and the energy criterion's
 //! critical ramming speed is its closed form.
 
-use crate::common::{run, scenario};
+use crate::common::{case_path, floebench, run, scenario, tempdir};
 use floebench::analysis::check::ram_critical_speed_of;
 use floebench::formulation::parse_case;
 use floebench::fracture::split::{cut, cut_floe, split};
@@ -423,4 +423,63 @@ fn runs_that_break_differently_are_compared_by_each_initial_floes_material() {
             b.trajectory
         );
     }
+}
+
+#[test]
+fn compare_writes_the_floe_size_distribution_of_a_fracture_case_and_none_elsewhere() {
+    let dir = tempdir();
+    let out = dir.path().join("reports");
+    let o = floebench()
+        .arg("compare")
+        .arg(case_path("fracture_ram"))
+        .arg(case_path("head_on"))
+        .args(["--formulations", "event-driven,moreau", "--quiet", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("fracture_ram/floe_sizes.csv")).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("formulation,when,area_m2,count_at_least")
+    );
+    let rows: Vec<(String, String, f64, usize)> = lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            assert_eq!(f.len(), 4, "{l}");
+            (
+                f[0].to_string(),
+                f[1].to_string(),
+                f[2].parse().unwrap(),
+                f[3].parse().unwrap(),
+            )
+        })
+        .collect();
+    // The start: the one initial floe of 100 m².
+    let start: Vec<_> = rows.iter().filter(|r| r.1 == "start").collect();
+    assert_eq!(start.len(), 1, "{rows:?}");
+    assert!(start[0].0.is_empty() && rel(start[0].2, 100.0) < 1e-12 && start[0].3 == 1);
+    // The end of each run: two pieces of 50 m² (one size), the count at
+    // the smallest area the number of floes alive.
+    for f in ["event-driven", "moreau"] {
+        let end: Vec<_> = rows.iter().filter(|r| r.0 == f && r.1 == "end").collect();
+        assert_eq!(end.len(), 1, "{f}: {rows:?}");
+        assert!(rel(end[0].2, 50.0) < 1e-9 && end[0].3 == 2, "{f}: {end:?}");
+    }
+    for ext in ["png", "svg"] {
+        let p = out.join(format!("fracture_ram/floe_sizes.{ext}"));
+        assert!(
+            std::fs::metadata(&p).is_ok_and(|m| m.len() > 1000),
+            "{}",
+            p.display()
+        );
+    }
+    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
+    assert!(md.contains("fracture_ram/floe_sizes.png") && md.contains("**floe_sizes**"));
+    // A case without a [fracture] table has none of it.
+    for file in ["floe_sizes.csv", "floe_sizes.png", "floe_sizes.svg"] {
+        assert!(!out.join("head_on").join(file).exists(), "head_on/{file}");
+    }
+    assert!(!md.contains("head_on/floe_sizes"));
 }

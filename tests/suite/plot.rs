@@ -52,6 +52,7 @@ fn line(dir: &Path, name: &str, s: &[Series], y_scale: Scale) -> Result<[PathBuf
         x_label: "t (s)",
         y_label: "kinetic energy (J)",
         series: s,
+        x_scale: Scale::Linear,
         y_scale,
         marks: &[(10.0, "t1".into()), (50.0, "rest".into())],
     };
@@ -268,6 +269,7 @@ fn demo_images() {
         x_label: "t (s)",
         y_label: "kinetic energy (J)",
         series: &s,
+        x_scale: Scale::Linear,
         y_scale: Scale::Linear,
         marks: &[(3000.0, "t1".into())],
     };
@@ -296,6 +298,7 @@ fn demo_images() {
         x_label: "t (s)",
         y_label: "energy error (J)",
         series: &small,
+        x_scale: Scale::Linear,
         y_scale: Scale::Linear,
         marks: &[],
     };

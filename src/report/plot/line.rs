@@ -24,6 +24,8 @@ pub(super) struct Xy<'a> {
     pub(super) obstacles: &'a [Vec<(f64, f64)>],
     /// Equal aspect ratio, start markers, padded x range.
     pub(super) plan: bool,
+    /// Ignored for plans (equal aspect needs linear axes).
+    pub(super) x_scale: Scale,
     pub(super) y_scale: Scale,
     /// Vertical lines at these x values, labelled at the top.
     pub(super) marks: &'a [(f64, String)],
@@ -46,7 +48,7 @@ impl Xy<'_> {
         y_area: u32,
     ) -> Result<(), PlotError> {
         let (xf, yf) = (x.fmt(), y.fmt());
-        let log = y.log;
+        let (log, xlog) = (y.log, x.log);
         let mut chart = ChartBuilder::on(area)
             .margin(MARGIN)
             .margin_right(2 * MARGIN)
@@ -67,7 +69,9 @@ impl Xy<'_> {
             OBSTACLE_EDGE,
         )?;
 
-        let ok = |p: &(f64, f64)| p.0.is_finite() && p.1.is_finite() && (!log || p.1 > 0.0);
+        let ok = |p: &(f64, f64)| {
+            p.0.is_finite() && p.1.is_finite() && (!log || p.1 > 0.0) && (!xlog || p.0 > 0.0)
+        };
         let mut occupied: Vec<Rect> = Vec::new();
         for o in self.obstacles {
             let px: Vec<_> = finite(o).iter().map(|p| chart.backend_coord(p)).collect();
@@ -178,16 +182,29 @@ impl Figure for Xy<'_> {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Result<(), PlotError> {
         let area = titled(root, self.title)?;
         let log = !self.plan && is_log(self.y_scale, self.points().map(|p| p.1));
+        let xlog = !self.plan && is_log(self.x_scale, self.points().map(|p| p.0));
         let all = || self.points().chain(self.obstacles.iter().flatten());
         let pad = if self.plan { 0.05 } else { 0.0 };
-        let x0 = bounds(all().map(|p| p.0), pad);
+        let x0 = if xlog {
+            log_bounds(self.points().filter(|p| p.1.is_finite()).map(|p| p.0), 0.05)
+        } else {
+            bounds(all().map(|p| p.0), pad)
+        };
         let y0 = if log {
-            log_bounds(self.points().filter(|p| p.0.is_finite()).map(|p| p.1), 0.05)
+            log_bounds(
+                self.points()
+                    .filter(|p| p.0.is_finite() && (!xlog || p.0 > 0.0))
+                    .map(|p| p.1),
+                0.05,
+            )
         } else {
             bounds(all().map(|p| p.1), 0.05)
         };
         let (mut x, mut y) = (
-            Axis::linear(x0.clone()),
+            Axis {
+                range: x0.clone(),
+                log: xlog,
+            },
             Axis {
                 range: y0.clone(),
                 log,

@@ -146,6 +146,8 @@ pub struct LineChart<'a> {
     /// The curves; the n-th is drawn solid, the following ones with dash
     /// patterns so exactly coinciding curves stay distinguishable.
     pub series: &'a [Series],
+    /// Scale of the x axis ([`Scale::Log`]: points with `x <= 0` are skipped).
+    pub x_scale: Scale,
     /// Scale of the y axis.
     pub y_scale: Scale,
     /// Marked x values (vertical lines, e.g. exact impact times), with a
@@ -274,6 +276,7 @@ pub fn line_chart(chart: &LineChart, stem: &Path) -> Result<[PathBuf; 2], PlotEr
             series: chart.series,
             obstacles: &[],
             plan: false,
+            x_scale: chart.x_scale,
             y_scale: chart.y_scale,
             marks: chart.marks,
             labels: &[],
@@ -317,6 +320,7 @@ pub fn plan_view(chart: &PlanView, stem: &Path) -> Result<[PathBuf; 2], PlotErro
             series: chart.paths,
             obstacles: chart.obstacles,
             plan: true,
+            x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             marks: &[],
             labels: chart.labels,
