@@ -377,7 +377,9 @@ fn the_stress_criterion_breaks_a_floe_whose_window_stress_leaves_the_mohr_triang
     let base = RAM
         .replace("SPEED", "0.02")
         .replace("duration = 4.0", "duration = 40.0");
-    let weak = "model = \"stress\"\nmohr_sigma_c = 10.0\nmohr_sigma_11 = -1.35\nmin_area = 60.0";
+    // min_area = 50 m²: the halves may be made, and no cut of a half (into
+    // pieces below 50 m²) is.
+    let weak = "model = \"stress\"\nmohr_sigma_c = 10.0\nmohr_sigma_11 = -1.35\nmin_area = 50.0";
     for (table, breaks) in [(weak, true), ("model = \"stress\"", false)] {
         let scn = scenario(&format!("{base}\n[fracture]\n{table}\n"));
         let r = run(&scn, "event-driven");
