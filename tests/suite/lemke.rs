@@ -811,6 +811,32 @@ fn psd_singular_lcps_are_solved() {
     assert_valid_solution(&m, &q, &r.z, 1e-12, "[[1,-1],[-1,1]]"); // exact tiny data
 }
 
+/// A feasible copositive-plus LCP of size `n`: `M = B Bᵀ + (S − Sᵀ)` with
+/// `B` of `rank` columns (positive semidefinite, non-symmetric) and
+/// `q = w* − M z*` for a random complementary pair `(z*, w*) ≥ 0`.
+fn feasible_psd(rng: &mut SplitMix64, n: usize, rank: usize) -> (Vec<f64>, Vec<f64>) {
+    let b: Vec<f64> = (0..n * rank).map(|_| rng.range(-1.0, 1.0)).collect();
+    let s = random_matrix(rng, n);
+    let mut m = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..n {
+            let bb: f64 = (0..rank).map(|t| b[i * rank + t] * b[j * rank + t]).sum();
+            m[i * n + j] = bb + (s[i * n + j] - s[j * n + i]);
+        }
+    }
+    let (mut zs, mut ws) = (vec![0.0; n], vec![0.0; n]);
+    for i in 0..n {
+        match rng.next_u64() % 3 {
+            0 => zs[i] = rng.uniform(),
+            1 => ws[i] = rng.uniform(),
+            _ => {}
+        }
+    }
+    let mz = compute_w(&m, &vec![0.0; n], &zs).expect("sizes");
+    let q = (0..n).map(|i| ws[i] - mz[i]).collect();
+    (m, q)
+}
+
 #[test]
 fn random_feasible_copositive_plus_lcps_are_solved() {
     // M = B Bᵀ + (S − Sᵀ) with B n×r, r < n: positive semidefinite, singular,
@@ -824,26 +850,7 @@ fn random_feasible_copositive_plus_lcps_are_solved() {
     for k in 0..count {
         let n = 2 + ((rng.next_u64() % 29) as usize);
         let rank = 1 + ((rng.next_u64() % n as u64 - 1) as usize);
-        let b: Vec<f64> = (0..n * rank).map(|_| rng.range(-1.0, 1.0)).collect();
-        let s = random_matrix(&mut rng, n);
-        let mut m = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                let bb: f64 = (0..rank).map(|t| b[i * rank + t] * b[j * rank + t]).sum();
-                m[i * n + j] = bb + (s[i * n + j] - s[j * n + i]);
-            }
-        }
-        let mut zs = vec![0.0; n];
-        let mut ws = vec![0.0; n];
-        for i in 0..n {
-            match rng.next_u64() % 3 {
-                0 => zs[i] = rng.uniform(),
-                1 => ws[i] = rng.uniform(),
-                _ => {}
-            }
-        }
-        let mz = compute_w(&m, &vec![0.0; n], &zs).expect("sizes");
-        let q: Vec<f64> = (0..n).map(|i| ws[i] - mz[i]).collect();
+        let (m, q) = feasible_psd(&mut rng, n, rank);
         let sol = solve(
             &Lcp::new(n, m.clone(), q.clone()).expect("sizes"),
             &SolveOptions::default(),
@@ -1542,26 +1549,7 @@ fn family_lcp(rng: &mut SplitMix64, family: Family, n: usize) -> Lcp {
         }
         Family::Psd => {
             let rank = 1 + (rng.next_u64() % n as u64) as usize;
-            let b: Vec<f64> = (0..n * rank).map(|_| rng.range(-1.0, 1.0)).collect();
-            let s = random_matrix(rng, n);
-            let mut m = vec![0.0; n * n];
-            for i in 0..n {
-                for j in 0..n {
-                    let bb: f64 = (0..rank).map(|t| b[i * rank + t] * b[j * rank + t]).sum();
-                    m[i * n + j] = bb + (s[i * n + j] - s[j * n + i]);
-                }
-            }
-            // q = w* − M z* for a complementary pair (z*, w*) ≥ 0.
-            let (mut zs, mut ws) = (vec![0.0; n], vec![0.0; n]);
-            for i in 0..n {
-                match rng.next_u64() % 3 {
-                    0 => zs[i] = rng.uniform(),
-                    1 => ws[i] = rng.uniform(),
-                    _ => {}
-                }
-            }
-            let mz = compute_w(&m, &vec![0.0; n], &zs).expect("sizes");
-            let q = (0..n).map(|i| ws[i] - mz[i]).collect();
+            let (m, q) = feasible_psd(rng, n, rank);
             Lcp::new(n, m, q).expect("sizes")
         }
         Family::Degenerate => {
