@@ -147,6 +147,11 @@ enum Command {
         /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots.
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
+        /// Problems of at least this many unknowns run on the factorised
+        /// (revised) Lemke path; 0 always, a large number never [default:
+        /// the driver's, 200].
+        #[arg(long, value_name = "N", requires = "time")]
+        revised_from: Option<usize>,
     },
     /// Run a sweep plan (docs/sweep-format.md): every point of cases x
     /// formulations x settings, measured against the reference; writes
@@ -255,9 +260,10 @@ fn main() -> ExitCode {
             repeat,
             warm,
             csv,
+            revised_from,
         } => {
             if time {
-                time_lcps(&path, repeat as usize, warm, csv.as_deref())
+                time_lcps(&path, repeat as usize, warm, csv.as_deref(), revised_from)
             } else if path.is_dir() {
                 eprintln!(
                     "error: {} is a folder: give one dump file, or --time to time every dump of it",
@@ -896,7 +902,13 @@ fn resolve_lcp(file: &Path) -> ExitCode {
     }
 }
 
-fn time_lcps(path: &Path, repeats: usize, warm: bool, csv: Option<&Path>) -> ExitCode {
+fn time_lcps(
+    path: &Path,
+    repeats: usize,
+    warm: bool,
+    csv: Option<&Path>,
+    revised_from: Option<usize>,
+) -> ExitCode {
     use floebench::lcp::timing::{self, TimingOptions};
     let files = if path.is_dir() {
         match timing::dump_files(path) {
@@ -913,11 +925,14 @@ fn time_lcps(path: &Path, repeats: usize, warm: bool, csv: Option<&Path>) -> Exi
         eprintln!("error: no *.json dump in {}", path.display());
         return ExitCode::FAILURE;
     }
-    let opts = TimingOptions {
+    let mut opts = TimingOptions {
         repeats,
         warm,
         ..TimingOptions::default()
     };
+    if let Some(k) = revised_from {
+        opts.solve.revised_from = k;
+    }
     let mut rows = Vec::with_capacity(files.len());
     for f in &files {
         match timing::time_file(f, &opts) {

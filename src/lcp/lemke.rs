@@ -53,7 +53,9 @@
 //! allocates nothing but its result once the buffers have grown to the
 //! largest problem seen; [`lemke`] uses one per thread.
 
+use super::path::{self, Basis, NONE};
 use super::residual_with_w;
+use super::revised::Revised;
 use std::cell::RefCell;
 
 /// Default iteration cap per unit of dimension: `max_pivots` defaults to
@@ -179,6 +181,22 @@ pub struct LemkeOptions {
     /// driver checks every such solution on the original data. Default
     /// `1e-9`.
     pub z0_tol: f64,
+    /// Problems with at least this many unknowns run on the factorised
+    /// (revised) basis of [`super::revised`] instead of the dense tableau;
+    /// `usize::MAX` never, `0` always. Both follow the same rules; the
+    /// revised path costs O(nnz) per pivot instead of O(n²) and pays a sparse
+    /// LU every few dozen pivots, so it wins only on large, sparse problems.
+    /// Default [`REVISED_FROM`].
+    #[serde(default = "default_revised_from")]
+    pub revised_from: usize,
+}
+
+/// Default of [`LemkeOptions::revised_from`], in unknowns: measured on the
+/// bay-jam and field_200_coast dump corpora (docs/physics.md §3.3).
+pub const REVISED_FROM: usize = 200;
+
+fn default_revised_from() -> usize {
+    REVISED_FROM
 }
 
 impl Default for LemkeOptions {
@@ -193,6 +211,7 @@ impl Default for LemkeOptions {
             clamp_tol: 1e-9,
             prefer_z0: true,
             z0_tol: 1e-9,
+            revised_from: REVISED_FROM,
         }
     }
 }
@@ -312,6 +331,13 @@ pub struct Workspace {
     nz: Vec<usize>,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
+    /// Column of the entering variable (set by [`Basis::load`]).
+    s: usize,
+    /// The factorised basis of the revised path.
+    rev: Revised,
+    /// Whether the last run used the revised path (then `rev`, not the
+    /// tableau, holds its final basis).
+    revised: bool,
     /// Scaled covering vector.
     d: Vec<f64>,
     /// Binary exponents of the scalings of M, q, d.
@@ -338,21 +364,6 @@ pub(crate) struct Scratch {
     pub(crate) z2: Vec<f64>,
     pub(crate) w2: Vec<f64>,
     pub(crate) pivoting: super::pivoting::Pivoting,
-}
-
-const NONE: usize = usize::MAX;
-
-/// Largest infeasibility (scaled units) that the negligible-`z0` exit may
-/// leave in a basic variable: about 500 ulps of the initial `z0`, so that
-/// the exit does not trade a pivot or two for a residual near the driver's
-/// tolerance.
-const Z0_EXIT_VIOLATION: f64 = 1e-13;
-
-/// Result of the ratio test.
-enum Step {
-    Pivot(usize),
-    Ray,
-    TooSmall,
 }
 
 impl Workspace {
@@ -396,24 +407,34 @@ impl Workspace {
                 tableau: false,
             };
         }
-        self.setup(m, q, opts.covering.as_deref(), mmax, qmax);
         let max_pivots = opts
             .max_pivots
             .unwrap_or_else(|| DEFAULT_PIVOTS_PER_DIM.saturating_mul(n.saturating_add(1)));
-        let (termination, detail) = self.pivot_loop(opts, max_pivots);
+        self.scale(n, opts.covering.as_deref(), mmax, qmax);
+        self.revised = n >= opts.revised_from;
+        let mut cand = std::mem::take(&mut self.cand);
+        let (termination, detail, pivots) = if self.revised {
+            self.rev.setup(m, q, &self.d, self.ea, self.eb);
+            let out = path::run(&mut self.rev, &mut cand, opts, max_pivots);
+            (out.0, out.1, self.rev.pivots())
+        } else {
+            self.setup(m, q);
+            let out = path::run(self, &mut cand, opts, max_pivots);
+            (out.0, out.1, self.pivots)
+        };
+        self.cand = cand;
+        self.pivots = pivots;
         Run {
             termination,
             detail,
-            pivots: self.pivots,
+            pivots,
             tableau: true,
         }
     }
 
-    fn setup(&mut self, m: &[f64], q: &[f64], covering: Option<&[f64]>, mmax: f64, qmax: f64) {
-        let n = q.len();
-        let cols = n + 2;
+    /// The binary exponents of the scalings of M, q and d, and the scaled d.
+    fn scale(&mut self, n: usize, covering: Option<&[f64]>, mmax: f64, qmax: f64) {
         self.n = n;
-        self.cols = cols;
         self.ea = pow2_exponent(mmax);
         self.eb = pow2_exponent(qmax);
         self.d.clear();
@@ -427,6 +448,14 @@ impl Workspace {
                 self.d.extend(d.iter().map(|&x| ldexp(x, -self.eg)));
             }
         }
+    }
+
+    /// Sets up the dense tableau of the scaled `(m, q, d)` (after
+    /// [`Workspace::scale`]).
+    fn setup(&mut self, m: &[f64], q: &[f64]) {
+        let n = q.len();
+        let cols = n + 2;
+        self.cols = cols;
         resize(&mut self.t, n * cols);
         let (fa, fb) = (exp2_factor(-self.ea), exp2_factor(-self.eb));
         for i in 0..n {
@@ -465,251 +494,9 @@ impl Workspace {
         self.cand.clear();
     }
 
-    fn z0(&self) -> usize {
-        2 * self.n
-    }
-
-    fn rhs(&self) -> usize {
-        self.n + 1
-    }
-
-    fn at(&self, i: usize, j: usize) -> f64 {
-        self.t[i * self.cols + j]
-    }
-
-    fn complement(&self, v: usize) -> Option<usize> {
-        if v < self.n {
-            Some(v + self.n)
-        } else if v < 2 * self.n {
-            Some(v - self.n)
-        } else {
-            None
-        }
-    }
-
-    /// Main loop; returns the termination and a failure detail.
-    fn pivot_loop(
-        &mut self,
-        opts: &LemkeOptions,
-        max_pivots: usize,
-    ) -> (Termination, Option<&'static str>) {
-        if max_pivots == 0 {
-            return (Termination::MaxPivots, Some("pivot cap is 0"));
-        }
-        let n = self.n;
-        let z0 = self.z0();
-        // First pivot: z0 enters (column n); the leaving row minimises
-        // q_i / d_i (lexicographically for the lexicographic rule), which
-        // makes every right-hand side non-negative.
-        self.cand.clear();
-        self.cand.extend(0..n);
-        let Some(r) = self.select(n, -1.0, opts, false) else {
-            return (Termination::NumericalFailure, Some("no initial pivot row"));
-        };
-        let mut leaving = self.basis[r];
-        if !self.pivot(r, n) {
-            return (
-                Termination::NumericalFailure,
-                Some("non-finite tableau entry"),
-            );
-        }
-        loop {
-            if leaving == z0 {
-                return (Termination::Solved, None);
-            }
-            let Some(entering) = self.complement(leaving) else {
-                return (
-                    Termination::NumericalFailure,
-                    Some("internal: no complement"),
-                );
-            };
-            if self.pivots >= max_pivots {
-                return (Termination::MaxPivots, Some("pivot cap reached"));
-            }
-            let s = self.col_of[entering];
-            let r = match self.ratio_test(s, opts) {
-                Step::Pivot(r) => r,
-                Step::Ray => {
-                    if self.z0_negligible(opts) {
-                        return (Termination::Solved, None);
-                    }
-                    return (
-                        Termination::RayTermination,
-                        Some("secondary ray: entering column has no positive entry"),
-                    );
-                }
-                Step::TooSmall => {
-                    if self.z0_negligible(opts) {
-                        return (Termination::Solved, None);
-                    }
-                    return (
-                        Termination::NumericalFailure,
-                        Some("pivot too small: blocking entries below the pivot tolerance"),
-                    );
-                }
-            };
-            leaving = self.basis[r];
-            if !self.pivot(r, s) {
-                return (
-                    Termination::NumericalFailure,
-                    Some("non-finite tableau entry"),
-                );
-            }
-        }
-    }
-
-    /// `true` if `z0` is basic with a value at or below `z0_tol`.
-    fn z0_negligible(&self, opts: &LemkeOptions) -> bool {
-        let r0 = self.row_of[self.z0()];
-        opts.prefer_z0 && r0 != NONE && self.at(r0, self.rhs()) <= opts.z0_tol
-    }
-
-    /// Minimum-ratio test on the entering column `s`.
-    fn ratio_test(&mut self, s: usize, opts: &LemkeOptions) -> Step {
-        let (n, cols, rhs) = (self.n, self.cols, self.rhs());
-        let mut cmax = 0.0_f64;
-        for i in 0..n {
-            cmax = cmax.max(self.t[i * cols + s].abs());
-        }
-        let scale = cmax.max(1.0);
-        let thresh = opts.pivot_tol * scale;
-        let noise = opts.pivot_tol * 1e-3 * scale;
-        let mut min = f64::INFINITY;
-        let mut small = false;
-        for i in 0..n {
-            let c = self.t[i * cols + s];
-            if c > thresh {
-                let r = self.t[i * cols + rhs].max(0.0) / c;
-                if r < min {
-                    min = r;
-                }
-            } else if c > noise {
-                small = true;
-            }
-        }
-        if min == f64::INFINITY {
-            return if small { Step::TooSmall } else { Step::Ray };
-        }
-        // z0 would become negligible with this step: let it leave.
-        let r0 = self.row_of[self.z0()];
-        if opts.prefer_z0 && r0 != NONE && opts.z0_tol > 0.0 {
-            let c0 = self.t[r0 * cols + s];
-            if c0 > thresh {
-                let b0 = self.t[r0 * cols + rhs];
-                let after = b0 - c0 * min;
-                if after <= opts.z0_tol * c0 / scale && self.z0_exit_feasible(s, b0 / c0) {
-                    return Step::Pivot(r0);
-                }
-            }
-        }
-        self.cand.clear();
-        let tol = opts.tie_tol * min.abs();
-        for i in 0..n {
-            let c = self.t[i * cols + s];
-            if c > thresh && self.t[i * cols + rhs].max(0.0) / c <= min + tol {
-                self.cand.push(i);
-            }
-        }
-        match self.select_among_ties(s, 1.0, opts, opts.prefer_z0) {
-            Some(r) => Step::Pivot(r),
-            None => Step::TooSmall,
-        }
-    }
-
-    /// Whether the step `theta` on column `s` (the one that makes `z0`
-    /// leave) keeps every basic variable above `−Z0_EXIT_VIOLATION`, so that
-    /// the complementary basis it reaches is feasible up to rounding.
-    fn z0_exit_feasible(&self, s: usize, theta: f64) -> bool {
-        let (cols, rhs) = (self.cols, self.rhs());
-        (0..self.n).all(|i| {
-            let c = self.t[i * cols + s];
-            c <= 0.0 || self.t[i * cols + rhs] - c * theta >= -Z0_EXIT_VIOLATION
-        })
-    }
-
-    /// Chooses the leaving row among all rows of `cand` by the minimum ratio
-    /// `b_i / (sign · t_is)` (every divisor positive) and the tie-break.
-    fn select(
-        &mut self,
-        s: usize,
-        sign: f64,
-        opts: &LemkeOptions,
-        prefer_z0: bool,
-    ) -> Option<usize> {
-        let rhs = self.rhs();
-        let tie_tol = opts.tie_tol;
-        let mut cand = std::mem::take(&mut self.cand);
-        filter_min(
-            &mut cand,
-            |i| self.at(i, rhs) / (sign * self.at(i, s)),
-            tie_tol,
-            0.0,
-        );
-        self.cand = cand;
-        self.select_among_ties(s, sign, opts, prefer_z0)
-    }
-
-    /// The leaving row among the tied rows in `cand` (divisors `sign · t_is`).
-    fn select_among_ties(
-        &mut self,
-        s: usize,
-        sign: f64,
-        opts: &LemkeOptions,
-        prefer_z0: bool,
-    ) -> Option<usize> {
-        if self.cand.len() <= 1 {
-            return self.cand.first().copied();
-        }
-        if prefer_z0 {
-            let r0 = self.row_of[self.z0()];
-            if r0 != NONE && self.cand.contains(&r0) {
-                return Some(r0);
-            }
-        }
-        let cols = self.cols;
-        match opts.rule {
-            PivotRule::Lexicographic => {
-                let mut cand = std::mem::take(&mut self.cand);
-                for k in 0..self.n {
-                    if cand.len() <= 1 {
-                        break;
-                    }
-                    let p = self.col_of[k];
-                    if p == NONE {
-                        // w_k basic in row rk: that row's entry is 1/c > 0,
-                        // every other candidate's is 0.
-                        let rk = self.row_of[k];
-                        cand.retain(|&i| i != rk);
-                    } else {
-                        let t = &self.t;
-                        filter_min(
-                            &mut cand,
-                            |i| t[i * cols + p] / (sign * t[i * cols + s]),
-                            opts.lex_tol,
-                            opts.lex_tol,
-                        );
-                    }
-                }
-                let r = if cand.len() == 1 {
-                    cand.first().copied()
-                } else {
-                    // Only reachable through rounding (rows of B⁻¹ are
-                    // independent): take the most stable pivot.
-                    largest_pivot(&cand, |i| sign * self.at(i, s))
-                };
-                self.cand = cand;
-                r
-            }
-            PivotRule::MinRatioSmallestIndex => {
-                self.cand.iter().copied().min_by_key(|&i| self.basis[i])
-            }
-            PivotRule::MinRatioLargestPivot => largest_pivot(&self.cand, |i| sign * self.at(i, s)),
-        }
-    }
-
     /// Exchange step on row `r`, column `s`; returns `false` if a non-finite
     /// entry appeared.
-    fn pivot(&mut self, r: usize, s: usize) -> bool {
+    fn exchange(&mut self, r: usize, s: usize) -> bool {
         let (n, cols) = (self.n, self.cols);
         let p = self.t[r * cols + s];
         if !(p.is_finite() && p != 0.0) {
@@ -769,12 +556,12 @@ impl Workspace {
         if z.len() != n {
             return (termination, detail);
         }
-        let rhs = self.rhs();
         let mut zmax = 1.0_f64;
         let mut finite = true;
-        for (i, &v) in self.basis.iter().enumerate() {
+        for i in 0..n {
+            let v = self.basic_var(i);
             if v >= n && v < 2 * n {
-                let x = self.at(i, rhs);
+                let x = self.basic_value(i);
                 z[v - n] = x;
                 finite &= x.is_finite();
                 zmax = zmax.max(x.abs());
@@ -833,7 +620,6 @@ impl Workspace {
     /// a tableau of this problem (same n).
     pub(crate) fn refine_step(&self, x: &mut [f64], w: &[f64], rho: &mut Vec<f64>, z: &mut [f64]) {
         let n = self.n;
-        let cols = self.cols;
         rho.clear();
         rho.resize(n, 0.0);
         // ρ in scaled units: (w − w_B) / β + d' z0.
@@ -841,17 +627,38 @@ impl Workspace {
         for (i, r) in rho.iter_mut().enumerate() {
             *r = inv_b(w[i]);
         }
-        for (row, &v) in self.basis.iter().enumerate() {
+        for (row, &xr) in x.iter().enumerate() {
+            let v = self.basic_var(row);
             if v < n {
-                rho[v] -= x[row];
+                rho[v] -= xr;
             } else if v == 2 * n {
                 for (r, &d) in rho.iter_mut().zip(self.d.iter()) {
-                    *r += d * x[row];
+                    *r += d * xr;
                 }
             }
         }
-        // Δx = B⁻¹ ρ: basic w_k contribute ρ_k to their row, non-basic w_k
-        // through their stored column.
+        if self.revised {
+            // Δx = B⁻¹ ρ by the factorised basis.
+            self.rev.solve(rho);
+            for (xr, &dx) in x.iter_mut().zip(rho.iter()) {
+                *xr += dx;
+            }
+        } else {
+            self.refine_dense(x, rho);
+        }
+        let e = self.eb - self.ea;
+        for (row, &xr) in x.iter().enumerate() {
+            let v = self.basic_var(row);
+            if v >= n && v < 2 * n {
+                z[v - n] = ldexp(xr, e).max(0.0);
+            }
+        }
+    }
+
+    /// `x += B⁻¹ ρ` on the dense tableau: basic `w_k` contribute `ρ_k` to
+    /// their row, non-basic `w_k` through their stored column.
+    fn refine_dense(&self, x: &mut [f64], rho: &[f64]) {
+        let (n, cols) = (self.n, self.cols);
         for (row, xr) in x.iter_mut().enumerate() {
             let trow = &self.t[row * cols..row * cols + n + 1];
             let mut acc = 0.0;
@@ -866,19 +673,82 @@ impl Workspace {
             }
             *xr += acc;
         }
-        let e = self.eb - self.ea;
-        for (row, &v) in self.basis.iter().enumerate() {
-            if v >= n && v < 2 * n {
-                z[v - n] = ldexp(x[row], e).max(0.0);
-            }
-        }
     }
 
     /// The basic values of the rows (scaled units) into `x` (length n).
     pub(crate) fn basic_values(&self, x: &mut Vec<f64>) {
         x.clear();
-        let (cols, rhs) = (self.cols, self.rhs());
-        x.extend((0..self.n).map(|i| self.t[i * cols + rhs]));
+        x.extend((0..self.n).map(|i| self.basic_value(i)));
+    }
+
+    /// The variable basic in row `i` of the last run's final basis.
+    fn basic_var(&self, i: usize) -> usize {
+        if self.revised {
+            self.rev.basic(i)
+        } else {
+            self.basis[i]
+        }
+    }
+
+    /// The basic value of row `i` (scaled units) of the last run.
+    fn basic_value(&self, i: usize) -> f64 {
+        if self.revised {
+            self.rev.b(i)
+        } else {
+            Basis::b(self, i)
+        }
+    }
+
+    /// Whether the last run used the revised (factorised) path.
+    pub(crate) fn last_run_revised(&self) -> bool {
+        self.revised
+    }
+}
+
+/// The dense condensed tableau as a [`Basis`]: every entry is stored, so a
+/// column or a row of `B⁻¹` is read in place.
+impl Basis for Workspace {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn basic(&self, i: usize) -> usize {
+        self.basis[i]
+    }
+
+    fn row_of(&self, v: usize) -> usize {
+        self.row_of[v]
+    }
+
+    fn load(&mut self, v: usize) -> bool {
+        self.s = self.col_of[v];
+        self.s != NONE
+    }
+
+    #[inline]
+    fn c(&self, i: usize) -> f64 {
+        self.t[i * self.cols + self.s]
+    }
+
+    #[inline]
+    fn b(&self, i: usize) -> f64 {
+        self.t[i * self.cols + self.n + 1]
+    }
+
+    fn prepare_rows(&mut self, _rows: &[usize]) -> bool {
+        true
+    }
+
+    fn binv(&self, i: usize, k: usize) -> f64 {
+        self.t[i * self.cols + self.col_of[k]]
+    }
+
+    fn pivot(&mut self, r: usize) -> bool {
+        self.exchange(r, self.s)
+    }
+
+    fn pivots(&self) -> usize {
+        self.pivots
     }
 }
 
@@ -956,35 +826,6 @@ impl Eliminate<'_> {
         }
         finite
     }
-}
-
-/// Keeps the entries of `cand` whose `key` is at most
-/// `min + rel_tol · |min| + abs_tol`.
-fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, abs_tol: f64) {
-    let mut min = f64::INFINITY;
-    for &i in cand.iter() {
-        let v = key(i);
-        if v < min {
-            min = v;
-        }
-    }
-    if !min.is_finite() {
-        return;
-    }
-    let tol = rel_tol * min.abs() + abs_tol;
-    cand.retain(|&i| key(i) <= min + tol);
-}
-
-fn largest_pivot(rows: &[usize], c: impl Fn(usize) -> f64) -> Option<usize> {
-    let mut best: Option<(usize, f64)> = None;
-    for &i in rows {
-        let ci = c(i);
-        match best {
-            Some((_, bc)) if bc >= ci => {}
-            _ => best = Some((i, ci)),
-        }
-    }
-    best.map(|(i, _)| i)
 }
 
 fn options_valid(o: &LemkeOptions) -> bool {

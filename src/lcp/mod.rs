@@ -69,8 +69,10 @@
 pub mod dump;
 mod json_f64;
 pub mod lemke;
+pub(crate) mod path;
 pub(crate) mod pivoting;
 pub(crate) mod polish;
+pub(crate) mod revised;
 pub mod solve;
 pub mod timing;
 

@@ -54,6 +54,7 @@
 use super::json_f64;
 use super::lemke::{
     max_abs, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
+    REVISED_FROM,
 };
 use super::{w_into, w_unchecked, Lcp, ResidualScale};
 use serde::{Deserialize, Serialize};
@@ -190,6 +191,14 @@ pub struct SolveOptions {
     /// of the warm starts were rejected (then solved cold, after paying for
     /// them), with 16, 2 %.
     pub warm_solves: usize,
+    /// See [`LemkeOptions::revised_from`]: attempts on problems of at least
+    /// this many unknowns run on the factorised basis.
+    #[serde(default = "default_revised_from")]
+    pub revised_from: usize,
+}
+
+fn default_revised_from() -> usize {
+    REVISED_FROM
 }
 
 impl Default for SolveOptions {
@@ -210,6 +219,7 @@ impl Default for SolveOptions {
             polish_solves: 4,
             z0_tol: l.z0_tol,
             warm_solves: 16,
+            revised_from: l.revised_from,
         }
     }
 }
@@ -242,6 +252,10 @@ pub struct Attempt {
     pub basis_solves: usize,
     /// Whether this attempt was accepted.
     pub accepted: bool,
+    /// Whether it ran on the factorised (revised) basis rather than the
+    /// dense tableau (see [`SolveOptions::revised_from`]).
+    #[serde(default)]
+    pub revised: bool,
 }
 
 /// Record of the warm start of [`solve_warm`].
@@ -352,6 +366,9 @@ pub struct SolveCounters {
     /// Solves accepted after the principal pivoting of the polish switched
     /// indices (a Lemke path completed next to a solution).
     pub completed_by_pivoting: u64,
+    /// Solves accepted by an attempt on the factorised (revised) basis.
+    #[serde(default)]
+    pub revised: u64,
 }
 
 impl SolveCounters {
@@ -381,6 +398,9 @@ impl SolveCounters {
         }
         if s.attempts.iter().any(|a| a.accepted && a.basis_solves >= 2) {
             self.completed_by_pivoting += 1;
+        }
+        if s.attempts.iter().any(|a| a.accepted && a.revised) {
+            self.revised += 1;
         }
     }
 }
@@ -459,6 +479,7 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
             clamp_tol: opts.clamp_tol,
             prefer_z0: true,
             z0_tol: opts.z0_tol,
+            revised_from: opts.revised_from,
         };
         let epsilon = if eps_rel > 0.0 {
             let s = *mscale.get_or_insert_with(|| {
@@ -532,6 +553,7 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
             polished,
             basis_solves,
             accepted,
+            revised: run.tableau && ws.last_run_revised(),
         });
         if !have_best || resid < best_r {
             std::mem::swap(&mut sc.best_z, &mut sc.z);

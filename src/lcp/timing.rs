@@ -80,8 +80,9 @@ pub struct TimedSolve {
     pub pivots: usize,
     /// Status of the solve.
     pub status: SolveStatus,
-    /// Accepted attempt: `Lexicographic`, `AlternativeRule`,
-    /// `Perturbed:<ε_rel>`, or `none`.
+    /// Accepted attempt: `WarmStart`, `Lexicographic`, `AlternativeRule`,
+    /// `Perturbed:<ε_rel>` (with `/revised` appended when it ran on the
+    /// factorised basis), or `none`.
     pub accepted_attempt: String,
     /// Residual on the original data.
     pub residual: f64,
@@ -94,19 +95,27 @@ pub struct TimedSolve {
     pub first_pivots: usize,
 }
 
-/// Name of the accepted attempt of `sol` as written in the CSV.
+/// Name of the accepted attempt of `sol` as written in the CSV, with
+/// `/revised` appended when it ran on the factorised basis.
 pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
     if sol.accepted_by == Some(Strategy::WarmStart) {
         return String::from("WarmStart");
     }
     match sol.attempts.iter().find(|a| a.accepted) {
         None => String::from("none"),
-        Some(a) => match a.strategy {
-            Strategy::Lexicographic => String::from("Lexicographic"),
-            Strategy::AlternativeRule => String::from("AlternativeRule"),
-            Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
-            Strategy::WarmStart => String::from("WarmStart"),
-        },
+        Some(a) => {
+            let name = match a.strategy {
+                Strategy::Lexicographic => String::from("Lexicographic"),
+                Strategy::AlternativeRule => String::from("AlternativeRule"),
+                Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
+                Strategy::WarmStart => String::from("WarmStart"),
+            };
+            if a.revised {
+                name + "/revised"
+            } else {
+                name
+            }
+        }
     }
 }
 

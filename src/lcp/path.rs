@@ -1,0 +1,318 @@
+//! The Lemke path, independent of how the basis is represented.
+//!
+//! Lemke's method (Cottle–Pang–Stone 1992, Alg. 4.4.5) only ever needs, at
+//! each pivot, the entering column `c = B⁻¹ a_s`, the basic values
+//! `b = B⁻¹ q`, for the lexicographic rule (CPS §4.9) some entries of the
+//! rows of `B⁻¹` of the rows tied in the ratio test, and the exchange of one
+//! basic variable. [`Basis`] is that interface; [`run`] is the method
+//! written once over it: the first pivot on `z0`, the ratio test with its
+//! pivot tolerance, the negligible-`z0` exit, the tie-breaking rules and the
+//! termination tests documented in [`super::lemke`]. Two representations
+//! implement it:
+//!
+//! * the dense condensed tableau of [`super::lemke::Workspace`] (every entry
+//!   of `B⁻¹ [I | −M | −d | q]` stored and updated by an exchange step, O(n²)
+//!   per pivot);
+//! * the factorised (revised) basis of [`super::revised`] (a sparse LU of
+//!   the basis and a product of eta matrices, O(nnz) per pivot on the
+//!   block-sparse Delassus matrices of large contact groups).
+//!
+//! Given the same data both make the same choices up to rounding: the
+//! entries they compare are the same numbers, computed in a different order.
+
+use super::lemke::{LemkeOptions, PivotRule, Termination};
+
+/// Sentinel for "no row" / "no column".
+pub(crate) const NONE: usize = usize::MAX;
+
+/// Largest infeasibility (scaled units) that the negligible-`z0` exit may
+/// leave in a basic variable: about 500 ulps of the initial `z0`, so that
+/// the exit does not trade a pivot or two for a residual near the driver's
+/// tolerance.
+const Z0_EXIT_VIOLATION: f64 = 1e-13;
+
+/// A basis of the augmented system `w − M z − d z0 = q` (variables `0..n`
+/// for `w`, `n..2n` for `z`, `2n` for `z0`), scaled as described in
+/// [`super::lemke`], as seen by the pivoting rules of [`run`].
+pub(crate) trait Basis {
+    /// Dimension n.
+    fn n(&self) -> usize;
+    /// The variable basic in row `i`.
+    fn basic(&self, i: usize) -> usize;
+    /// The row of variable `v`, or [`NONE`] if it is non-basic.
+    fn row_of(&self, v: usize) -> usize;
+    /// Makes `v` (non-basic) the entering variable: afterwards [`Basis::c`]
+    /// reads its column `B⁻¹ a_v`. `false` if a non-finite entry appeared.
+    fn load(&mut self, v: usize) -> bool;
+    /// Entry `i` of the loaded entering column.
+    fn c(&self, i: usize) -> f64;
+    /// Basic value of row `i` (`(B⁻¹ q)_i`).
+    fn b(&self, i: usize) -> f64;
+    /// Prepares [`Basis::binv`] for the rows in `rows`; `false` if it could
+    /// not (non-finite entries).
+    fn prepare_rows(&mut self, rows: &[usize]) -> bool;
+    /// `(B⁻¹)_{ik}` for a row `i` given to [`Basis::prepare_rows`] and a
+    /// non-basic `w_k`.
+    fn binv(&self, i: usize, k: usize) -> f64;
+    /// Exchanges the basic variable of row `r` for the loaded entering
+    /// variable; `false` if a non-finite entry appeared or the new basis
+    /// could not be factorised.
+    fn pivot(&mut self, r: usize) -> bool;
+    /// Pivots performed since the set-up.
+    fn pivots(&self) -> usize;
+}
+
+/// Result of the ratio test.
+enum Step {
+    Pivot(usize),
+    Ray,
+    TooSmall,
+}
+
+/// Runs Lemke's method on a basis set up at `w` basic (`B = I`); `cand` is
+/// scratch. Returns the termination and a failure detail.
+pub(crate) fn run<B: Basis>(
+    e: &mut B,
+    cand: &mut Vec<usize>,
+    opts: &LemkeOptions,
+    max_pivots: usize,
+) -> (Termination, Option<&'static str>) {
+    if max_pivots == 0 {
+        return (Termination::MaxPivots, Some("pivot cap is 0"));
+    }
+    let n = e.n();
+    let z0 = 2 * n;
+    // First pivot: z0 enters; the leaving row minimises q_i / d_i
+    // (lexicographically for the lexicographic rule), which makes every
+    // right-hand side non-negative.
+    if !e.load(z0) {
+        return (
+            Termination::NumericalFailure,
+            Some("non-finite tableau entry"),
+        );
+    }
+    cand.clear();
+    cand.extend(0..n);
+    let Some(r) = select(e, cand, -1.0, opts, false) else {
+        return (Termination::NumericalFailure, Some("no initial pivot row"));
+    };
+    let mut leaving = e.basic(r);
+    if !e.pivot(r) {
+        return (
+            Termination::NumericalFailure,
+            Some("non-finite tableau entry"),
+        );
+    }
+    loop {
+        if leaving == z0 {
+            return (Termination::Solved, None);
+        }
+        let entering = if leaving < n {
+            leaving + n
+        } else {
+            leaving - n
+        };
+        if e.pivots() >= max_pivots {
+            return (Termination::MaxPivots, Some("pivot cap reached"));
+        }
+        if !e.load(entering) {
+            return (
+                Termination::NumericalFailure,
+                Some("non-finite tableau entry"),
+            );
+        }
+        let r = match ratio_test(e, cand, opts) {
+            Step::Pivot(r) => r,
+            Step::Ray => {
+                if z0_negligible(e, opts) {
+                    return (Termination::Solved, None);
+                }
+                return (
+                    Termination::RayTermination,
+                    Some("secondary ray: entering column has no positive entry"),
+                );
+            }
+            Step::TooSmall => {
+                if z0_negligible(e, opts) {
+                    return (Termination::Solved, None);
+                }
+                return (
+                    Termination::NumericalFailure,
+                    Some("pivot too small: blocking entries below the pivot tolerance"),
+                );
+            }
+        };
+        leaving = e.basic(r);
+        if !e.pivot(r) {
+            return (
+                Termination::NumericalFailure,
+                Some("non-finite tableau entry"),
+            );
+        }
+    }
+}
+
+/// `true` if `z0` is basic with a value at or below `z0_tol`.
+fn z0_negligible<B: Basis>(e: &B, opts: &LemkeOptions) -> bool {
+    let r0 = e.row_of(2 * e.n());
+    opts.prefer_z0 && r0 != NONE && e.b(r0) <= opts.z0_tol
+}
+
+/// Minimum-ratio test on the loaded entering column.
+fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -> Step {
+    let n = e.n();
+    let mut cmax = 0.0_f64;
+    for i in 0..n {
+        cmax = cmax.max(e.c(i).abs());
+    }
+    let scale = cmax.max(1.0);
+    let thresh = opts.pivot_tol * scale;
+    let noise = opts.pivot_tol * 1e-3 * scale;
+    let mut min = f64::INFINITY;
+    let mut small = false;
+    for i in 0..n {
+        let c = e.c(i);
+        if c > thresh {
+            let r = e.b(i).max(0.0) / c;
+            if r < min {
+                min = r;
+            }
+        } else if c > noise {
+            small = true;
+        }
+    }
+    if min == f64::INFINITY {
+        return if small { Step::TooSmall } else { Step::Ray };
+    }
+    // z0 would become negligible with this step: let it leave.
+    let r0 = e.row_of(2 * n);
+    if opts.prefer_z0 && r0 != NONE && opts.z0_tol > 0.0 {
+        let c0 = e.c(r0);
+        if c0 > thresh {
+            let b0 = e.b(r0);
+            let after = b0 - c0 * min;
+            if after <= opts.z0_tol * c0 / scale && z0_exit_feasible(e, b0 / c0) {
+                return Step::Pivot(r0);
+            }
+        }
+    }
+    cand.clear();
+    let tol = opts.tie_tol * min.abs();
+    for i in 0..n {
+        let c = e.c(i);
+        if c > thresh && e.b(i).max(0.0) / c <= min + tol {
+            cand.push(i);
+        }
+    }
+    match select_among_ties(e, cand, 1.0, opts, opts.prefer_z0) {
+        Some(r) => Step::Pivot(r),
+        None => Step::TooSmall,
+    }
+}
+
+/// Whether the step `theta` on the loaded column (the one that makes `z0`
+/// leave) keeps every basic variable above `−Z0_EXIT_VIOLATION`, so that
+/// the complementary basis it reaches is feasible up to rounding.
+fn z0_exit_feasible<B: Basis>(e: &B, theta: f64) -> bool {
+    (0..e.n()).all(|i| {
+        let c = e.c(i);
+        c <= 0.0 || e.b(i) - c * theta >= -Z0_EXIT_VIOLATION
+    })
+}
+
+/// Chooses the leaving row among all rows of `cand` by the minimum ratio
+/// `b_i / (sign · c_i)` (every divisor positive) and the tie-break.
+fn select<B: Basis>(
+    e: &mut B,
+    cand: &mut Vec<usize>,
+    sign: f64,
+    opts: &LemkeOptions,
+    prefer_z0: bool,
+) -> Option<usize> {
+    filter_min(cand, |i| e.b(i) / (sign * e.c(i)), opts.tie_tol, 0.0);
+    select_among_ties(e, cand, sign, opts, prefer_z0)
+}
+
+/// The leaving row among the tied rows in `cand` (divisors `sign · c_i`).
+fn select_among_ties<B: Basis>(
+    e: &mut B,
+    cand: &mut Vec<usize>,
+    sign: f64,
+    opts: &LemkeOptions,
+    prefer_z0: bool,
+) -> Option<usize> {
+    if cand.len() <= 1 {
+        return cand.first().copied();
+    }
+    let n = e.n();
+    if prefer_z0 {
+        let r0 = e.row_of(2 * n);
+        if r0 != NONE && cand.contains(&r0) {
+            return Some(r0);
+        }
+    }
+    match opts.rule {
+        PivotRule::Lexicographic => {
+            if !e.prepare_rows(cand) {
+                return None;
+            }
+            for k in 0..n {
+                if cand.len() <= 1 {
+                    break;
+                }
+                let rk = e.row_of(k);
+                if rk != NONE {
+                    // w_k basic in row rk: column k of B⁻¹ is the unit
+                    // vector of that row, whose ratio 1/c is positive,
+                    // every other candidate's is 0.
+                    cand.retain(|&i| i != rk);
+                } else {
+                    filter_min(
+                        cand,
+                        |i| e.binv(i, k) / (sign * e.c(i)),
+                        opts.lex_tol,
+                        opts.lex_tol,
+                    );
+                }
+            }
+            if cand.len() == 1 {
+                cand.first().copied()
+            } else {
+                // Only reachable through rounding (rows of B⁻¹ are
+                // independent): take the most stable pivot.
+                largest_pivot(cand, |i| sign * e.c(i))
+            }
+        }
+        PivotRule::MinRatioSmallestIndex => cand.iter().copied().min_by_key(|&i| e.basic(i)),
+        PivotRule::MinRatioLargestPivot => largest_pivot(cand, |i| sign * e.c(i)),
+    }
+}
+
+/// Keeps the entries of `cand` whose `key` is at most
+/// `min + rel_tol · |min| + abs_tol`.
+fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, abs_tol: f64) {
+    let mut min = f64::INFINITY;
+    for &i in cand.iter() {
+        let v = key(i);
+        if v < min {
+            min = v;
+        }
+    }
+    if !min.is_finite() {
+        return;
+    }
+    let tol = rel_tol * min.abs() + abs_tol;
+    cand.retain(|&i| key(i) <= min + tol);
+}
+
+fn largest_pivot(rows: &[usize], c: impl Fn(usize) -> f64) -> Option<usize> {
+    let mut best: Option<(usize, f64)> = None;
+    for &i in rows {
+        let ci = c(i);
+        match best {
+            Some((_, bc)) if bc >= ci => {}
+            _ => best = Some((i, ci)),
+        }
+    }
+    best.map(|(i, _)| i)
+}

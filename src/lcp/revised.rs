@@ -1,0 +1,365 @@
+//! The factorised (revised) basis of Lemke's method, for large sparse LCPs.
+//!
+//! The dense tableau of [`super::lemke`] stores `B⁻¹ [I | −M | −d | q]` and
+//! updates all of it at every pivot: O(n²) work whatever the sparsity of M.
+//! On the contact groups of a jammed pack (hundreds of unknowns) that is
+//! where the time goes, although the Delassus matrix is block-sparse: a
+//! contact couples only with the contacts that share one of its floes.
+//!
+//! This module keeps instead, as in the revised simplex method (Chvátal
+//! 1983, ch. 7; Murty 1988, §2.4 for Lemke's method):
+//!
+//! * the basis `B` only implicitly, as `B = B₀ E₁ ⋯ E_k`: a sparse LU of the
+//!   basis `B₀` of the last refactorisation (faer's sparse LU with a
+//!   COLAMD ordering and partial pivoting; `B₀ = I` at the start, with no
+//!   factorisation) and the **eta matrices** `E_j` of the pivots since then
+//!   (product form of the inverse: `E_j` is the identity with its pivot
+//!   column replaced by the entering column `B_{j-1}⁻¹ a`, stored by its
+//!   non-zeros);
+//! * the basic values `b = B⁻¹ q`, updated by each pivot like the tableau's
+//!   right-hand side and recomputed from the original (scaled) data at every
+//!   refactorisation;
+//! * M's columns in compressed sparse form, built once per solve.
+//!
+//! A pivot computes the entering column `c = B⁻¹ a_s` by one forward
+//! solve (**FTRAN**: the LU, then the etas in order), which costs the
+//! non-zeros of the factors and of the etas, not n². The lexicographic rule
+//! needs the rows of `B⁻¹` of the rows tied in the ratio test; they are
+//! computed only when ties occur, by one transposed solve each (**BTRAN**:
+//! the etas in reverse order, then the transposed LU). The basis is
+//! refactorised every [`REFACTOR_EVERY`] pivots, which bounds the length of
+//! the eta file (the cost of a solve) and the drift of `b`.
+//!
+//! The pivoting rules themselves are those of [`super::path`], shared with
+//! the dense tableau; only the representation differs.
+//!
+//! # References
+//!
+//! * V. Chvátal, *Linear Programming*, Freeman, 1983, ch. 7 (revised simplex
+//!   method, product form of the inverse).
+//! * K. G. Murty, *Linear Complementarity, Linear and Nonlinear
+//!   Programming*, Heldermann, 1988, §2.4 (Lemke's method in revised form).
+//! * R. W. Cottle, J.-S. Pang, R. E. Stone, *The Linear Complementarity
+//!   Problem*, 1992, §4.4 and §4.9.
+
+use super::lemke::ldexp;
+use super::path::{Basis, NONE};
+use faer::linalg::solvers::SolveCore;
+use faer::sparse::linalg::solvers::Lu;
+use faer::sparse::{SparseColMat, Triplet};
+use faer::{Conj, MatMut};
+
+/// Pivots between two refactorisations of the basis. Each eta adds up to n
+/// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
+/// contact group costs about as much as 20–60 such solves. Measured on the
+/// bay-jam corpus (docs/physics.md §3.3).
+pub(crate) const REFACTOR_EVERY: usize = 48;
+
+/// The factorised basis; see the module doc.
+#[derive(Default)]
+pub(crate) struct Revised {
+    n: usize,
+    /// Scaled M' = M / 2^ea in compressed sparse columns.
+    mp: Vec<usize>,
+    mi: Vec<usize>,
+    mv: Vec<f64>,
+    /// Scaled covering vector d'.
+    d: Vec<f64>,
+    /// Scaled q' = q / 2^eb.
+    q: Vec<f64>,
+    /// Variable basic in each row (slot) of the basis.
+    basis: Vec<usize>,
+    /// Row of each variable (2n + 1), [`NONE`] if non-basic.
+    row_of: Vec<usize>,
+    /// Basic values `B⁻¹ q'`.
+    b: Vec<f64>,
+    /// LU of `B₀`; `None` while `B₀ = I`.
+    lu: Option<Lu<usize, f64>>,
+    /// Eta file: pivot row, pivot entry and the range of its other
+    /// non-zeros in `eta_i`/`eta_v`, per pivot since the refactorisation.
+    eta_r: Vec<usize>,
+    eta_p: Vec<f64>,
+    eta_start: Vec<usize>,
+    eta_i: Vec<usize>,
+    eta_v: Vec<f64>,
+    /// The loaded entering column and its variable.
+    c: Vec<f64>,
+    entering: usize,
+    /// Rows of `B⁻¹` prepared for the lexicographic rule, and the position
+    /// of each row among them ([`NONE`] if not prepared).
+    lex_rows: Vec<f64>,
+    lex_pos: Vec<usize>,
+    lex_list: Vec<usize>,
+    triplets: Vec<Triplet<usize, usize, f64>>,
+    pivots: usize,
+}
+
+impl std::fmt::Debug for Revised {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Revised")
+            .field("n", &self.n)
+            .field("pivots", &self.pivots)
+            .field("etas", &self.eta_r.len())
+            .field("factorised", &self.lu.is_some())
+            .finish()
+    }
+}
+
+impl Clone for Revised {
+    /// A work space is cloned empty: the factorised basis is scratch of one
+    /// run, rebuilt by the next.
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+impl Revised {
+    /// Sets up `B = I` for the problem `(m, q)` scaled by `2^-ea`, `2^-eb`,
+    /// with the scaled covering vector `d` (all finite, checked by the
+    /// caller).
+    pub(crate) fn setup(&mut self, m: &[f64], q: &[f64], d: &[f64], ea: i32, eb: i32) {
+        let n = q.len();
+        self.n = n;
+        self.mp.clear();
+        self.mi.clear();
+        self.mv.clear();
+        self.mp.push(0);
+        for j in 0..n {
+            for i in 0..n {
+                let a = m[i * n + j];
+                if a != 0.0 {
+                    self.mi.push(i);
+                    self.mv.push(ldexp(a, -ea));
+                }
+            }
+            self.mp.push(self.mi.len());
+        }
+        self.d.clear();
+        self.d.extend_from_slice(d);
+        self.q.clear();
+        self.q.extend(q.iter().map(|&x| ldexp(x, -eb)));
+        self.basis.clear();
+        self.basis.extend(0..n);
+        self.row_of.clear();
+        self.row_of.extend(0..n);
+        self.row_of.resize(2 * n + 1, NONE);
+        self.b.clear();
+        self.b.extend_from_slice(&self.q);
+        self.lu = None;
+        self.clear_etas();
+        self.c.clear();
+        self.c.resize(n, 0.0);
+        self.entering = NONE;
+        self.lex_pos.clear();
+        self.lex_pos.resize(n, NONE);
+        self.lex_list.clear();
+        self.pivots = 0;
+    }
+
+    fn clear_etas(&mut self) {
+        self.eta_r.clear();
+        self.eta_p.clear();
+        self.eta_start.clear();
+        self.eta_start.push(0);
+        self.eta_i.clear();
+        self.eta_v.clear();
+    }
+
+    /// Writes the column of variable `v` of `[I | −M' | −d']` into `out`
+    /// (length n, overwritten).
+    fn column(&self, v: usize, out: &mut [f64]) {
+        out.iter_mut().for_each(|x| *x = 0.0);
+        let n = self.n;
+        if v < n {
+            out[v] = 1.0;
+        } else if v < 2 * n {
+            let j = v - n;
+            for p in self.mp[j]..self.mp[j + 1] {
+                out[self.mi[p]] = -self.mv[p];
+            }
+        } else {
+            for (o, &d) in out.iter_mut().zip(&self.d) {
+                *o = -d;
+            }
+        }
+    }
+
+    /// `x ← B⁻¹ x` (FTRAN): the LU of `B₀`, then the etas in order.
+    pub(crate) fn solve(&self, x: &mut [f64]) {
+        let n = self.n;
+        if let Some(lu) = &self.lu {
+            let mat = MatMut::from_column_major_slice_mut(x, n, 1);
+            lu.solve_in_place_with_conj(Conj::No, mat);
+        }
+        for k in 0..self.eta_r.len() {
+            let r = self.eta_r[k];
+            let xr = x[r] / self.eta_p[k];
+            x[r] = xr;
+            if xr != 0.0 {
+                for p in self.eta_start[k]..self.eta_start[k + 1] {
+                    x[self.eta_i[p]] -= self.eta_v[p] * xr;
+                }
+            }
+        }
+    }
+
+    /// `y ← B⁻ᵀ y` (BTRAN): the etas in reverse order, then the transposed
+    /// LU of `B₀`. With `y = e_i` on entry, `y` is row i of `B⁻¹`.
+    fn solve_transpose(&self, y: &mut [f64]) {
+        let n = self.n;
+        for k in (0..self.eta_r.len()).rev() {
+            let r = self.eta_r[k];
+            let mut acc = y[r];
+            for p in self.eta_start[k]..self.eta_start[k + 1] {
+                acc -= self.eta_v[p] * y[self.eta_i[p]];
+            }
+            y[r] = acc / self.eta_p[k];
+        }
+        if let Some(lu) = &self.lu {
+            let mat = MatMut::from_column_major_slice_mut(y, n, 1);
+            lu.solve_transpose_in_place_with_conj(Conj::No, mat);
+        }
+    }
+
+    /// Factorises the current basis as the new `B₀`, empties the eta file and
+    /// recomputes `b = B⁻¹ q'`. `false` if the basis is singular or the
+    /// factorisation failed.
+    fn refactor(&mut self) -> bool {
+        let n = self.n;
+        self.triplets.clear();
+        for (slot, &v) in self.basis.iter().enumerate() {
+            if v < n {
+                self.triplets.push(Triplet::new(v, slot, 1.0));
+            } else if v < 2 * n {
+                let j = v - n;
+                for p in self.mp[j]..self.mp[j + 1] {
+                    self.triplets
+                        .push(Triplet::new(self.mi[p], slot, -self.mv[p]));
+                }
+            } else {
+                for (i, &d) in self.d.iter().enumerate() {
+                    self.triplets.push(Triplet::new(i, slot, -d));
+                }
+            }
+        }
+        let Ok(mat) = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &self.triplets)
+        else {
+            return false;
+        };
+        let Ok(lu) = mat.sp_lu() else {
+            return false;
+        };
+        self.lu = Some(lu);
+        self.clear_etas();
+        let mut b = std::mem::take(&mut self.b);
+        b.copy_from_slice(&self.q);
+        self.solve(&mut b);
+        let finite = b.iter().all(|x| x.is_finite());
+        self.b = b;
+        finite
+    }
+}
+
+impl Basis for Revised {
+    fn n(&self) -> usize {
+        self.n
+    }
+
+    fn basic(&self, i: usize) -> usize {
+        self.basis[i]
+    }
+
+    fn row_of(&self, v: usize) -> usize {
+        self.row_of[v]
+    }
+
+    fn load(&mut self, v: usize) -> bool {
+        let mut c = std::mem::take(&mut self.c);
+        self.column(v, &mut c);
+        self.solve(&mut c);
+        let finite = c.iter().all(|x| x.is_finite());
+        self.c = c;
+        self.entering = v;
+        // Rows prepared for the previous column are stale.
+        for &i in &self.lex_list {
+            self.lex_pos[i] = NONE;
+        }
+        self.lex_list.clear();
+        finite
+    }
+
+    #[inline]
+    fn c(&self, i: usize) -> f64 {
+        self.c[i]
+    }
+
+    #[inline]
+    fn b(&self, i: usize) -> f64 {
+        self.b[i]
+    }
+
+    fn prepare_rows(&mut self, rows: &[usize]) -> bool {
+        let n = self.n;
+        let mut buf = std::mem::take(&mut self.lex_rows);
+        let mut finite = true;
+        for &i in rows {
+            if self.lex_pos[i] != NONE {
+                continue;
+            }
+            let at = self.lex_list.len();
+            buf.resize((at + 1) * n, 0.0);
+            let y = &mut buf[at * n..(at + 1) * n];
+            y.iter_mut().for_each(|x| *x = 0.0);
+            y[i] = 1.0;
+            self.solve_transpose(y);
+            finite &= y.iter().all(|x| x.is_finite());
+            self.lex_pos[i] = at;
+            self.lex_list.push(i);
+        }
+        self.lex_rows = buf;
+        finite
+    }
+
+    fn binv(&self, i: usize, k: usize) -> f64 {
+        self.lex_rows[self.lex_pos[i] * self.n + k]
+    }
+
+    fn pivot(&mut self, r: usize) -> bool {
+        let v = self.entering;
+        let p = self.c[r];
+        if v == NONE || !(p.is_finite() && p != 0.0) {
+            return false;
+        }
+        // Basic values, as the tableau's right-hand side column.
+        let theta = self.b[r] / p;
+        for (i, (bi, &ci)) in self.b.iter_mut().zip(&self.c).enumerate() {
+            if i != r && ci != 0.0 {
+                *bi -= ci * theta;
+            }
+        }
+        self.b[r] = theta;
+        let leaving = self.basis[r];
+        self.basis[r] = v;
+        self.row_of[v] = r;
+        self.row_of[leaving] = NONE;
+        self.entering = NONE;
+        self.pivots += 1;
+        if self.eta_r.len() + 1 >= REFACTOR_EVERY {
+            return self.refactor();
+        }
+        self.eta_r.push(r);
+        self.eta_p.push(p);
+        for (i, &ci) in self.c.iter().enumerate() {
+            if i != r && ci != 0.0 {
+                self.eta_i.push(i);
+                self.eta_v.push(ci);
+            }
+        }
+        self.eta_start.push(self.eta_i.len());
+        theta.is_finite()
+    }
+
+    fn pivots(&self) -> usize {
+        self.pivots
+    }
+}
