@@ -413,10 +413,17 @@ fn lexicographic_rule_terminates_where_plain_min_ratio_cycles() {
             (Termination::MaxPivots, cap),
             "{plain:?} should cycle"
         );
-        let r = lemke(&m, &q, &LemkeOptions::default());
-        assert_eq!(r.termination, Termination::Solved, "lexicographic on {m:?}");
-        assert!(r.pivots <= bases, "pivots {}", r.pivots);
-        assert_valid_solution(&m, &q, &r.z, 1e-12, "cycling example"); // exact small data
+        // On the dense tableau and on the factorised basis.
+        for revised_from in [usize::MAX, 0] {
+            let opts = LemkeOptions {
+                revised_from,
+                ..LemkeOptions::default()
+            };
+            let r = lemke(&m, &q, &opts);
+            assert_eq!(r.termination, Termination::Solved, "lexicographic on {m:?}");
+            assert!(r.pivots <= bases, "pivots {}", r.pivots);
+            assert_valid_solution(&m, &q, &r.z, 1e-12, "cycling example"); // exact small data
+        }
         let s = solve(
             &Lcp::new(3, m.to_vec(), q.to_vec()).expect("sizes"),
             &SolveOptions::default(),
@@ -521,6 +528,22 @@ fn lexicographic_rule_never_cycles_on_random_degenerate_lcps() {
             r.pivots
         );
         lex_max = lex_max.max(r.pivots);
+        // The factorised basis takes the same path: same termination and
+        // pivot count on these exact integer data (its lexicographic rows
+        // of B⁻¹ come from transposed solves through the eta file).
+        let rev = lemke(
+            &m,
+            &q,
+            &LemkeOptions {
+                revised_from: 0,
+                ..LemkeOptions::default()
+            },
+        );
+        assert_eq!(
+            (rev.termination, rev.pivots),
+            (r.termination, r.pivots),
+            "problem {k}: revised path, M = {m:?}, q = {q:?}"
+        );
         if r.termination == Termination::Solved {
             solved += 1;
             assert_valid_solution(&m, &q, &r.z, 1e-10, &format!("problem {k}"));
