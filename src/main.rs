@@ -149,7 +149,7 @@ enum Command {
         csv: Option<PathBuf>,
         /// Problems of at least this many unknowns run on the factorised
         /// (revised) Lemke path; 0 always, a large number never [default:
-        /// the driver's, 200].
+        /// the driver's, 41].
         #[arg(long, value_name = "N", requires = "time")]
         revised_from: Option<usize>,
     },

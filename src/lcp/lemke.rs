@@ -193,7 +193,7 @@ pub struct LemkeOptions {
 
 /// Default of [`LemkeOptions::revised_from`], in unknowns: measured on the
 /// bay-jam and field_200_coast dump corpora (docs/physics.md §3.3).
-pub const REVISED_FROM: usize = 200;
+pub const REVISED_FROM: usize = 41;
 
 fn default_revised_from() -> usize {
     REVISED_FROM
