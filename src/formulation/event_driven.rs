@@ -58,7 +58,12 @@
 //!    `[contact] distance` (e.g. 1e-9 m) locates each impact at the root of
 //!    the gap.
 //! 5. **Penetration.** A penetration deeper than the tolerance at the end of
-//!    a step rejects it; it is retried with half the step (counted).
+//!    a step rejects it; it is retried with half the step (counted). The
+//!    depth of a pair is its minimum translation distance
+//!    ([`crate::contact::signed_distance`], as the contact detection and
+//!    `floebench check` measure it), not its deepest vertex, which misses
+//!    two convex bodies whose edges cross with no vertex inside the other
+//!    (the scissored pieces of a split).
 //!
 //! **Outputs.** The scheme keeps its state on its own grid of steps; the
 //! state at an output time inside a step is that step's exact continuation
@@ -88,7 +93,7 @@ use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
-use crate::contact::{Aabb, BroadPhase, Contact};
+use crate::contact::{signed_distance, Aabb, BroadPhase, Contact};
 use crate::fracture::{loads_of, Decision, Fracturer};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, rotate, Vec2};
 use crate::model::limits::Limit;
@@ -1159,19 +1164,6 @@ impl EventDriven {
         pairs
     }
 
-    /// The smallest vertex signed distance between two bodies, both ways, m.
-    fn pair_min_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
-        let ab = a
-            .iter()
-            .map(|v| point_polygon_signed_distance(v, b))
-            .fold(f64::INFINITY, f64::min);
-        let ba = b
-            .iter()
-            .map(|v| point_polygon_signed_distance(v, a))
-            .fold(f64::INFINITY, f64::min);
-        ab.min(ba)
-    }
-
     /// Finds the first event in `(0, h]`: a vertex that was open and closes.
     #[allow(clippy::too_many_arguments)]
     fn locate(
@@ -1491,10 +1483,15 @@ impl EventDriven {
             } else {
                 p1
             };
+            // The depth of a pair is its minimum translation distance
+            // ([`signed_distance`], the measure of the contact detection and
+            // of `floebench check`), not its deepest vertex: two pieces of a
+            // split whose cut edges cross, scissored, overlap with no vertex
+            // inside the other (docs/physics.md §4.3, step 5).
             let depths: Vec<((usize, usize), f64)> = clock.time(Stage::Detection, || {
                 self.swept_pairs(scn, &p_next, &p_next)
                     .iter()
-                    .map(|&(i, j)| ((i, j), -Self::pair_min_distance(&p_next[i], &p_next[j])))
+                    .map(|&(i, j)| ((i, j), -signed_distance(&p_next[i], &p_next[j])))
                     .collect()
             });
             let depth = depths.iter().map(|d| d.1).fold(0.0, f64::max);
