@@ -1113,7 +1113,7 @@ impl EventDriven {
             // Only an isolated pair: in a pile the neighbours share the
             // load and the pair's own compliance does not give its stop,
             // and every cut re-solves the whole group.
-            if !(u0 * h > self.distance && p.lambda > 0.0) || !isolated(scn, closed, p.pair) {
+            if !(u0 * h > self.distance && p.lambda > 0.0 && isolated(scn, closed, p.pair)) {
                 continue;
             }
             let dir = p.start / u0;
