@@ -42,8 +42,9 @@
 //!    at `T`), not at once; or its **flight within the contact distance** is
 //!    followed to its return (the pair open meanwhile); otherwise the apex
 //!    rule cuts the step at the apex of a flight that leaves the contact
-//!    distance. A sliding pair that **sticks** within the step cuts it where
-//!    its slip stops (`EventDriven::stick_times`).
+//!    distance. An isolated sliding pair that **sticks** within the step
+//!    cuts it where its slip stops (`EventDriven::stick_times`); in a pile
+//!    the constant friction force smears the stop over the step.
 //! 4. **Event location in time.** After the trial step, every vertex of each
 //!    close pair (floes and obstacles both ways) that was open (`d > δ`) and
 //!    ends below the impact gap `g_i` ([`IMPACT_GAP_FRACTION`] of `δ`), or
@@ -58,7 +59,12 @@
 //!    `[contact] distance` (e.g. 1e-9 m) locates each impact at the root of
 //!    the gap.
 //! 5. **Penetration.** A penetration deeper than the tolerance at the end of
-//!    a step rejects it; it is retried with half the step (counted).
+//!    a step rejects it; it is retried with half the step (counted). The
+//!    depth of a pair is its minimum translation distance
+//!    ([`crate::contact::signed_distance`], as the contact detection and
+//!    `floebench check` measure it), not its deepest vertex, which misses
+//!    two convex bodies whose edges cross with no vertex inside the other
+//!    (the scissored pieces of a split).
 //!
 //! **Outputs.** The scheme keeps its state on its own grid of steps; the
 //! state at an output time inside a step is that step's exact continuation
@@ -88,7 +94,7 @@ use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
-use crate::contact::{Aabb, BroadPhase, Contact};
+use crate::contact::{signed_distance, Aabb, BroadPhase, Contact};
 use crate::fracture::{loads_of, Decision, Fracturer};
 use crate::geometry::{aabb, perp, point_polygon_signed_distance, rotate, Vec2};
 use crate::model::limits::Limit;
@@ -1034,8 +1040,11 @@ impl EventDriven {
     }
 
     /// The stick rule of a trial step of length `h` (docs/physics.md §4.3,
-    /// step 3), for the pairs of `closed` that slide at the start (slip
-    /// `u₀`) by more than the contact distance over the step (a shorter slip
+    /// step 3), for the isolated pairs ([`isolated`]) of `closed` that slide
+    /// at the start (slip `u₀`) by more than the contact distance over the
+    /// step (in a pile the neighbours share the load, so the pair's own
+    /// compliance does not give its stop, and each cut re-solves the whole
+    /// group: on `narrow_channel` 192 of 275 steps were cut so; a shorter slip
     /// is below the scheme's resolution and not worth a cut: the constant
     /// friction force smears it over the step; with the penetration
     /// tolerance instead, `narrow_channel` took three times as many stick
@@ -1101,7 +1110,10 @@ impl EventDriven {
         let min = |a: Option<f64>, b: f64| Some(a.map_or(b, |a: f64| a.min(b)));
         for p in pairs {
             let u0 = p.start.norm();
-            if !(u0 * h > self.distance && p.lambda > 0.0) {
+            // Only an isolated pair: in a pile the neighbours share the
+            // load and the pair's own compliance does not give its stop,
+            // and every cut re-solves the whole group.
+            if !(u0 * h > self.distance && p.lambda > 0.0 && isolated(scn, closed, p.pair)) {
                 continue;
             }
             let dir = p.start / u0;
@@ -1157,19 +1169,6 @@ impl EventDriven {
         let mut pairs = Vec::new();
         self.sweep_bp.pairs(&boxes, self.distance, &mut pairs);
         pairs
-    }
-
-    /// The smallest vertex signed distance between two bodies, both ways, m.
-    fn pair_min_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
-        let ab = a
-            .iter()
-            .map(|v| point_polygon_signed_distance(v, b))
-            .fold(f64::INFINITY, f64::min);
-        let ba = b
-            .iter()
-            .map(|v| point_polygon_signed_distance(v, a))
-            .fold(f64::INFINITY, f64::min);
-        ab.min(ba)
     }
 
     /// Finds the first event in `(0, h]`: a vertex that was open and closes.
@@ -1491,10 +1490,15 @@ impl EventDriven {
             } else {
                 p1
             };
+            // The depth of a pair is its minimum translation distance
+            // ([`signed_distance`], the measure of the contact detection and
+            // of `floebench check`), not its deepest vertex: two pieces of a
+            // split whose cut edges cross, scissored, overlap with no vertex
+            // inside the other (docs/physics.md §4.3, step 5).
             let depths: Vec<((usize, usize), f64)> = clock.time(Stage::Detection, || {
                 self.swept_pairs(scn, &p_next, &p_next)
                     .iter()
-                    .map(|&(i, j)| ((i, j), -Self::pair_min_distance(&p_next[i], &p_next[j])))
+                    .map(|&(i, j)| ((i, j), -signed_distance(&p_next[i], &p_next[j])))
                     .collect()
             });
             let depth = depths.iter().map(|d| d.1).fold(0.0, f64::max);

@@ -338,3 +338,44 @@ fn the_summary_gives_the_stepping_counters_per_simulated_hour() {
         "only stepping counters"
     );
 }
+
+/// Issue 13's open finding: on the narrow channel with fracture, the two
+/// pieces of a split, pressed along their common cut, scissor (their cut
+/// edges cross with no vertex of one inside the other: a chord 0.2 mm from
+/// a corner leaves both cut ends on the parent's outer edge lines). The
+/// step's penetration test took the deepest vertex and accepted overlaps of
+/// 15 mm; the relaxed Signorini correction of that overlap over halved
+/// steps then asked separations of tens of m/s. The depth is now the
+/// minimum translation distance, the measure of the contact detection and
+/// of `floebench check`.
+#[test]
+fn the_pieces_of_a_split_do_not_cross_in_the_jammed_narrow_channel() {
+    let scn = load("fields/narrow_channel_fracture");
+    let (r, _) = run(&scn);
+    assert!(
+        r.summary.fractures > 0,
+        "no fracture: the case tests nothing"
+    );
+    let tol = setting(&r, "penetration_tolerance_m");
+    let sampled = floebench::analysis::check::sampled_penetration(&scn, &r);
+    assert!(
+        sampled <= tol,
+        "outputs penetrate {sampled} m beyond {tol} m"
+    );
+}
+
+/// The stick rule cuts a step only for an isolated pair (docs/physics.md
+/// §4.3, step 3): in the piles of the narrow channel the neighbours share
+/// the load and each cut re-solved the whole group (192 stick cuts in 275
+/// steps before the rule was restricted). sliding_floe keeps its exact stop
+/// (`sliding_floe_stops_at_the_exact_time_and_distance`).
+#[test]
+fn stick_instants_in_a_pile_do_not_cut_the_step() {
+    let (r, _) = run(&load("narrow_channel"));
+    let (sticks, steps) = (counter(&r, "steps_cut_for_stick"), counter(&r, "steps"));
+    assert!(steps > 0.0);
+    assert!(
+        sticks <= 0.05 * steps,
+        "{sticks} stick cuts in {steps} steps"
+    );
+}
