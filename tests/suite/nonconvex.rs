@@ -305,10 +305,11 @@ fn convex_bodies_are_detected_exactly_as_before() {
     for k in 0..40 {
         let c = v(rng.range(0.0, 40.0), rng.range(0.0, 40.0));
         let n = 3 + k % 6;
+        let r = rng.range(2.0, 4.0);
         let poly: Vec<Vec2> = (0..n)
             .map(|i| {
                 let a = std::f64::consts::TAU * (i as f64 + rng.range(0.0, 0.5)) / n as f64;
-                c + v(a.cos(), a.sin()) * rng.range(2.0, 4.0)
+                c + v(a.cos(), a.sin()) * r
             })
             .collect();
         bodies.push(poly);
@@ -348,9 +349,12 @@ fn the_outline_distance_is_signed_and_agrees_with_the_convex_one() {
     let l = l_shape(20.0, 10.0, v(0., 0.));
     // Inside the lower arm, 2 m from the bottom face.
     assert!((point_outline_signed_distance(&v(15.0, 2.0), &l) + 2.0).abs() < 1e-12);
-    // In the notch: outside, 1 m from the reflex corner along the diagonal.
+    // In the notch: outside, 1 m from both faces.
     let d = point_outline_signed_distance(&v(11.0, 11.0), &l);
-    assert!((d - 2f64.sqrt()).abs() < 1e-12, "{d}");
+    assert!((d - 1.0).abs() < 1e-12, "{d}");
+    // Beyond the reflex corner, inside: the corner is the nearest point.
+    let d = point_outline_signed_distance(&v(9.0, 9.0), &l);
+    assert!((d + 2f64.sqrt()).abs() < 1e-12, "{d}");
     let mut rng = SplitMix64::new(3);
     let sq = [v(0., 0.), v(3., 0.), v(3., 2.), v(0., 2.)];
     for _ in 0..1000 {
