@@ -246,7 +246,12 @@ pub fn check_simple_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
         }
     }
     if let Some((i, j)) = first_self_intersection(poly) {
-        return Err(PolygonError::SelfIntersecting(i, (i + 1) % n, j, (j + 1) % n));
+        return Err(PolygonError::SelfIntersecting(
+            i,
+            (i + 1) % n,
+            j,
+            (j + 1) % n,
+        ));
     }
     if area_properties(poly).area <= 0.0 {
         return Err(PolygonError::Clockwise);

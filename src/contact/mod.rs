@@ -233,7 +233,11 @@ pub fn detect_compound(
         .iter()
         .filter(|&&(p, q)| owner[p].0 != owner[q].0)
         .map(|&(p, q)| {
-            let (p, q) = if owner[p].0 < owner[q].0 { (p, q) } else { (q, p) };
+            let (p, q) = if owner[p].0 < owner[q].0 {
+                (p, q)
+            } else {
+                (q, p)
+            };
             (owner[p].0, owner[q].0, p, q)
         })
         .collect();

@@ -174,7 +174,14 @@ mod tests {
 
     #[test]
     fn an_l_shape_splits_into_two_convex_parts() {
-        let l = [v(0., 0.), v(2., 0.), v(2., 1.), v(1., 1.), v(1., 2.), v(0., 2.)];
+        let l = [
+            v(0., 0.),
+            v(2., 0.),
+            v(2., 1.),
+            v(1., 1.),
+            v(1., 2.),
+            v(0., 2.),
+        ];
         let parts = convex_parts(&l).unwrap();
         assert_eq!(parts.len(), 2, "{parts:?}");
         let area: f64 = parts

@@ -7,8 +7,8 @@
 use crate::common::{load, run, scenario};
 use floebench::analysis::check::{check_run, claimed_failures};
 use floebench::contact::{
-    compound_signed_distance, detect_compound, detect_with, BroadPhase, Compound, Contact,
-    Feature, NarrowOptions,
+    compound_signed_distance, detect_compound, detect_with, BroadPhase, Compound, Contact, Feature,
+    NarrowOptions,
 };
 use floebench::formulation;
 use floebench::geometry::decompose::{convex_parts, is_internal_edge};
@@ -26,17 +26,10 @@ fn v(x: f64, y: f64) -> Vec2 {
 
 /// An L of outer size `a` and arm width `t` (m), corner at `o`.
 fn l_shape(a: f64, t: f64, o: Vec2) -> Vec<Vec2> {
-    [
-        v(0., 0.),
-        v(a, 0.),
-        v(a, t),
-        v(t, t),
-        v(t, a),
-        v(0., a),
-    ]
-    .iter()
-    .map(|p| p + o)
-    .collect()
+    [v(0., 0.), v(a, 0.), v(a, t), v(t, t), v(t, a), v(0., a)]
+        .iter()
+        .map(|p| p + o)
+        .collect()
 }
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -83,7 +76,12 @@ fn l_shape_mass_properties_match_the_closed_form() {
     });
     assert!(rel(f.area, area) < 1e-12);
     assert!(rel(f.mass, 917.0 * area) < 1e-12);
-    assert!(rel(f.inertia, 917.0 * j) < 1e-12, "{} vs {}", f.inertia, 917.0 * j);
+    assert!(
+        rel(f.inertia, 917.0 * j) < 1e-12,
+        "{} vs {}",
+        f.inertia,
+        917.0 * j
+    );
     assert_eq!(f.parts.len(), 2, "an L is two convex parts: {:?}", f.parts);
 }
 
@@ -130,7 +128,9 @@ fn self_intersecting_outlines_are_refused_naming_the_crossing_edges() {
 /// A seeded random simple polygon: `n` vertices at increasing angles about
 /// the origin, radii in `[0.3, 1]` (star-shaped, so simple), `scale` m.
 fn random_star(rng: &mut SplitMix64, n: usize, scale: f64) -> Vec<Vec2> {
-    let mut angles: Vec<f64> = (0..n).map(|_| rng.range(0.0, std::f64::consts::TAU)).collect();
+    let mut angles: Vec<f64> = (0..n)
+        .map(|_| rng.range(0.0, std::f64::consts::TAU))
+        .collect();
     angles.sort_by(f64::total_cmp);
     angles
         .iter()
@@ -175,7 +175,10 @@ fn assert_tiles(poly: &[Vec2], parts: &[Vec<usize>], what: &str) {
     }
     assert!(outline.iter().all(|&c| c == 1), "{what}: {outline:?}");
     for &(i, j) in &internal {
-        assert!(internal.contains(&(j, i)), "{what}: diagonal {i}-{j} one-sided");
+        assert!(
+            internal.contains(&(j, i)),
+            "{what}: diagonal {i}-{j} one-sided"
+        );
     }
 }
 
@@ -259,7 +262,8 @@ fn no_contact_between_the_parts_of_one_floe() {
     let c = contacts_at_start(&scn, 50.0);
     assert!(c.iter().all(|c| c.a != c.b), "{c:#?}");
     assert!(
-        c.iter().all(|c| (c.a, c.b) == (0, 1) || (c.a, c.b) == (1, 0)),
+        c.iter()
+            .all(|c| (c.a, c.b) == (0, 1) || (c.a, c.b) == (1, 0)),
         "{c:#?}"
     );
     // A square resting in the notch, touching both faces of the concave
@@ -275,7 +279,11 @@ fn no_contact_between_the_parts_of_one_floe() {
             "normal off the faces: {k:#?}"
         );
         assert!(k.geom.gap.abs() < 1e-9, "{k:#?}");
-        let l_feature = if k.a == 0 { k.geom.feature.a } else { k.geom.feature.b };
+        let l_feature = if k.a == 0 {
+            k.geom.feature.a
+        } else {
+            k.geom.feature.b
+        };
         match l_feature {
             Feature::Edge(e) => assert!(e == 2 || e == 3, "L feature {l_feature:?}"),
             Feature::Vertex(p) => assert_eq!(p, 3, "L feature {l_feature:?}"),
@@ -439,7 +447,11 @@ seed = 5
     let mut concave = 0;
     for (i, p) in polys.iter().enumerate() {
         check_simple_ccw(p).unwrap_or_else(|e| panic!("floe {i}: {e}"));
-        assert!((10..=18).contains(&p.len()), "floe {i}: {} vertices", p.len());
+        assert!(
+            (10..=18).contains(&p.len()),
+            "floe {i}: {} vertices",
+            p.len()
+        );
         assert!(matches!(rough.floes[i].origin, FloeOrigin::Field { .. }));
         assert_tiles(p, &rough.floes[i].parts, &format!("floe {i}"));
         concave += usize::from(!rough.floes[i].is_convex());

@@ -469,7 +469,9 @@ fn polygon(
         return Err(ctx.key_err(
             span,
             "polygon",
-            format!("{what}: polygon: cannot be split into convex parts (nearly degenerate outline)"),
+            format!(
+                "{what}: polygon: cannot be split into convex parts (nearly degenerate outline)"
+            ),
         ));
     }
     let r = radius_about(&poly, &area_properties(&poly).centroid);

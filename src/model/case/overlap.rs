@@ -64,7 +64,8 @@ fn compound_sat(a: &[Vec2], pa: &[Vec<usize>], b: &[Vec2], pb: &[Vec<usize>]) ->
     if pa.len() <= 1 && pb.len() <= 1 {
         return sat_separation(a, b);
     }
-    let pick = |poly: &[Vec2], ids: &[usize]| -> Vec<Vec2> { ids.iter().map(|&k| poly[k]).collect() };
+    let pick =
+        |poly: &[Vec2], ids: &[usize]| -> Vec<Vec2> { ids.iter().map(|&k| poly[k]).collect() };
     pa.iter()
         .flat_map(|ia| pb.iter().map(move |ib| (ia, ib)))
         .map(|(ia, ib)| sat_separation(&pick(a, ia), &pick(b, ib)))
