@@ -209,13 +209,9 @@ pub fn is_strictly_convex(poly: &[Vec2]) -> bool {
         })
 }
 
-/// Checks that `poly` is a simple (non-self-intersecting), counter-clockwise
-/// polygon with at least three distinct, finite vertices and no three
-/// consecutive vertices aligned (the same tolerance as
-/// [`check_convex_ccw`]: `|cross| ≤ 1e-12 × size²`). Convex or not. Nothing
-/// is reordered. The tests run in this order: vertex count, finiteness,
-/// repeated vertices, aligned vertices, self-intersection, orientation.
-pub fn check_simple_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
+/// The rules every outline keeps: at least three vertices, finite
+/// coordinates, no repeated vertex (in this order).
+fn check_vertices(poly: &[Vec2]) -> Result<(), PolygonError> {
     let n = poly.len();
     if n < 3 {
         return Err(PolygonError::TooFewVertices(n));
@@ -232,6 +228,18 @@ pub fn check_simple_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
             }
         }
     }
+    Ok(())
+}
+
+/// Checks that `poly` is a simple (non-self-intersecting), counter-clockwise
+/// polygon with at least three distinct, finite vertices and no three
+/// consecutive vertices aligned (the same tolerance as
+/// [`check_convex_ccw`]: `|cross| ≤ 1e-12 × size²`). Convex or not. Nothing
+/// is reordered. The tests run in this order: vertex count, finiteness,
+/// repeated vertices, aligned vertices, self-intersection, orientation.
+pub fn check_simple_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
+    check_vertices(poly)?;
+    let n = poly.len();
     let o = poly.iter().fold(Vec2::zeros(), |s, p| s + p) / n as f64;
     let scale = poly
         .iter()
@@ -262,22 +270,8 @@ pub fn check_simple_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
 /// Checks that `poly` is a strictly convex, counter-clockwise polygon with
 /// at least three distinct, finite vertices. Nothing is reordered.
 pub fn check_convex_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
+    check_vertices(poly)?;
     let n = poly.len();
-    if n < 3 {
-        return Err(PolygonError::TooFewVertices(n));
-    }
-    for (i, p) in poly.iter().enumerate() {
-        if !(p.x.is_finite() && p.y.is_finite()) {
-            return Err(PolygonError::NonFinite(i));
-        }
-    }
-    for i in 0..n {
-        for j in i + 1..n {
-            if poly[i] == poly[j] {
-                return Err(PolygonError::RepeatedVertex(i, j));
-            }
-        }
-    }
     let props = area_properties(poly);
     if props.area <= 0.0 {
         return Err(PolygonError::Clockwise);
