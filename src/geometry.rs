@@ -1,12 +1,31 @@
-//! Planar geometry of convex polygons: the one vocabulary of the project.
+//! Planar geometry of polygons: the one vocabulary of the project.
 //!
 //! Points and vectors are [`Vec2`] (`nalgebra::Vector2<f64>`), in metres.
 //! Polygons are slices of vertices, counter-clockwise, without repetition of
 //! the first vertex at the end.
 //!
 //! Mass properties use the exact polygon formulas (Green's theorem on each
-//! edge). To keep rounding small far from the origin they are computed about
-//! the vertex average and shifted afterwards.
+//! edge, the "shoelace" formulas), which hold for any simple polygon, convex
+//! or not. To keep rounding small far from the origin they are computed
+//! about the vertex average and shifted afterwards.
+//!
+//! An outline is valid ([`check_simple_ccw`]) when it is simple (no two
+//! edges meet except consecutive ones at their shared vertex, tested on all
+//! pairs of edges with exact-sign orientation predicates, `O(n²)`),
+//! counter-clockwise, without repeated or aligned consecutive vertices.
+//! A non-convex outline is split once into convex parts
+//! ([`decompose::convex_parts`]: ear clipping, then Hertel–Mehlhorn) for the
+//! contact detection.
+//!
+//! # References
+//!
+//! - J. O'Rourke (1998), *Computational Geometry in C*, 2nd ed., Cambridge
+//!   University Press: §1.3 (area), §1.5 (segment intersection), §1.6
+//!   (ear clipping).
+//! - S. Hertel, K. Mehlhorn (1983), *Fast triangulation of simple polygons*,
+//!   LNCS 158 (the convex decomposition within four times the optimum).
+
+pub mod decompose;
 
 use nalgebra::Vector2;
 
@@ -112,11 +131,87 @@ pub enum PolygonError {
     /// A turn in the wrong direction, or three aligned vertices.
     #[error("polygon is not strictly convex at vertex {0}")]
     NotConvex(usize),
+    /// Three consecutive vertices aligned (the middle one is not a corner),
+    /// or an edge turning back on the previous one.
+    #[error("vertices {0}, {1} and {2} are aligned; remove vertex {1}")]
+    Aligned(usize, usize, usize),
+    /// Two edges that are not consecutive meet: the outline is not simple.
+    /// Edge `i` joins vertex `i` to vertex `i + 1`.
+    #[error("edges {0} (vertices {0}-{1}) and {2} (vertices {2}-{3}) cross; the outline must not intersect itself")]
+    SelfIntersecting(usize, usize, usize, usize),
 }
 
-/// Checks that `poly` is a strictly convex, counter-clockwise polygon with
-/// at least three distinct, finite vertices. Nothing is reordered.
-pub fn check_convex_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
+/// Orientation of the triangle `a, b, c`: `+1` counter-clockwise, `-1`
+/// clockwise, `0` aligned (the sign of `(b − a) × (c − a)`).
+fn orientation(a: &Vec2, b: &Vec2, c: &Vec2) -> i8 {
+    let v = cross(&(b - a), &(c - a));
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Whether `q`, aligned with `a` and `b`, lies within their bounding box.
+fn on_segment(a: &Vec2, b: &Vec2, q: &Vec2) -> bool {
+    q.x >= a.x.min(b.x) && q.x <= a.x.max(b.x) && q.y >= a.y.min(b.y) && q.y <= a.y.max(b.y)
+}
+
+/// Whether the closed segments `p1 p2` and `q1 q2` share a point (crossing,
+/// touching or overlapping), by orientation tests (O'Rourke §1.5).
+pub fn segments_meet(p1: &Vec2, p2: &Vec2, q1: &Vec2, q2: &Vec2) -> bool {
+    let o1 = orientation(p1, p2, q1);
+    let o2 = orientation(p1, p2, q2);
+    let o3 = orientation(q1, q2, p1);
+    let o4 = orientation(q1, q2, p2);
+    if o1 * o2 < 0 && o3 * o4 < 0 {
+        return true; // a proper crossing
+    }
+    (o1 == 0 && on_segment(p1, p2, q1))
+        || (o2 == 0 && on_segment(p1, p2, q2))
+        || (o3 == 0 && on_segment(q1, q2, p1))
+        || (o4 == 0 && on_segment(q1, q2, p2))
+}
+
+/// The first pair of non-consecutive edges `(i, j)`, `i < j`, of the closed
+/// outline `poly` that meet, if any (`O(n²)`). Edge `i` joins vertex `i` to
+/// vertex `i + 1`.
+pub fn first_self_intersection(poly: &[Vec2]) -> Option<(usize, usize)> {
+    let n = poly.len();
+    for i in 0..n {
+        let (a, b) = (&poly[i], &poly[(i + 1) % n]);
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue; // consecutive through vertex 0
+            }
+            if segments_meet(a, b, &poly[j], &poly[(j + 1) % n]) {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+/// Whether the counter-clockwise polygon `poly` turns strictly left at every
+/// vertex (a convex polygon without aligned vertices; an outline already
+/// checked simple by [`check_simple_ccw`] winds once, so this is strict
+/// convexity).
+pub fn is_strictly_convex(poly: &[Vec2]) -> bool {
+    let n = poly.len();
+    n >= 3
+        && (0..n).all(|i| {
+            let a = poly[(i + n - 1) % n];
+            let b = poly[i];
+            let c = poly[(i + 1) % n];
+            cross(&(b - a), &(c - b)) > 0.0
+        })
+}
+
+/// The rules every outline keeps: at least three vertices, finite
+/// coordinates, no repeated vertex (in this order).
+fn check_vertices(poly: &[Vec2]) -> Result<(), PolygonError> {
     let n = poly.len();
     if n < 3 {
         return Err(PolygonError::TooFewVertices(n));
@@ -133,6 +228,50 @@ pub fn check_convex_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
             }
         }
     }
+    Ok(())
+}
+
+/// Checks that `poly` is a simple (non-self-intersecting), counter-clockwise
+/// polygon with at least three distinct, finite vertices and no three
+/// consecutive vertices aligned (the same tolerance as
+/// [`check_convex_ccw`]: `|cross| ≤ 1e-12 × size²`). Convex or not. Nothing
+/// is reordered. The tests run in this order: vertex count, finiteness,
+/// repeated vertices, aligned vertices, self-intersection, orientation.
+pub fn check_simple_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
+    check_vertices(poly)?;
+    let n = poly.len();
+    let o = poly.iter().fold(Vec2::zeros(), |s, p| s + p) / n as f64;
+    let scale = poly
+        .iter()
+        .map(|p| (p - o).norm_squared())
+        .fold(0.0, f64::max);
+    for i in 0..n {
+        let a = poly[(i + n - 1) % n];
+        let b = poly[i];
+        let c = poly[(i + 1) % n];
+        if cross(&(b - a), &(c - b)).abs() <= 1e-12 * scale {
+            return Err(PolygonError::Aligned((i + n - 1) % n, i, (i + 1) % n));
+        }
+    }
+    if let Some((i, j)) = first_self_intersection(poly) {
+        return Err(PolygonError::SelfIntersecting(
+            i,
+            (i + 1) % n,
+            j,
+            (j + 1) % n,
+        ));
+    }
+    if area_properties(poly).area <= 0.0 {
+        return Err(PolygonError::Clockwise);
+    }
+    Ok(())
+}
+
+/// Checks that `poly` is a strictly convex, counter-clockwise polygon with
+/// at least three distinct, finite vertices. Nothing is reordered.
+pub fn check_convex_ccw(poly: &[Vec2]) -> Result<(), PolygonError> {
+    check_vertices(poly)?;
+    let n = poly.len();
     let props = area_properties(poly);
     if props.area <= 0.0 {
         return Err(PolygonError::Clockwise);
@@ -210,6 +349,43 @@ pub fn sat_separation(a: &[Vec2], b: &[Vec2]) -> f64 {
 /// by more than `tolerance` metres. Touching along an edge is not an overlap.
 pub fn convex_overlap(a: &[Vec2], b: &[Vec2], tolerance: f64) -> bool {
     sat_separation(a, b) < -tolerance
+}
+
+/// Signed distance from point `p` to the simple counter-clockwise polygon
+/// `poly`, convex or not, m: the Euclidean distance to the outline, negative
+/// inside (inside by the crossing-number test). For a convex polygon it
+/// equals [`point_polygon_signed_distance`] up to rounding; callers keep the
+/// convex formula for convex bodies so that their results do not change.
+pub fn point_outline_signed_distance(p: &Vec2, poly: &[Vec2]) -> f64 {
+    let n = poly.len();
+    let mut best = f64::INFINITY;
+    let mut inside = false;
+    for i in 0..n {
+        let a = poly[i];
+        let b = poly[(i + 1) % n];
+        let e = b - a;
+        let len2 = e.norm_squared();
+        let d = p - a;
+        let s = if len2 > 0.0 {
+            (d.dot(&e) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        best = best.min((d - e * s).norm());
+        // Crossing number: the edge straddles the horizontal through p and
+        // crosses it to the right of p.
+        if (a.y > p.y) != (b.y > p.y) {
+            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+            if p.x < x {
+                inside = !inside;
+            }
+        }
+    }
+    if inside {
+        -best
+    } else {
+        best
+    }
 }
 
 /// The largest distance from `c` to a vertex of `poly` (circumradius about `c`).

@@ -3,7 +3,7 @@
 //! helpers every caller shares: world polygons, contact detection of the
 //! bodies, point and normal velocities, kinetic energy, largest point speed.
 
-use crate::contact::{detect, BroadPhase, Contact};
+use crate::contact::{detect_compound, BroadPhase, Compound, Contact, NarrowOptions};
 use crate::geometry::Vec2;
 use crate::model::{Body, Scenario};
 use crate::physics::forces::point_velocity;
@@ -163,7 +163,8 @@ pub fn world_polygons(scn: &Scenario, bodies: &[BodyState]) -> Vec<Vec<Vec2>> {
 }
 
 /// The contacts between the bodies at `bodies` (floes, then obstacles) closer
-/// than `distance` (m), by the shared detection ([`crate::contact::detect`]),
+/// than `distance` (m), by the shared detection
+/// ([`crate::contact::detect_compound`]: convex parts of non-convex bodies),
 /// into `out`; `bp` keeps the broad phase's buffers between calls.
 pub fn detect_contacts(
     scn: &Scenario,
@@ -173,11 +174,40 @@ pub fn detect_contacts(
     out: &mut Vec<Contact>,
 ) {
     let polys = world_polygons(scn, bodies);
-    let refs: Vec<&[Vec2]> = polys.iter().map(|p| p.as_slice()).collect();
-    let fixed: Vec<bool> = (0..refs.len())
+    let compounds = compounds(scn, &polys);
+    let fixed: Vec<bool> = (0..compounds.len())
         .map(|i| matches!(scn.body(i), Body::Obstacle(_)))
         .collect();
-    detect(&refs, &fixed, distance, bp, out);
+    detect_compound(
+        &compounds,
+        &fixed,
+        distance,
+        &NarrowOptions::default(),
+        bp,
+        out,
+    );
+}
+
+/// The bodies of `scn` as [`Compound`]s of their convex parts, over their
+/// world polygons `polys` (from [`world_polygons`]).
+pub fn compounds<'a>(scn: &'a Scenario, polys: &'a [Vec<Vec2>]) -> Vec<Compound<'a>> {
+    polys
+        .iter()
+        .enumerate()
+        .map(|(i, p)| Compound {
+            outline: p,
+            parts: body_parts(scn, i),
+        })
+        .collect()
+}
+
+/// The convex parts of body `i` (floe or obstacle, ids as in
+/// [`Scenario::body`]), as indices into its outline.
+pub fn body_parts(scn: &Scenario, i: usize) -> &[Vec<usize>] {
+    match scn.body(i) {
+        Body::Floe(k) => &scn.floes[k].parts,
+        Body::Obstacle(k) => &scn.obstacles[k].parts,
+    }
 }
 
 /// The velocity of the material point of body `i` at world point `p` (m/s):

@@ -159,6 +159,73 @@ enum Side {
     B,
 }
 
+/// A convex part of a compound (non-convex) body: the body's whole outline
+/// and the part's vertex indices into it, so that the narrow phase knows
+/// which part edges are internal (kept diagonals, never contact features)
+/// and the outline's neighbours of each part vertex.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct PartOf<'a> {
+    /// The body's outline, world frame, m.
+    pub outline: &'a [Vec2],
+    /// The part's vertices, indices into `outline`, counter-clockwise.
+    pub ids: &'a [usize],
+}
+
+impl PartOf<'_> {
+    /// Whether the part edge `k` (part vertex `k` to `k + 1`) is internal.
+    fn internal(&self, k: usize) -> bool {
+        crate::geometry::decompose::is_internal_edge(self.ids, k, self.outline.len())
+    }
+
+    /// Whether `out` (a unit direction pointing out of the body) lies in the
+    /// outline's normal cone at part vertex `k`: the closest point of the
+    /// whole body to a point along `out` can be that vertex (never at a
+    /// reflex vertex).
+    fn in_normal_cone(&self, k: usize, out: &Vec2) -> bool {
+        let n = self.outline.len();
+        let v = self.ids[k];
+        let p = self.outline[v];
+        out.dot(&(self.outline[(v + 1) % n] - p)) <= 0.0
+            && out.dot(&(self.outline[(v + n - 1) % n] - p)) <= 0.0
+    }
+}
+
+/// The compound-body information of the two polygons of a pair (`None`: a
+/// whole convex body, nothing internal).
+#[derive(Debug, Clone, Copy, Default)]
+pub(crate) struct Parts<'a> {
+    /// Polygon A's.
+    pub a: Option<PartOf<'a>>,
+    /// Polygon B's.
+    pub b: Option<PartOf<'a>>,
+}
+
+impl Parts<'_> {
+    /// Whether edge `edge` of the polygon on `side` is internal.
+    #[inline]
+    fn internal(&self, side: Side, edge: usize) -> bool {
+        let p = match side {
+            Side::A => &self.a,
+            Side::B => &self.b,
+        };
+        p.as_ref().is_some_and(|p| p.internal(edge))
+    }
+
+    /// Whether vertex `k` of the polygon on `side` touches an internal edge
+    /// and `out` (pointing out of that body) leaves its outline's normal
+    /// cone there: the feature is hidden behind the body's other parts.
+    fn hidden_vertex(&self, side: Side, k: usize, out: &Vec2) -> bool {
+        let p = match side {
+            Side::A => &self.a,
+            Side::B => &self.b,
+        };
+        p.as_ref().is_some_and(|p| {
+            let m = p.ids.len();
+            (p.internal(k) || p.internal((k + m - 1) % m)) && !p.in_normal_cone(k, out)
+        })
+    }
+}
+
 /// One edge of `A ⊖ B`: edge `edge` of polygon `side`, and the vertex
 /// `vertex` of the other polygon that supports it.
 #[derive(Debug, Clone, Copy)]
@@ -281,11 +348,24 @@ pub fn signed_distance(a: &[Vec2], b: &[Vec2]) -> f64 {
 ///
 /// See the module documentation for the algorithm and degenerate cases.
 pub fn separation(a: &[Vec2], b: &[Vec2]) -> Option<Separation> {
+    separation_in(a, b, &Parts::default())
+}
+
+/// [`separation`] of two convex parts of compound bodies: `None` also when
+/// the pair's closest features are hidden behind another part of a body
+/// (an internal edge, or a vertex approached from inside its body; that
+/// other part's pair carries the contact). An overlap is measured along
+/// the best outline edge (internal edges are not contact faces), falling
+/// back to every edge if no outline edge is left. Without compound bodies,
+/// exactly [`separation`].
+pub(crate) fn separation_in(a: &[Vec2], b: &[Vec2], parts: &Parts) -> Option<Separation> {
     if a.is_empty() || b.is_empty() {
         return None;
     }
     // Best SAT edge: (value, edge, pair normal).
     let mut sat: Option<(f64, MinkEdge, Vec2)> = None;
+    // Best SAT edge among outline edges (internal edges excluded).
+    let mut sat_face: Option<(f64, MinkEdge, Vec2)> = None;
     // Closest vertex–segment pair: (squared distance, edge, parameter, pair
     // normal, largest coordinate magnitude involved, for the rounding
     // tolerance).
@@ -308,6 +388,9 @@ pub fn separation(a: &[Vec2], b: &[Vec2]) -> Option<Separation> {
         let s = nr.dot(&(q - p0));
         if sat.is_none_or(|(best, _, _)| s > best) {
             sat = Some((s, e, pair_normal));
+        }
+        if !parts.internal(e.side, e.edge) && sat_face.is_none_or(|(best, _, _)| s > best) {
+            sat_face = Some((s, e, pair_normal));
         }
         let d = p1 - p0;
         let t = d.dot(&(q - p0)) / d.norm_squared();
@@ -347,6 +430,9 @@ pub fn separation(a: &[Vec2], b: &[Vec2]) -> Option<Separation> {
         if let Some((dist2, e, t, normal, magnitude)) = near {
             let dist = dist2.sqrt();
             if t > 0.0 && t < 1.0 {
+                if parts.internal(e.side, e.edge) {
+                    return None; // closest to a diagonal: hidden
+                }
                 return Some(Separation {
                     distance: dist,
                     normal,
@@ -359,7 +445,7 @@ pub fn separation(a: &[Vec2], b: &[Vec2]) -> Option<Separation> {
             // is the axis: report the SAT edge so that facing edges can give
             // a two-point contact.
             let slack = VERTEX_VERTEX_RELATIVE_SLACK * dist + 8.0 * f64::EPSILON * magnitude;
-            if dist - s_best <= slack {
+            if dist - s_best <= slack && !parts.internal(e_sat.side, e_sat.edge) {
                 return Some(Separation {
                     distance: dist,
                     normal: n_sat,
@@ -400,6 +486,11 @@ pub fn separation(a: &[Vec2], b: &[Vec2]) -> Option<Separation> {
             } else {
                 n_sat
             };
+            if parts.hidden_vertex(Side::A, ia, &normal)
+                || parts.hidden_vertex(Side::B, jb, &-normal)
+            {
+                return None;
+            }
             return Some(Separation {
                 distance: dist,
                 normal,
@@ -407,13 +498,16 @@ pub fn separation(a: &[Vec2], b: &[Vec2]) -> Option<Separation> {
             });
         }
     }
+    // Touching or overlapping: the best outline face (the same as the best
+    // edge for whole convex bodies).
+    let (s_face, e_face, n_face) = sat_face.unwrap_or((s_best, e_sat, n_sat));
     Some(Separation {
-        distance: s_best,
-        normal: n_sat,
+        distance: s_face,
+        normal: n_face,
         feature: pair(
-            e_sat.side,
-            Feature::Edge(e_sat.edge),
-            Feature::Vertex(e_sat.vertex),
+            e_face.side,
+            Feature::Edge(e_face.edge),
+            Feature::Vertex(e_face.vertex),
         ),
     })
 }
@@ -447,9 +541,23 @@ pub(crate) fn for_each_contact(
     b: &[Vec2],
     distance: f64,
     options: &NarrowOptions,
+    emit: impl FnMut(ContactGeom),
+) {
+    for_each_part_contact(a, b, &Parts::default(), distance, options, emit);
+}
+
+/// [`for_each_contact`] for two convex parts of compound bodies (see
+/// [`separation_in`]): internal edges are neither reference nor incident
+/// edges. Features are indices into the parts.
+pub(crate) fn for_each_part_contact(
+    a: &[Vec2],
+    b: &[Vec2],
+    parts: &Parts,
+    distance: f64,
+    options: &NarrowOptions,
     mut emit: impl FnMut(ContactGeom),
 ) {
-    let Some(sep) = separation(a, b) else {
+    let Some(sep) = separation_in(a, b, parts) else {
         return;
     };
     let within = sep.distance <= distance; // false for NaN
@@ -458,10 +566,12 @@ pub(crate) fn for_each_contact(
     }
     match (sep.feature.a, sep.feature.b) {
         (Feature::Edge(r), Feature::Vertex(q)) => {
-            manifold(a, r, b, q, Side::A, &sep, distance, options, &mut emit)
+            let inc = parts.b.as_ref();
+            manifold(a, r, b, q, inc, Side::A, &sep, distance, options, &mut emit)
         }
         (Feature::Vertex(q), Feature::Edge(r)) => {
-            manifold(b, r, a, q, Side::B, &sep, distance, options, &mut emit)
+            let inc = parts.a.as_ref();
+            manifold(b, r, a, q, inc, Side::B, &sep, distance, options, &mut emit)
         }
         (Feature::Vertex(i), Feature::Vertex(j)) => emit(ContactGeom {
             point: 0.5 * (a[i] + b[j]),
@@ -485,13 +595,16 @@ enum ClipEnd {
 }
 
 /// Contact points for the reference edge `r` of `refp` (on side `ref_side`)
-/// against the vertex `q` of `inc`, given the pair's separation.
+/// against the vertex `q` of `inc` (a part of a compound body when
+/// `inc_part` is given: its internal edges are not incident edges), given
+/// the pair's separation.
 #[allow(clippy::too_many_arguments)]
 fn manifold(
     refp: &[Vec2],
     r: usize,
     inc: &[Vec2],
     q: usize,
+    inc_part: Option<&PartOf>,
     ref_side: Side,
     sep: &Separation,
     distance: f64,
@@ -520,6 +633,9 @@ fn manifold(
     let prev = if q == 0 { m - 1 } else { q - 1 };
     let mut incident: Option<(usize, f64, Vec2)> = None; // (edge, n·n_ref, normal)
     for k in [prev, q] {
+        if inc_part.is_some_and(|p| p.internal(k)) {
+            continue;
+        }
         if let Some(nk) = outward_normal(&inc[k], &inc[next(k, m)]) {
             let c = nk.dot(&n_ref);
             if incident.is_none_or(|(_, best, _)| c < best) {

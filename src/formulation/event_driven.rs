@@ -5,8 +5,9 @@
 //! From a state at time `t` (docs/physics.md §3, §4; origin report §3.2):
 //!
 //! 1. **Detection.** Contacts are found by sweep and prune and exact convex
-//!    polygon distances ([`crate::contact`]): every vertex–edge point whose
-//!    gap is below the contact distance `δ` is *closed*.
+//!    polygon distances ([`crate::contact`]; a non-convex floe or obstacle
+//!    by its convex parts): every vertex–edge point whose gap is below the
+//!    contact distance `δ` is *closed*.
 //! 2. **Impacts.** If a closed contact approaches faster than the impact
 //!    threshold (`u_N < −v_imp`, [`EventDriven::new`]), the connected
 //!    group of floes it belongs to goes through an impact: the compression
@@ -96,7 +97,9 @@ use super::{
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{signed_distance, Aabb, BroadPhase, Contact};
 use crate::fracture::{loads_of, Decision, Fracturer};
-use crate::geometry::{aabb, perp, point_polygon_signed_distance, rotate, Vec2};
+use crate::geometry::{
+    aabb, perp, point_outline_signed_distance, point_polygon_signed_distance, rotate, Vec2,
+};
 use crate::model::limits::Limit;
 use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, StepRecord, Wrench};
@@ -105,8 +108,8 @@ use crate::record::{
     ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, StageClock, Unit,
 };
 use crate::state::{
-    detect_contacts, normal_velocity, tangential_velocity, world_polygons, BodyState, Ledger,
-    System,
+    body_parts, detect_contacts, normal_velocity, tangential_velocity, world_polygons, BodyState,
+    Ledger, System,
 };
 
 /// The registry entry (see [`crate::formulation::REGISTRY`]).
@@ -485,18 +488,56 @@ fn relative_motion(
 /// followed in straight pieces, each clipped against the polygon grown by
 /// `grow`. Returns the middle of the first passage as a fraction of the
 /// step, if there is one.
-fn transit(motion: &[(f64, f64, Vec2)], x: &Vec2, local: &[Vec2], grow: f64) -> Option<f64> {
+///
+/// A non-convex body is the union of its convex `parts` (indices into
+/// `local`): the passage is against the nearest-in-time part (one part, the
+/// outline itself, for a convex body).
+fn transit(
+    motion: &[(f64, f64, Vec2)],
+    x: &Vec2,
+    local: &[Vec2],
+    parts: &[Vec<usize>],
+    grow: f64,
+) -> Option<f64> {
     let map = |&(c, s, d): &(f64, f64, Vec2)| Vec2::new(c * x.x - s * x.y, s * x.x + c * x.y) + d;
     let pieces = motion.len().saturating_sub(1).max(1) as f64;
+    let part_polys: Vec<Vec<Vec2>> = if parts.len() > 1 {
+        parts
+            .iter()
+            .map(|ids| ids.iter().map(|&k| local[k]).collect())
+            .collect()
+    } else {
+        Vec::new()
+    };
     let mut q0 = map(&motion[0]);
     for (piece, m) in motion.iter().enumerate().skip(1) {
         let q1 = map(m);
-        if let Some(u) = clip(&q0, &q1, local, grow) {
+        let hit = if part_polys.is_empty() {
+            clip(&q0, &q1, local, grow)
+        } else {
+            part_polys
+                .iter()
+                .filter_map(|p| clip(&q0, &q1, p, grow))
+                .reduce(f64::min)
+        };
+        if let Some(u) = hit {
             return Some((piece as f64 - 1.0 + u) / pieces);
         }
         q0 = q1;
     }
     None
+}
+
+/// Signed distance (m) from the point `v` to body `body` of `scn` at its
+/// world outline `poly`: the convex formula
+/// ([`point_polygon_signed_distance`]) for a convex body, the simple-polygon
+/// one ([`point_outline_signed_distance`]) for a non-convex body.
+fn body_distance(scn: &Scenario, body: usize, v: &Vec2, poly: &[Vec2]) -> f64 {
+    if body_parts(scn, body).len() <= 1 {
+        point_polygon_signed_distance(v, poly)
+    } else {
+        point_outline_signed_distance(v, poly)
+    }
 }
 
 /// Cyrus–Beck clipping of the segment `q0 → q1` against the convex
@@ -1171,6 +1212,27 @@ impl EventDriven {
         pairs
     }
 
+    /// The signed distance (m) between bodies `i` and `j` at their world
+    /// outlines `a` and `b`: the minimum translation distance of two convex
+    /// polygons ([`signed_distance`]), and for a non-convex body the smallest
+    /// over the pairs of their convex parts (a penetration is then the
+    /// deepest overlap of two parts).
+    fn pair_signed_distance(scn: &Scenario, i: usize, j: usize, a: &[Vec2], b: &[Vec2]) -> f64 {
+        let (pi, pj) = (body_parts(scn, i), body_parts(scn, j));
+        if pi.len() <= 1 && pj.len() <= 1 {
+            return signed_distance(a, b);
+        }
+        let part = |poly: &[Vec2], ids: &[usize]| ids.iter().map(|&k| poly[k]).collect::<Vec<_>>();
+        let mut d = f64::INFINITY;
+        for ia in pi {
+            let pa = part(a, ia);
+            for jb in pj {
+                d = d.min(signed_distance(&pa, &part(b, jb)));
+            }
+        }
+        d
+    }
+
     /// Finds the first event in `(0, h]`: a vertex that was open and closes.
     #[allow(clippy::too_many_arguments)]
     fn locate(
@@ -1213,11 +1275,11 @@ impl EventDriven {
                     Body::Obstacle(_) => &p0[other],
                 };
                 for (k, (v0, v1)) in p0[owner].iter().zip(&p1[owner]).enumerate() {
-                    let d0 = point_polygon_signed_distance(v0, &p0[other]);
+                    let d0 = body_distance(scn, other, v0, &p0[other]);
                     if d0 <= delta {
                         continue;
                     }
-                    let d1 = point_polygon_signed_distance(v1, &p1[other]);
+                    let d1 = body_distance(scn, other, v1, &p1[other]);
                     if d1 < target {
                         cand.push((owner, k));
                         continue;
@@ -1231,7 +1293,8 @@ impl EventDriven {
                         Body::Floe(f) => scn.floes[f].shape[k],
                         Body::Obstacle(_) => *v0,
                     };
-                    if let Some(mid) = transit(motion, &x, local, target) {
+                    let parts = body_parts(scn, other);
+                    if let Some(mid) = transit(motion, &x, local, parts, target) {
                         transits.push(((owner, k), mid * h));
                     }
                 }
@@ -1276,8 +1339,12 @@ impl EventDriven {
                 let (pi, pj) = (poly(i)?, poly(j)?);
                 let mut m = f64::INFINITY;
                 for &(owner, k) in &cand {
-                    let (own, oth) = if owner == i { (&pi, &pj) } else { (&pj, &pi) };
-                    m = m.min(point_polygon_signed_distance(&own[k], oth));
+                    let (own, oth, other) = if owner == i {
+                        (&pi, &pj, j)
+                    } else {
+                        (&pj, &pi, i)
+                    };
+                    m = m.min(body_distance(scn, other, &own[k], oth));
                 }
                 Ok(m - target)
             };
@@ -1498,7 +1565,10 @@ impl EventDriven {
             let depths: Vec<((usize, usize), f64)> = clock.time(Stage::Detection, || {
                 self.swept_pairs(scn, &p_next, &p_next)
                     .iter()
-                    .map(|&(i, j)| ((i, j), -signed_distance(&p_next[i], &p_next[j])))
+                    .map(|&(i, j)| {
+                        let d = Self::pair_signed_distance(scn, i, j, &p_next[i], &p_next[j]);
+                        ((i, j), -d)
+                    })
                     .collect()
             });
             let depth = depths.iter().map(|d| d.1).fold(0.0, f64::max);

@@ -12,12 +12,19 @@
 //! 3. each cell gets a number of vertices drawn in `sides`: extra vertices
 //!    are removed (smallest ear first), missing ones added by cutting the
 //!    sharpest corner; both keep the polygon convex and inside its cell;
-//! 4. each polygon is shrunk about its centroid by a common factor `s`,
+//! 4. with `roughness = ρ > 0`, the middle of every edge is moved towards
+//!    the polygon's centroid `c` by `ρ` times its distance to it (the midpoint
+//!    `m` becomes `m + ρ (c − m)`), a notch that doubles the vertices and
+//!    makes the floe non-convex; `ρ = 0` (the default) skips this step and
+//!    gives the convex floes bit for bit. The notched polygon is star-shaped
+//!    about `c` (every vertex on its own ray from `c`, in angular order), so
+//!    it is simple, and it lies inside the convex polygon it was cut from;
+//! 5. each polygon is shrunk about its centroid by a common factor `s`,
 //!    clamped per floe so its circumradius stays in `radius`, with `s` found
 //!    by bisection so the total area is `concentration × region area`.
 //!
-//! A shrunk convex cell lies inside its cell, and cells do not overlap, so no
-//! two floes overlap. Only `+ − × / sqrt` are used (no trigonometry), so the
+//! A shrunk polygon lies inside its cell (a notched one inside its shrunk
+//! convex polygon), and cells do not overlap, so no two floes overlap. Only `+ − × / sqrt` are used (no trigonometry), so the
 //! same seed gives the same field on every machine. The cost is linear in
 //! `count` (grids everywhere, no all-pairs loop), and every loop has a
 //! bounded number of rounds: a region and count that the case limits admit
@@ -78,6 +85,11 @@ pub fn generate_field(spec: &FieldSpec, field_index: usize) -> Result<Vec<Floe>,
             return Err(degenerate());
         }
         let poly = adjust_sides(cell, target);
+        let poly = if spec.roughness > 0.0 {
+            notched(&poly, spec.roughness)
+        } else {
+            poly
+        };
         let props = area_properties(&poly);
         if poly.len() < 3 || props.area.is_nan() || props.area <= 0.0 {
             return Err(degenerate());
@@ -324,6 +336,23 @@ fn voronoi_cells(seeds: &[Vec2], lo: Vec2, hi: Vec2) -> Option<Vec<Vec<Vec2>>> {
         }
     }
     Some(cells)
+}
+
+/// The convex polygon `poly` with the middle of every edge moved towards
+/// its centroid by `roughness` (dimensionless, in `(0, 0.5]`) times its
+/// distance to it: `2n` vertices, star-shaped about the centroid, simple and
+/// counter-clockwise (step 4 of the module documentation).
+fn notched(poly: &[Vec2], roughness: f64) -> Vec<Vec2> {
+    let c = area_properties(poly).centroid;
+    let n = poly.len();
+    let mut out = Vec::with_capacity(2 * n);
+    for i in 0..n {
+        let (p, q) = (poly[i], poly[(i + 1) % n]);
+        let m = (p + q) * 0.5;
+        out.push(p);
+        out.push(m + (c - m) * roughness);
+    }
+    out
 }
 
 /// Twice the area of the ear at vertex `i`.

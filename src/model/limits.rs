@@ -450,6 +450,19 @@ pub const CONCENTRATION: Limit = Limit::range(
 )
 .exclusive_min();
 
+/// `[[field]] roughness`: how deep each edge of a generated floe is notched
+/// (a fraction of the distance from the floe's centroid to the edge's
+/// midpoint). Up to one half: deeper notches leave thin arms that the
+/// contact distance and the decomposition into convex parts resolve badly.
+pub const ROUGHNESS: Limit = Limit::range(
+    "roughness",
+    "[[field]]",
+    0.0,
+    0.5,
+    "",
+    "deeper notches leave arms thinner than half the floe",
+);
+
 /// `[integrator] tolerance`.
 pub const TOLERANCE: Limit = Limit::range(
     "tolerance",
@@ -507,6 +520,7 @@ pub const CASE_LIMITS: &[Limit] = &[
     ANGULAR_VELOCITY,
     FLOES,
     CONCENTRATION,
+    ROUGHNESS,
     TOLERANCE,
     FILE_BYTES,
     RUN_BYTES,

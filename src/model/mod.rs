@@ -1,7 +1,7 @@
 //! The model: what a case file describes, checked and ready to simulate.
 //!
-//! A [`Scenario`] is immutable during a run. It holds the floes (rigid convex
-//! polygons with exact mass properties), the fixed obstacles, the environment
+//! A [`Scenario`] is immutable during a run. It holds the floes (rigid simple
+//! polygons, convex or not, with exact mass properties), the fixed obstacles, the environment
 //! (wind, current, Coriolis), the contact law and the settings of the
 //! integrator and of each formulation. Loading and validation of case files
 //! live in [`case`], the documented bounds of every number in [`limits`]; the
@@ -24,11 +24,17 @@ pub use settings::{SettingsReader, SettingsTable, TableSpec};
 /// Default ice density, kg/m³.
 pub const DEFAULT_ICE_DENSITY: f64 = 917.0;
 
-/// A rigid floe: a convex polygon with uniform thickness and density.
+/// A rigid floe: a simple polygon (convex or not) with uniform thickness and
+/// density.
 #[derive(Debug, Clone, Serialize)]
 pub struct Floe {
     /// Outline relative to the centre of mass at angle 0, counter-clockwise, m.
     pub shape: Vec<Vec2>,
+    /// The convex parts of the outline, held rigidly together: each a
+    /// counter-clockwise list of indices into `shape`
+    /// ([`crate::geometry::decompose::convex_parts`]); one part `0..n` for a
+    /// convex floe. Computed once, in the body frame.
+    pub parts: Vec<Vec<usize>>,
     /// Centre of mass at t = 0, m.
     pub position: Vec2,
     /// Velocity of the centre of mass at t = 0, m/s.
@@ -84,7 +90,8 @@ pub enum FloeOrigin {
 }
 
 impl Floe {
-    /// Builds a floe from its world outline at t = 0 (validated convex, CCW).
+    /// Builds a floe from its world outline at t = 0 (validated simple, CCW,
+    /// by [`crate::geometry::check_simple_ccw`]).
     pub fn from_world_polygon(
         polygon: &[Vec2],
         thickness: f64,
@@ -98,6 +105,7 @@ impl Floe {
         let surface_density = density * thickness;
         Floe {
             radius: radius_about(&shape, &Vec2::zeros()),
+            parts: parts_of(polygon),
             shape,
             position: props.centroid,
             velocity,
@@ -114,6 +122,11 @@ impl Floe {
             t_birth: 0.0,
             theta_birth: 0.0,
         }
+    }
+
+    /// Whether the floe is a single convex part.
+    pub fn is_convex(&self) -> bool {
+        self.parts.len() == 1
     }
 
     /// The outline in world coordinates for a centre `g` and angle `theta`.
@@ -133,11 +146,38 @@ impl Floe {
     }
 }
 
+/// The convex parts of a validated outline
+/// ([`crate::geometry::decompose::convex_parts`]). The case validation
+/// refuses an outline that cannot be split, so the fallback (the outline as
+/// one part) is never taken on a loaded case.
+pub fn parts_of(polygon: &[Vec2]) -> Vec<Vec<usize>> {
+    crate::geometry::decompose::convex_parts(polygon)
+        .unwrap_or_else(|| vec![(0..polygon.len()).collect()])
+}
+
 /// A fixed obstacle (coast, island, wall): infinite mass, never moves.
 #[derive(Debug, Clone, Serialize)]
 pub struct Obstacle {
     /// Outline in world coordinates, counter-clockwise, m.
     pub polygon: Vec<Vec2>,
+    /// Its convex parts, as for [`Floe::parts`].
+    pub parts: Vec<Vec<usize>>,
+}
+
+impl Obstacle {
+    /// An obstacle of the validated simple counter-clockwise outline
+    /// `polygon` (m), split into its convex parts.
+    pub fn new(polygon: Vec<Vec2>) -> Obstacle {
+        Obstacle {
+            parts: parts_of(&polygon),
+            polygon,
+        }
+    }
+
+    /// Whether the obstacle is a single convex part.
+    pub fn is_convex(&self) -> bool {
+        self.parts.len() == 1
+    }
 }
 
 /// A velocity that is constant or piecewise linear in time.

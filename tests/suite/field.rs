@@ -107,6 +107,7 @@ fn the_generator_never_panics_or_hangs_on_regions_the_limits_refuse() {
                 density: 917.0,
                 velocity: [0.0, 0.0],
                 seed: 3,
+                roughness: 0.0,
             };
             if let Ok(floes) = generate_field(&spec, 0) {
                 assert_eq!(floes.len(), count, "{region:?}");

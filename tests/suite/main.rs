@@ -18,6 +18,7 @@ mod fracture;
 mod fuzz;
 mod lemke;
 mod moreau;
+mod nonconvex;
 mod output_interval;
 mod physics;
 mod plot;

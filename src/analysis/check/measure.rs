@@ -3,9 +3,9 @@
 //! velocity.
 
 use crate::analysis::divergence::row_frames;
-use crate::contact::{signed_distance, Aabb, BroadPhase};
+use crate::contact::{compound_signed_distance, Aabb, BroadPhase, Compound};
 use crate::geometry::Vec2;
-use crate::model::Scenario;
+use crate::model::{parts_of, Scenario};
 use crate::run::{RunResult, TrajectoryRow};
 
 /// The first output time from which floe `floe` moves slower than `speed`
@@ -24,7 +24,8 @@ pub fn rest_time(rows: &[TrajectoryRow], floe: usize, speed: f64) -> Option<f64>
 
 /// The deepest overlap (m, ≥ 0) between two floes or a floe and an obstacle
 /// at the output times of `run`: the minimum translation distance
-/// ([`signed_distance`]) of every overlapping pair, each floe alive at that
+/// ([`compound_signed_distance`]: of the deepest pair of convex parts for
+/// a non-convex body) of every overlapping pair, each floe alive at that
 /// time drawn from its record ([`RunResult::floes`]: the pieces of broken
 /// floes included).
 pub fn sampled_penetration(scn: &Scenario, run: &RunResult) -> f64 {
@@ -46,14 +47,20 @@ pub fn sampled_penetration(scn: &Scenario, run: &RunResult) -> f64 {
             continue;
         }
         polys.extend(scn.obstacles.iter().map(|o| o.polygon.clone()));
+        // Convex parts of non-convex outlines (one part for a convex one).
+        let parts: Vec<Vec<Vec<usize>>> = polys.iter().map(|p| parts_of(p)).collect();
         let boxes: Vec<Aabb> = polys
             .iter()
             .enumerate()
             .map(|(i, p)| Aabb::of_polygon(p, i >= n))
             .collect();
         bp.pairs(&boxes, 0.0, &mut pairs);
+        let body = |i: usize| Compound {
+            outline: &polys[i],
+            parts: &parts[i],
+        };
         for &(i, j) in &pairs {
-            deepest = deepest.max(-signed_distance(&polys[i], &polys[j]));
+            deepest = deepest.max(-compound_signed_distance(&body(i), &body(j)));
         }
     }
     deepest

@@ -8,9 +8,10 @@
 
 use crate::geometry::Vec2;
 use crate::state::BodyState;
-use rapier2d_f64::math::{Rot2, Vector as RVec};
+use rapier2d_f64::math::{Pose, Rot2, Vector as RVec};
 use rapier2d_f64::prelude::{
     Collider, ColliderBuilder, ContactManifold, MassProperties, RigidBody, RigidBodyBuilder,
+    SharedShape,
 };
 
 /// A project vector as a rapier vector.
@@ -69,6 +70,28 @@ pub(super) fn dynamic_body(g: &Vec2, angle: f64, v: &Vec2, omega: f64) -> RigidB
 /// parry rejects the outline.
 pub(super) fn convex_polygon(vertices: &[Vec2]) -> Option<ColliderBuilder> {
     ColliderBuilder::convex_polyline(vertices.iter().map(to_rapier).collect())
+}
+
+/// The collider of an outline (m, counter-clockwise, in the body frame for
+/// a floe, the world frame for an obstacle) split into convex `parts`
+/// (indices into `outline`, [`crate::geometry::decompose`]): the convex
+/// polygon itself for one part ([`convex_polygon`], unchanged for convex
+/// bodies), else a compound of one convex polygon per part, every part at
+/// the identity pose (its vertices are already in the collider's frame, so
+/// contact points read in a part's frame are in the collider's). `None` if
+/// parry rejects a part.
+pub(super) fn polygon_collider(outline: &[Vec2], parts: &[Vec<usize>]) -> Option<ColliderBuilder> {
+    if parts.len() <= 1 {
+        return convex_polygon(outline);
+    }
+    let shapes = parts
+        .iter()
+        .map(|ids| {
+            let pts = ids.iter().map(|&k| to_rapier(&outline[k])).collect();
+            SharedShape::convex_polyline(pts).map(|s| (Pose::IDENTITY, s))
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some(ColliderBuilder::compound(shapes))
 }
 
 /// Mass properties with the centre of mass at the body origin: mass `m` (kg),

@@ -8,13 +8,15 @@
 //!
 //! - Each floe is a dynamic rigid body whose origin is the floe's centre of
 //!   mass, with one convex polygon collider (the floe's outline about the
-//!   centre of mass, taken as it is: no convex hull). The collider carries the
+//!   centre of mass, taken as it is: no convex hull); a non-convex floe has
+//!   one compound collider of its convex parts ([`crate::geometry::decompose`],
+//!   built in `convert.rs`). The collider carries the
 //!   floe's own mass `M` and polar inertia `I` about the centre of mass (its
 //!   density is not used), so rapier integrates the same bodies as the other
 //!   formulations. Sleeping is disabled, linear and angular damping are zero,
 //!   and rapier's angular speed cap is lifted (`allow_fast_rotation`).
 //! - Each obstacle is a fixed body with one convex polygon collider in world
-//!   coordinates.
+//!   coordinates (a compound of its convex parts when it is not convex).
 //! - No gravity. The environment forces (docs/physics.md §2) are computed
 //!   by the project's one force law, [`ForceModel::forces`] (Dunavant
 //!   quadrature of the water drag), from the state at the start of each step,
@@ -489,7 +491,7 @@ fn insert_floe(
         .allow_fast_rotation(true)
         .build();
     let h = bodies.insert(rb);
-    let collider = convert::convex_polygon(&floe.shape)
+    let collider = convert::polygon_collider(&floe.shape, &floe.parts)
         .ok_or_else(|| format!("rapier: floe {}: parry rejects its polygon", floe.id))?
         .mass_properties(convert::mass_properties(floe.mass, floe.inertia))
         .user_data(i as u128);
@@ -567,7 +569,7 @@ impl RapierReference {
         }
         for (k, obstacle) in scn.obstacles.iter().enumerate() {
             let h = bodies.insert(RigidBodyBuilder::fixed().build());
-            let collider = convert::convex_polygon(&obstacle.polygon)
+            let collider = convert::polygon_collider(&obstacle.polygon, &obstacle.parts)
                 .ok_or_else(|| format!("rapier: obstacle {k}: parry rejects its polygon"))?
                 .user_data(OBSTACLE);
             colliders.insert_with_parent(material(collider, e, mu), h, &mut bodies);

@@ -9,7 +9,7 @@ use super::spec::{
     ObstacleSpec,
 };
 use super::{CaseError, Ctx};
-use crate::geometry::{area_properties, check_convex_ccw, radius_about, Vec2};
+use crate::geometry::{area_properties, check_simple_ccw, radius_about, Vec2};
 use crate::model::field::generate_field;
 use crate::model::limits::{self, check_count, Limit};
 use crate::model::settings::{SettingsTable, TableSpec};
@@ -209,7 +209,7 @@ fn obstacles(
             &format!("[[obstacle]] #{i}"),
             &spec.get_ref().polygon,
         )?;
-        obstacles.push(Obstacle { polygon: poly });
+        obstacles.push(Obstacle::new(poly));
         obstacle_spans.push(span);
     }
     Ok((obstacles, obstacle_spans))
@@ -305,6 +305,19 @@ fn fracture_table(
         return Ok(FractureSettings::default());
     };
     let span = spec.span();
+    // The split (src/fracture/split.rs) cuts a convex floe along a chord.
+    if let Some((i, f)) = floes.iter().enumerate().find(|(_, f)| !f.is_convex()) {
+        let which = match f.origin {
+            FloeOrigin::Listed(k) => format!("[[floe]] #{k}"),
+            FloeOrigin::Field { field, index } => format!("[[field]] #{field} floe {index}"),
+        };
+        return Err(ctx.err(
+            Some(span),
+            format!(
+                "[fracture]: floe {i} ({which}) is not convex; fracture splits convex floes only (docs/case-format.md \"Polygons\")"
+            ),
+        ));
+    }
     let values = spec.into_inner();
     let key_lines = values
         .keys()
@@ -436,7 +449,8 @@ fn polygon(
     what: &str,
     pts: &[[f64; 2]],
 ) -> Result<Vec<Vec2>, CaseError> {
-    // The count first: the convexity test is quadratic in the vertices.
+    // The count first: the self-intersection test is quadratic in the
+    // vertices.
     ctx.at(
         span,
         "polygon",
@@ -449,8 +463,17 @@ fn polygon(
         }
     }
     let poly: Vec<Vec2> = pts.iter().map(|p| vec2(*p)).collect();
-    check_convex_ccw(&poly)
+    check_simple_ccw(&poly)
         .map_err(|e| ctx.key_err(span, "polygon", format!("{what}: polygon: {e}")))?;
+    if crate::geometry::decompose::convex_parts(&poly).is_none() {
+        return Err(ctx.key_err(
+            span,
+            "polygon",
+            format!(
+                "{what}: polygon: cannot be split into convex parts (nearly degenerate outline)"
+            ),
+        ));
+    }
     let r = radius_about(&poly, &area_properties(&poly).centroid);
     let name = format!("{what}: polygon circumradius");
     ctx.at(span, "polygon", limits::RADIUS.check(&name, r))?;
@@ -511,6 +534,23 @@ fn validate_field(
         "velocity",
         limits::SPEED.check_vector(&named("velocity"), f.velocity),
     )?;
+    ctx.at(
+        span,
+        "roughness",
+        limits::ROUGHNESS.check(&named("roughness"), f.roughness),
+    )?;
+    // A notch doubles the vertices of a floe, within the polygon limit.
+    if f.roughness > 0.0 && 2.0 * sides[1] > limits::VERTICES.max {
+        return Err(ctx.key_err(
+            span,
+            "roughness",
+            format!(
+                "{what}: roughness > 0 doubles the vertices of each floe: sides max must be at most {} (got {})",
+                limits::show(limits::VERTICES.max / 2.0),
+                f.sides[1]
+            ),
+        ));
+    }
     Ok(())
 }
 

@@ -26,7 +26,8 @@ pub(super) fn check_overlaps(
     let fixed: Vec<&[Vec2]> = obstacles.iter().map(|o| o.polygon.as_slice()).collect();
     let mut bodies: Vec<&[Vec2]> = world.iter().map(|w| w.as_slice()).collect();
     bodies.extend(fixed.iter().copied());
-    if let Some(&(i, j)) = overlapping_pairs(&bodies, floes.len()).first() {
+    let parts = parts_of(floes, obstacles);
+    if let Some(&(i, j)) = overlapping_pairs(&bodies, &parts, floes.len()).first() {
         let span = floe_spans.get(i).cloned();
         let msg = if j < floes.len() {
             format!(
@@ -46,10 +47,39 @@ pub(super) fn check_overlaps(
     Ok(())
 }
 
+/// The convex parts of the floes, then of the obstacles.
+fn parts_of<'a>(floes: &'a [Floe], obstacles: &'a [Obstacle]) -> Vec<&'a [Vec<usize>]> {
+    floes
+        .iter()
+        .map(|f| f.parts.as_slice())
+        .chain(obstacles.iter().map(|o| o.parts.as_slice()))
+        .collect()
+}
+
+/// The separating-axis value of two bodies made of convex parts (`parts`:
+/// indices into each outline): the smallest over the pairs of parts, so
+/// negative when two parts overlap ([`sat_separation`] for two convex
+/// bodies).
+fn compound_sat(a: &[Vec2], pa: &[Vec<usize>], b: &[Vec2], pb: &[Vec<usize>]) -> f64 {
+    if pa.len() <= 1 && pb.len() <= 1 {
+        return sat_separation(a, b);
+    }
+    let pick =
+        |poly: &[Vec2], ids: &[usize]| -> Vec<Vec2> { ids.iter().map(|&k| poly[k]).collect() };
+    pa.iter()
+        .flat_map(|ia| pb.iter().map(move |ib| (ia, ib)))
+        .map(|(ia, ib)| sat_separation(&pick(a, ia), &pick(b, ib)))
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Pairs `(i, j)`, `i < j`, of polygons that overlap by more than the
 /// tolerance, skipping pairs where both indices are `>= n_movable` (two
 /// obstacles may overlap). Sweep and prune on x, so not all pairs.
-fn overlapping_pairs(bodies: &[&[Vec2]], n_movable: usize) -> Vec<(usize, usize)> {
+fn overlapping_pairs(
+    bodies: &[&[Vec2]],
+    parts: &[&[Vec<usize>]],
+    n_movable: usize,
+) -> Vec<(usize, usize)> {
     let boxes: Vec<Aabb> = bodies
         .iter()
         .enumerate()
@@ -63,7 +93,7 @@ fn overlapping_pairs(bodies: &[&[Vec2]], n_movable: usize) -> Vec<(usize, usize)
             let size = (boxes[i].max - boxes[i].min)
                 .norm()
                 .min((boxes[j].max - boxes[j].min).norm());
-            sat_separation(bodies[i], bodies[j]) < -OVERLAP_TOLERANCE * size
+            compound_sat(bodies[i], parts[i], bodies[j], parts[j]) < -OVERLAP_TOLERANCE * size
         })
         .collect()
 }
@@ -82,7 +112,8 @@ pub(super) fn check_field_against_fixed(
         .collect();
     let mut bodies: Vec<&[Vec2]> = world.iter().map(|w| w.as_slice()).collect();
     bodies.extend(obstacles.iter().map(|o| o.polygon.as_slice()));
-    for (i, j) in overlapping_pairs(&bodies, floes.len()) {
+    let parts = parts_of(floes, obstacles);
+    for (i, j) in overlapping_pairs(&bodies, &parts, floes.len()) {
         // Field floes do not overlap each other by construction; report the
         // first clash with something else.
         if j < first && i < first {

@@ -171,6 +171,12 @@ pub struct FieldSpec {
     pub velocity: [f64; 2],
     /// Seed of the generator: same seed, same field.
     pub seed: u64,
+    /// Depth of the notch cut into the middle of every edge, as a fraction
+    /// (dimensionless, in `[0, 0.5]`) of the distance from the floe's
+    /// centroid to the edge's midpoint; default 0: convex floes, as before
+    /// the key existed (see [`crate::model::field`]).
+    #[serde(default)]
+    pub roughness: f64,
 }
 
 #[derive(Deserialize)]
