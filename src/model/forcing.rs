@@ -245,6 +245,9 @@ pub struct GridData {
     pub u: Vec<f64>,
     /// `v`, laid out as `u`, m/s.
     pub v: Vec<f64>,
+    /// The date of the run's t = 0, s from 1970-01-01 00:00:00 UTC (`None`
+    /// for a steady file without a time axis nor a `start`).
+    pub epoch: Option<f64>,
 }
 
 /// A gridded field: the data and where it came from (for messages).
@@ -479,7 +482,14 @@ mod tests {
                 }
             }
         }
-        let data = GridData { x, y, t, u, v };
+        let data = GridData {
+            x,
+            y,
+            t,
+            u,
+            v,
+            epoch: None,
+        };
         GridField {
             file: "g.nc".into(),
             variables: ["u".into(), "v".into()],

@@ -375,6 +375,19 @@ impl Scenario {
             .fold(f64::INFINITY, f64::min)
     }
 
+    /// The date of t = 0 (`YYYY-MM-DD hh:mm:ss`, UTC) when a gridded
+    /// forcing gives one (the wind's first), for the time axis of
+    /// `trajectory.nc`.
+    pub fn start_date(&self) -> Option<String> {
+        [&self.environment.air, &self.environment.water]
+            .iter()
+            .find_map(|f| match &f.velocity {
+                VelocityField::Grid(g) => g.data.epoch,
+                _ => None,
+            })
+            .map(crate::netcdf::cf::format_date)
+    }
+
     /// Times in (0, duration) where the wind or the current has a kink in
     /// time (series points, scale points, grid records), s.
     pub fn forcing_breakpoints(&self) -> Vec<f64> {

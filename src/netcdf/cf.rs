@@ -52,6 +52,30 @@ pub fn parse_date(s: &str) -> Result<f64, String> {
     Ok(days_from_civil(y, m, d) as f64 * 86400.0 + secs)
 }
 
+/// The date `YYYY-MM-DD hh:mm:ss` (UTC, proleptic Gregorian) of `secs`
+/// seconds from 1970-01-01 00:00:00, to the second.
+pub fn format_date(secs: f64) -> String {
+    let total = secs.round() as i64;
+    let days = total.div_euclid(86400);
+    let s = total.rem_euclid(86400);
+    // Hinnant's civil_from_days.
+    let z = days + 719468;
+    let era = if z >= 0 { z } else { z - 146096 } / 146097;
+    let doe = z - era * 146097;
+    let yoe = (doe - doe / 1460 + doe / 36524 - doe / 146096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02} {:02}:{:02}:{:02}",
+        s / 3600,
+        (s % 3600) / 60,
+        s % 60
+    )
+}
+
 /// A CF time unit `"<unit> since <date>"`: (seconds per unit, seconds of
 /// the reference date from 1970-01-01).
 pub fn parse_time_units(units: &str) -> Result<(f64, f64), String> {
@@ -153,6 +177,13 @@ mod tests {
         let (s, r) = parse_time_units("hours since 1900-01-01 00:00:00.0").unwrap();
         assert_eq!((s, r), (3600.0, -25567.0 * 86400.0));
         assert!(parse_time_units("hours after 1900-01-01").is_err());
+        for d in [
+            "1970-01-01 00:00:00",
+            "2000-02-29 12:34:56",
+            "1899-12-31 23:59:59",
+        ] {
+            assert_eq!(format_date(parse_date(d).unwrap()), d);
+        }
     }
 
     #[test]

@@ -256,6 +256,10 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
     };
 
     // Time.
+    let mut epoch = match &req.start {
+        Some(s) => Some(cf::parse_date(s).map_err(|e| format!("start: {e}"))?),
+        None => None,
+    };
     let t = match &td {
         None => vec![0.0],
         Some(tn) => {
@@ -276,10 +280,7 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
                     "{file}: the times of `{tn}` must increase strictly"
                 ));
             }
-            let start = match &req.start {
-                Some(s) => cf::parse_date(s).map_err(|e| format!("start: {e}"))?,
-                None => abs[0],
-            };
+            let start = *epoch.get_or_insert(abs[0]);
             abs.iter().map(|a| a - start).collect()
         }
     };
@@ -317,7 +318,14 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
     }
     let v = comps.pop().unwrap_or_default();
     let u = comps.pop().unwrap_or_default();
-    Ok(GridData { x, y, t, u, v })
+    Ok(GridData {
+        x,
+        y,
+        t,
+        u,
+        v,
+        epoch,
+    })
 }
 
 /// A gridded file to write: coordinates, a time axis and velocity

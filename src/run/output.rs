@@ -176,6 +176,21 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
     Ok(paths)
 }
 
+/// Writes `trajectory.nc` (the trajectory as CF NetCDF,
+/// [`crate::netcdf::write_trajectory`]) into `dir` for a run of `scn`;
+/// returns its path.
+pub fn write_netcdf(
+    dir: &Path,
+    result: &RunResult,
+    scn: &crate::model::Scenario,
+) -> io::Result<PathBuf> {
+    let p = dir.join(crate::netcdf::TRAJECTORY_FILE);
+    let title = format!("floebench {}: {}", result.summary.formulation, scn.name);
+    crate::netcdf::write_trajectory(&p, &result.trajectory, &title, scn.start_date().as_deref())
+        .map_err(io::Error::other)?;
+    Ok(p)
+}
+
 /// The state at one output time of a `trajectory.csv` written by
 /// [`write_run`]: the time and one [`BodyState`] per floe, in floe order.
 /// `at` (s) picks the output time (equal to within 1e-9 relative); `None`
