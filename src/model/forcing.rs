@@ -264,6 +264,15 @@ pub struct GridField {
     pub data: Arc<GridData>,
     /// Largest node speed, m/s.
     pub max_speed: f64,
+    /// Whether every record has the same value at every node: the field
+    /// is then uniform in space, and the air drag takes its closed form.
+    pub uniform_in_space: bool,
+}
+
+/// `a + (b − a) w`: equal to `a` to the bit where `b = a`.
+#[inline]
+fn lerp(a: Vec2, b: Vec2, w: f64) -> Vec2 {
+    a + (b - a) * w
 }
 
 /// Index `k` of the cell `[a[k], a[k+1]]` holding `s` (clamped) and the
@@ -303,14 +312,15 @@ impl GridField {
                 let n = (k * ny + jj) * nx + ii;
                 Vec2::new(d.u[n], d.v[n])
             };
-            let bottom = node(j, i) * (1.0 - wx) + node(j, i1) * wx;
-            let top = node(j1, i) * (1.0 - wx) + node(j1, i1) * wx;
-            bottom * (1.0 - wy) + top * wy
+            // `a + (b − a) w`: exact where the values are equal.
+            let bottom = lerp(node(j, i), node(j, i1), wx);
+            let top = lerp(node(j1, i), node(j1, i1), wx);
+            lerp(bottom, top, wy)
         };
         if d.t.len() < 2 || wt == 0.0 {
             at(k)
         } else {
-            at(k) * (1.0 - wt) + at(k + 1) * wt
+            lerp(at(k), at(k + 1), wt)
         }
     }
 }
@@ -384,10 +394,15 @@ impl VelocityField {
     /// Whether the velocity is the same at every point (the closed form of
     /// the air drag applies: area × traction, no torque).
     pub fn is_uniform(&self) -> bool {
-        matches!(self, VelocityField::Uniform(_))
+        match self {
+            VelocityField::Uniform(_) => true,
+            VelocityField::Grid(g) => g.uniform_in_space,
+            _ => false,
+        }
     }
 
-    /// The time series of a field uniform in space, if it is one.
+    /// The time series of a field declared uniform in space (`velocity` or
+    /// `series`), if it is one.
     pub fn uniform(&self) -> Option<&VelocitySeries> {
         match self {
             VelocityField::Uniform(s) => Some(s),
@@ -496,6 +511,7 @@ mod tests {
             outside: Outside::Error,
             data: Arc::new(data),
             max_speed: 0.0,
+            uniform_in_space: false,
         }
     }
 

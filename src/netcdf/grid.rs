@@ -26,6 +26,18 @@ use std::path::Path;
 /// (IUGG mean radius `R₁`).
 pub const EARTH_RADIUS: f64 = 6_371_008.8;
 
+/// The local equirectangular projection about `origin = [λ₀, φ₀]`
+/// (degrees) of longitude `lon` or latitude `lat` (degrees), m:
+/// `x = R cos φ₀ (λ − λ₀) π/180` ([`project_lon`]), `y = R (φ − φ₀) π/180`.
+pub fn project_lon(lon: f64, origin: [f64; 2]) -> f64 {
+    EARTH_RADIUS * origin[1].to_radians().cos() * (lon - origin[0]) * (std::f64::consts::PI / 180.0)
+}
+
+/// The latitude half of the projection of [`project_lon`], m.
+pub fn project_lat(lat: f64, origin: [f64; 2]) -> f64 {
+    EARTH_RADIUS * (lat - origin[1]) * (std::f64::consts::PI / 180.0)
+}
+
 /// What the case asks of a gridded file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct GridRequest {
@@ -231,10 +243,8 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
                     "{file}: the grid is on longitude/latitude: give `origin = [longitude, latitude]` (degrees), the point of the local projection"
                 ));
             };
-            let k = EARTH_RADIUS * std::f64::consts::PI / 180.0;
-            let c = lat0.to_radians().cos();
-            x.iter_mut().for_each(|v| *v = k * c * (*v - lon0));
-            y.iter_mut().for_each(|v| *v = k * (*v - lat0));
+            x.iter_mut().for_each(|v| *v = project_lon(*v, [lon0, lat0]));
+            y.iter_mut().for_each(|v| *v = project_lat(*v, [lon0, lat0]));
         }
         (a, b) => {
             return Err(format!(

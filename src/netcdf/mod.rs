@@ -17,5 +17,7 @@ pub mod cf;
 mod grid;
 mod trajectory;
 
-pub use grid::{read_grid, write_grid, GridFile, GridRequest, EARTH_RADIUS};
+pub use grid::{
+    project_lat, project_lon, read_grid, write_grid, GridFile, GridRequest, EARTH_RADIUS,
+};
 pub use trajectory::{read_trajectory, write_trajectory, NetcdfTrajectory, TRAJECTORY_FILE};

@@ -35,7 +35,7 @@ pub(super) fn build(
     let hspan = case.case.span();
     let header = header(ctx, case.case)?;
     let env_span = case.environment.as_ref().map_or(0..0, |e| e.span());
-    let mut environment = environment(ctx, case.environment)?;
+    let environment = environment(ctx, case.environment)?;
     for (which, fluid) in [("air", &environment.air), ("water", &environment.water)] {
         check_grid_times(ctx, &env_span, which, fluid, header.duration)?;
     }
@@ -52,7 +52,6 @@ pub(super) fn build(
     // Listed floes must not overlap each other or an obstacle.
     check_overlaps(ctx, &floes, &floe_spans, &obstacles, &obstacle_spans)?;
     fields(ctx, case.field, &mut floes, &obstacles)?;
-    default_extents(ctx, &env_span, &mut environment, &floes, &obstacles)?;
     let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
     let integrator = integrator(ctx, case.integrator, header.duration)?;
     let fracture = fracture_table(ctx, case.fracture, &floes)?;
@@ -366,8 +365,7 @@ fn integrator(
 }
 
 /// `air` or `water` of `[environment]`: density, drag and the velocity
-/// field (docs/case-format.md, "Forcing fields"). A linear field without
-/// `extent` gets its default in [`default_extents`], once the floes are known.
+/// field (docs/case-format.md, "Forcing fields").
 fn fluid(
     ctx: &Ctx,
     env_span: &Range<usize>,
@@ -605,8 +603,9 @@ fn uniform_velocity(
     })
 }
 
-/// `field = "linear"`: `velocity` at `at`, `gradient`, optional `extent`,
-/// `outside`, `scale`.
+/// `field = "linear"`: `velocity` at `at`, `gradient`, `extent` (required:
+/// the field grows without bound, and its largest speed over the extent
+/// bounds the steps), optional `outside`, `scale`.
 fn linear_field(
     ctx: &Ctx,
     span: &Range<usize>,
@@ -623,28 +622,20 @@ fn linear_field(
             ctx.at(span, "gradient", limits::VELOCITY_GRADIENT.check(&name, *g))?;
         }
     }
-    let extent = match f.extent {
-        // Filled in by `default_extents` once the floes are known.
-        None => Extent {
-            min: Vec2::new(f64::NAN, f64::NAN),
-            max: Vec2::new(f64::NAN, f64::NAN),
-        },
-        Some([lo, hi]) => {
-            let min = fluid_point(ctx, span, which, "extent", lo)?;
-            let max = fluid_point(ctx, span, which, "extent", hi)?;
-            if !(min.x < max.x && min.y < max.y) {
-                return Err(ctx.key_err(
-                    span,
-                    "extent",
-                    format!(
-                        "[environment] {which}.extent = [[{}, {}], [{}, {}]]: the lower corner must be below and left of the upper one",
-                        lo[0], lo[1], hi[0], hi[1]
-                    ),
-                ));
-            }
-            Extent { min, max }
-        }
-    };
+    let [lo, hi] = required(ctx, span, which, "linear", "extent", &f.extent)?;
+    let min = fluid_point(ctx, span, which, "extent", lo)?;
+    let max = fluid_point(ctx, span, which, "extent", hi)?;
+    if !(min.x < max.x && min.y < max.y) {
+        return Err(ctx.key_err(
+            span,
+            "extent",
+            format!(
+                "[environment] {which}.extent = [[{}, {}], [{}, {}]]: the lower corner must be below and left of the upper one",
+                lo[0], lo[1], hi[0], hi[1]
+            ),
+        ));
+    }
+    let extent = Extent { min, max };
     let field = LinearField {
         velocity,
         at,
@@ -653,9 +644,7 @@ fn linear_field(
         outside: outside_rule(ctx, span, which, &f.outside)?,
         scale: scale_series(ctx, span, which, &f.scale)?,
     };
-    if f.extent.is_some() {
-        check_field_speed(ctx, span, which, &VelocityField::Linear(field.clone()))?;
-    }
+    check_field_speed(ctx, span, which, &VelocityField::Linear(field.clone()))?;
     Ok(field)
 }
 
@@ -755,12 +744,19 @@ fn grid_field(
         .zip(&data.v)
         .map(|(u, v)| u.hypot(*v))
         .fold(0.0, f64::max);
+    let n = data.x.len() * data.y.len();
+    let uniform_in_space = data
+        .u
+        .chunks(n)
+        .zip(data.v.chunks(n))
+        .all(|(u, v)| u.iter().all(|a| *a == u[0]) && v.iter().all(|b| *b == v[0]));
     let field = GridField {
         file,
         variables,
         outside: outside_rule(ctx, span, which, &f.outside)?,
         data: std::sync::Arc::new(data),
         max_speed,
+        uniform_in_space,
     };
     check_field_speed(ctx, span, which, &VelocityField::Grid(field.clone()))?;
     Ok(field)
@@ -792,49 +788,6 @@ fn check_grid_times(
                 g.file
             ),
         ));
-    }
-    Ok(())
-}
-
-/// The default extent of a linear field without `extent`: the bounding box
-/// of every floe and obstacle at t = 0 grown on every side by its larger
-/// side (room for the floes to drift by the size of the domain), and its
-/// largest speed checked.
-fn default_extents(
-    ctx: &Ctx,
-    span: &Range<usize>,
-    env: &mut Environment,
-    floes: &[Floe],
-    obstacles: &[Obstacle],
-) -> Result<(), CaseError> {
-    let mut lo = Vec2::new(f64::INFINITY, f64::INFINITY);
-    let mut hi = -lo;
-    let mut add = |p: &Vec2| {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    };
-    let mut poly = Vec::new();
-    for f in floes {
-        f.world_polygon(&f.position, 0.0, &mut poly);
-        poly.iter().for_each(&mut add);
-    }
-    obstacles.iter().flat_map(|o| &o.polygon).for_each(&mut add);
-    if !(lo.x <= hi.x) {
-        lo = Vec2::zeros();
-        hi = Vec2::zeros();
-    }
-    let grow = (hi - lo).max().max(1.0);
-    let extent = Extent {
-        min: lo - Vec2::new(grow, grow),
-        max: hi + Vec2::new(grow, grow),
-    };
-    for (which, fluid) in [("air", &mut env.air), ("water", &mut env.water)] {
-        if let VelocityField::Linear(l) = &mut fluid.velocity {
-            if l.extent.min.x.is_nan() {
-                l.extent = extent;
-                check_field_speed(ctx, span, which, &fluid.velocity)?;
-            }
-        }
     }
     Ok(())
 }
