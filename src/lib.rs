@@ -47,6 +47,7 @@ pub mod fracture;
 pub mod geometry;
 pub mod lcp;
 pub mod model;
+pub mod netcdf;
 pub mod physics;
 pub mod record;
 pub mod report;

@@ -62,6 +62,9 @@ enum Command {
         /// The output time of --from to start from, s [default: its last].
         #[arg(long, value_name = "T", requires = "from")]
         at: Option<f64>,
+        /// Also write the trajectory as CF NetCDF (trajectory.nc: time × floe).
+        #[arg(long)]
+        netcdf: bool,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
@@ -98,6 +101,9 @@ enum Command {
         /// again until they take about that much (at most 200 runs).
         #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
         repeat: u64,
+        /// Also write each run's trajectory as CF NetCDF (<formulation>/trajectory.nc).
+        #[arg(long)]
+        netcdf: bool,
         /// No progress bars.
         #[arg(short, long)]
         quiet: bool,
@@ -216,6 +222,7 @@ fn main() -> ExitCode {
             allow_contacts,
             from,
             at,
+            netcdf,
             quiet,
         } => run(
             &case,
@@ -226,6 +233,7 @@ fn main() -> ExitCode {
                 dump_lcp,
                 allow_contacts,
                 from: from.map(|f| (f, at)),
+                netcdf,
                 quiet,
             },
         ),
@@ -237,6 +245,7 @@ fn main() -> ExitCode {
             threshold,
             integrator,
             repeat,
+            netcdf,
             quiet,
         } => {
             let mut opts = CompareOptions {
@@ -252,7 +261,7 @@ fn main() -> ExitCode {
             if let Some(j) = jobs {
                 opts.jobs = usize::try_from(j).unwrap_or(usize::MAX);
             }
-            compare(&cases, &opts, &out)
+            compare(&cases, &opts, &out, netcdf)
         }
         Command::Lcp {
             path,
@@ -421,6 +430,8 @@ struct RunArgs {
     allow_contacts: bool,
     /// A trajectory file and the output time to start from.
     from: Option<(PathBuf, Option<f64>)>,
+    /// Also write trajectory.nc.
+    netcdf: bool,
     quiet: bool,
 }
 
@@ -431,6 +442,7 @@ fn run(case: &Path, name: &str, args: RunArgs) -> ExitCode {
         dump_lcp,
         allow_contacts,
         from,
+        netcdf,
         quiet,
     } = args;
     let entry = match formulation::entry(name) {
@@ -517,7 +529,13 @@ fn run(case: &Path, name: &str, args: RunArgs) -> ExitCode {
         multi: None,
     });
     let result = runner.run(&scn, form.name(), form.formulation.as_mut());
-    match output::write_run(&out, &result) {
+    let written = output::write_run(&out, &result).and_then(|mut paths| {
+        if netcdf {
+            paths.push(output::write_netcdf(&out, &result, &scn)?);
+        }
+        Ok(paths)
+    });
+    match written {
         Ok(paths) => {
             for p in paths {
                 println!("wrote {}", p.display());
@@ -555,7 +573,7 @@ fn run(case: &Path, name: &str, args: RunArgs) -> ExitCode {
     }
 }
 
-fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
+fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path, netcdf: bool) -> ExitCode {
     use floebench::compare;
     use floebench::report;
     use floebench::run::batch;
@@ -614,7 +632,7 @@ fn compare(cases: &[PathBuf], opts: &CompareOptions, out: &Path) -> ExitCode {
         }
     }
     let command = command_line();
-    match report::compare::write_report(&comps, out, &command) {
+    match report::compare::write_report_with(&comps, out, &command, netcdf) {
         Ok(paths) => {
             for c in &comps {
                 println!("{}", c.scenario.name);

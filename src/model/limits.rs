@@ -331,6 +331,45 @@ pub const SERIES_TIME: Limit = Limit::magnitude(
     "the duration limit: a later point is never reached",
 );
 
+/// Each component of a linear field's `gradient`, 1/s.
+pub const VELOCITY_GRADIENT: Limit = Limit::magnitude(
+    "gradient",
+    "[environment] air, water (field = \"linear\")",
+    1.0,
+    "s^-1",
+    "ocean shears are below 1e-3 s^-1 and the strongest eddies' 1e-4 s^-1; 1 s^-1 is a laboratory flume's",
+);
+
+/// The factors of an analytic field's `scale` series.
+pub const FIELD_SCALE: Limit = Limit::magnitude(
+    "scale factor",
+    "[environment] air, water (field = \"linear\", \"vortex\")",
+    100.0,
+    "",
+    "a factor of the written field; the field's largest speed is also held to the fluid speed limit",
+);
+
+/// The core radius of a vortex, m.
+pub const VORTEX_RADIUS: Limit = Limit::range(
+    "radius",
+    "[environment] air, water (field = \"vortex\")",
+    1e-2,
+    1e7,
+    "m",
+    "the floe radius limits: a core smaller than a centimetre is not resolved by any floe",
+);
+
+/// Values (nodes × records) of one component of a gridded field.
+pub const GRID_VALUES: Limit = Limit::range(
+    "grid values",
+    "[environment] air, water (field = \"netcdf\")",
+    1.0,
+    2e7,
+    "",
+    "two components of 2e7 values take 320 MB; a regional ERA5 month at 0.25 degrees is about 1e6",
+)
+.integers();
+
 /// `[contact] restitution`.
 pub const RESTITUTION: Limit = Limit::range(
     "restitution",
@@ -508,6 +547,10 @@ pub const CASE_LIMITS: &[Limit] = &[
     DRAG,
     FLUID_SPEED,
     SERIES_TIME,
+    VELOCITY_GRADIENT,
+    FIELD_SCALE,
+    VORTEX_RADIUS,
+    GRID_VALUES,
     RESTITUTION,
     FRICTION,
     CONTACT_DISTANCE,

@@ -9,6 +9,7 @@
 
 pub mod case;
 pub mod field;
+pub mod forcing;
 pub mod fracture;
 pub mod limits;
 pub mod settings;
@@ -18,6 +19,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 
 pub use case::{load_case_with, parse_case_with, CaseError};
+pub use forcing::{VelocityField, VelocitySeries};
 pub use fracture::{FloeHistory, FractureSettings};
 pub use settings::{SettingsReader, SettingsTable, TableSpec};
 
@@ -180,59 +182,6 @@ impl Obstacle {
     }
 }
 
-/// A velocity that is constant or piecewise linear in time.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub enum VelocitySeries {
-    /// The same velocity at all times, m/s.
-    Constant(Vec2),
-    /// Points `(t, u)` with strictly increasing `t` (s), `u` in m/s; linear in
-    /// between, held at the first value before the first point and at the
-    /// last value after the last point.
-    Series(Vec<(f64, Vec2)>),
-}
-
-impl VelocitySeries {
-    /// The velocity at time `t`, m/s.
-    pub fn at(&self, t: f64) -> Vec2 {
-        match self {
-            VelocitySeries::Constant(u) => *u,
-            VelocitySeries::Series(points) => {
-                let Some(first) = points.first() else {
-                    return Vec2::zeros();
-                };
-                if t <= first.0 {
-                    return first.1;
-                }
-                // Points are few; a binary search keeps long series fast.
-                let k = points.partition_point(|p| p.0 <= t);
-                if k >= points.len() {
-                    return points[points.len() - 1].1;
-                }
-                let (t0, u0) = points[k - 1];
-                let (t1, u1) = points[k];
-                let s = (t - t0) / (t1 - t0);
-                u0 + (u1 - u0) * s
-            }
-        }
-    }
-
-    /// The largest speed the series takes, m/s.
-    pub fn max_speed(&self) -> f64 {
-        match self {
-            VelocitySeries::Constant(u) => u.norm(),
-            VelocitySeries::Series(points) => points.iter().map(|p| p.1.norm()).fold(0.0, f64::max),
-        }
-    }
-
-    /// The times (s) where the series has a kink, for integrators to stop at.
-    pub fn breakpoints(&self) -> &[(f64, Vec2)] {
-        match self {
-            VelocitySeries::Constant(_) => &[],
-            VelocitySeries::Series(points) => points,
-        }
-    }
-}
-
 /// A fluid (air or water) acting on the floes by quadratic drag.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Fluid {
@@ -240,8 +189,8 @@ pub struct Fluid {
     pub density: f64,
     /// Dimensionless drag coefficient (default 0).
     pub drag: f64,
-    /// Fluid velocity, m/s.
-    pub velocity: VelocitySeries,
+    /// Fluid velocity `u(x, y, t)`, m/s ([`forcing`]).
+    pub velocity: VelocityField,
 }
 
 impl Fluid {
@@ -250,7 +199,7 @@ impl Fluid {
         Fluid {
             density: 0.0,
             drag: 0.0,
-            velocity: VelocitySeries::Constant(Vec2::zeros()),
+            velocity: VelocityField::constant(Vec2::zeros()),
         }
     }
 
@@ -427,7 +376,8 @@ impl Scenario {
     /// The drag stability bound of explicit Euler for floe `i`, s
     /// (docs/physics.md §4.2, origin report eq. 3.6):
     /// `Δt_max = ρ_i h / (2 |U_a| sqrt(ρ_a C_a ρ_w C_w))` with the largest wind
-    /// speed of the run. Without wind, the water-drag bound
+    /// speed of the run (over the field's extent and time,
+    /// [`VelocityField::max_speed`]). Without wind, the water-drag bound
     /// `ρ_i h / (2 ρ_w C_w V)` with `V` the largest current speed plus the
     /// floe's initial speed (edge and spin included); infinite without drag.
     pub fn euler_stability_bound(&self, i: usize) -> f64 {
@@ -465,16 +415,29 @@ impl Scenario {
             .fold(f64::INFINITY, f64::min)
     }
 
-    /// Times in (0, duration) where the wind or the current series has a kink, s.
+    /// The date of t = 0 (`YYYY-MM-DD hh:mm:ss`, UTC) when a gridded
+    /// forcing gives one (the wind's first), for the time axis of
+    /// `trajectory.nc`.
+    pub fn start_date(&self) -> Option<String> {
+        [&self.environment.air, &self.environment.water]
+            .iter()
+            .find_map(|f| match &f.velocity {
+                VelocityField::Grid(g) => g.data.epoch,
+                _ => None,
+            })
+            .map(crate::netcdf::cf::format_date)
+    }
+
+    /// Times in (0, duration) where the wind or the current has a kink in
+    /// time (series points, scale points, grid records), s.
     pub fn forcing_breakpoints(&self) -> Vec<f64> {
         let mut ts: Vec<f64> = self
             .environment
             .air
             .velocity
             .breakpoints()
-            .iter()
+            .into_iter()
             .chain(self.environment.water.velocity.breakpoints())
-            .map(|p| p.0)
             .filter(|&t| t > 0.0 && t < self.duration)
             .collect();
         ts.sort_by(f64::total_cmp);

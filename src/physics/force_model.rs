@@ -7,14 +7,16 @@
 //! - Coriolis: `F_c = −M f k ∧ Ġ` (no torque, no work in exact arithmetic);
 //! - air drag at each point `P` of the floe: `τ_a(P) = ρ_a C_a |U_a(P, t)|
 //!   U_a(P, t)`, on the absolute wind `U_a` (not relative to the floe). The
-//!   wind is evaluated at a world point by one function, [`air_velocity`].
-//!   While it is uniform in space ([`air_is_uniform_in_space`], every wind a
-//!   case can declare today), the force is the closed form `|ω| τ_a` and the
-//!   torque about `G` is exactly zero; otherwise both are integrated over the
-//!   polygon ([`air_drag_quadrature`]), which for a uniform wind gives the
-//!   same to rounding;
-//! - water drag at each point: `τ_w(P) = ρ_w C_w |U_w − Ṗ| (U_w − Ṗ)` with
-//!   `Ṗ = Ġ + θ̇ k ∧ GP`, integrated over the polygon.
+//!   wind is evaluated at a world point by the one point function of a fluid's
+//!   velocity, [`VelocityField::at`](crate::model::VelocityField::at). While
+//!   it is uniform in space ([`air_is_uniform_in_space`]: a constant or a
+//!   time series), the force is the closed form `|ω| τ_a` and the torque
+//!   about `G` is exactly zero; otherwise (a linear, vortex or gridded wind)
+//!   both are integrated over the polygon ([`air_drag_quadrature`]), which
+//!   for a uniform wind gives the same to rounding;
+//! - water drag at each point: `τ_w(P) = ρ_w C_w |U_w(P, t) − Ṗ| (U_w(P, t) − Ṗ)`
+//!   with `Ṗ = Ġ + θ̇ k ∧ GP`, integrated over the polygon; a current
+//!   uniform in space is evaluated once per call, a field at each node.
 //!
 //! The quadrature (Dunavant's 7-point rule on a fan of triangles, see
 //! [`super::forces`]) is built once per floe by [`ForceModel::new`]. The
@@ -26,20 +28,19 @@ use crate::geometry::{perp, Vec2};
 use crate::model::{Environment, Floe};
 use crate::state::BodyState;
 
-/// The wind `U_a(P, t)` at world point `p` (m) and time `t` (s), m/s: the one
-/// place where the force model reads the air velocity. Today's winds are time
-/// series, uniform in space, so `p` is not used.
+/// The wind `U_a(P, t)` at world point `p` (m) and time `t` (s), m/s: the
+/// air's [`VelocityField::at`](crate::model::VelocityField::at).
 #[inline]
-pub fn air_velocity(env: &Environment, _p: &Vec2, t: f64) -> Vec2 {
-    env.air.velocity.at(t)
+pub fn air_velocity(env: &Environment, p: &Vec2, t: f64) -> Vec2 {
+    env.air.velocity.at(p, t)
 }
 
-/// Whether the wind of `env` is uniform in space, so that the air drag takes
-/// its closed form (area × traction, no torque). True for every wind a case
-/// can declare today; a wind field varying in space must return false here.
+/// Whether the wind of `env` is uniform in space (a constant or a time
+/// series), so that the air drag takes its closed form (area × traction, no
+/// torque).
 #[inline]
-pub fn air_is_uniform_in_space(_env: &Environment) -> bool {
-    true
+pub fn air_is_uniform_in_space(env: &Environment) -> bool {
+    env.air.velocity.is_uniform()
 }
 
 /// Air drag force (N) and torque about the centre of mass (N·m) on a floe
@@ -112,11 +113,19 @@ impl ForceModel {
         };
         let kw = env.water.drag_factor();
         let (water, water_torque) = if kw > 0.0 {
-            let uw = env.water.velocity.at(t);
-            integrate_traction(&floe.quadrature, b, |_p, r| {
-                let u = uw - b.velocity - perp(r) * b.angular_velocity;
-                drag_traction(kw, &u)
-            })
+            let field = &env.water.velocity;
+            if let Some(series) = field.uniform() {
+                let uw = series.at(t);
+                integrate_traction(&floe.quadrature, b, |_p, r| {
+                    let u = uw - b.velocity - perp(r) * b.angular_velocity;
+                    drag_traction(kw, &u)
+                })
+            } else {
+                integrate_traction(&floe.quadrature, b, |p, r| {
+                    let u = field.at(p, t) - b.velocity - perp(r) * b.angular_velocity;
+                    drag_traction(kw, &u)
+                })
+            }
         } else {
             (Vec2::zeros(), 0.0)
         };

@@ -148,11 +148,14 @@ type CaseParts = (Vec<String>, Vec<Figure>, Option<Animation>);
 
 /// Writes one case's folder at `dir` (which must not exist yet): data, then
 /// the plots and the animation.
-fn write_case(comp: &CaseComparison, dir: &Path) -> Result<CaseParts, ReportError> {
+fn write_case(comp: &CaseComparison, dir: &Path, netcdf: bool) -> Result<CaseParts, ReportError> {
     std::fs::create_dir_all(dir).map_err(io_err(dir))?;
     for r in &comp.runs {
         let d = dir.join(&r.summary.formulation);
         output::write_run(&d, r).map_err(io_err(&d))?;
+        if netcdf {
+            output::write_netcdf(&d, r, &comp.scenario).map_err(io_err(&d))?;
+        }
     }
     let verdict = verdict(comp);
     let summary = CaseSummary {
@@ -248,6 +251,17 @@ pub fn write_report(
     out: &Path,
     command: &str,
 ) -> Result<Vec<PathBuf>, ReportError> {
+    write_report_with(comps, out, command, false)
+}
+
+/// [`write_report`], with each run's trajectory also written as
+/// `trajectory.nc` when `netcdf` (`compare --netcdf`).
+pub fn write_report_with(
+    comps: &[CaseComparison],
+    out: &Path,
+    command: &str,
+    netcdf: bool,
+) -> Result<Vec<PathBuf>, ReportError> {
     let names: Vec<&str> = comps.iter().map(|c| c.scenario.name.as_str()).collect();
     super::folder::check(out, &names)?;
     std::fs::create_dir_all(out).map_err(io_err(out))?;
@@ -291,7 +305,7 @@ pub fn write_report(
         if staged.exists() {
             std::fs::remove_dir_all(&staged).map_err(io_err(&staged))?;
         }
-        let (verdict, figs, anim) = write_case(comp, &staged)?;
+        let (verdict, figs, anim) = write_case(comp, &staged, netcdf)?;
         swap_into_place(&staged, &out.join(name))?;
         blocks.push(Block::Heading(2, name.clone()));
         blocks.push(Block::Para(format!(

@@ -7,7 +7,8 @@
 use super::format::fmt_num;
 use super::page::Block;
 use crate::analysis::comparison::CaseComparison;
-use crate::model::{Fluid, Scenario, VelocitySeries};
+use crate::model::forcing::{Outside, Scale};
+use crate::model::{Fluid, Scenario, VelocityField, VelocitySeries};
 use crate::record::{SettingValue, Unit};
 
 /// Floes listed one by one, at most; beyond, a summary.
@@ -43,6 +44,74 @@ fn series(v: &VelocitySeries) -> String {
     }
 }
 
+/// `, scaled by a factor …` when a scale series is given.
+fn scaled(s: &Scale) -> String {
+    if s.points.is_empty() {
+        return String::new();
+    }
+    let pts: Vec<String> = s
+        .points
+        .iter()
+        .map(|p| format!("{} at {} s", p.1, p.0))
+        .collect();
+    if pts.len() <= LISTED {
+        format!(
+            ", scaled by a factor piecewise linear in time: {}",
+            pts.join(", ")
+        )
+    } else {
+        format!(
+            ", scaled by a factor piecewise linear in time ({} points)",
+            pts.len()
+        )
+    }
+}
+
+/// A velocity field: uniform (constant or series), linear, vortex or gridded.
+fn field(v: &VelocityField) -> String {
+    let outside = |o: Outside| match o {
+        Outside::Error => "",
+        Outside::Clamp => ", clamped outside",
+    };
+    match v {
+        VelocityField::Uniform(s) => series(s),
+        VelocityField::Linear(f) => format!(
+            "linear field: {} m/s at {} m, gradient [[{}, {}], [{}, {}]] 1/s on [{}, {}] × [{}, {}] m{}{}",
+            pair(f.velocity.x, f.velocity.y),
+            pair(f.at.x, f.at.y),
+            f.gradient[0][0],
+            f.gradient[0][1],
+            f.gradient[1][0],
+            f.gradient[1][1],
+            f.extent.min.x,
+            f.extent.max.x,
+            f.extent.min.y,
+            f.extent.max.y,
+            outside(f.outside),
+            scaled(&f.scale)
+        ),
+        VelocityField::Vortex(f) => format!(
+            "Rankine vortex: centre {} m, core radius {} m, peak speed {} m/s, drift {} m/s{}",
+            pair(f.center.x, f.center.y),
+            f.radius,
+            f.speed,
+            pair(f.center_velocity.x, f.center_velocity.y),
+            scaled(&f.scale)
+        ),
+        VelocityField::Grid(g) => format!(
+            "gridded from {} (variables {}, {}; {} × {} nodes, {} times; largest speed {} m/s{})",
+            g.file,
+            g.variables[0],
+            g.variables[1],
+            g.data.x.len(),
+            g.data.y.len(),
+            g.data.t.len(),
+            fmt_num(g.max_speed),
+            outside(g.outside)
+        ),
+    }
+}
+
 /// A fluid: `ρ = …, C = …, velocity …`, or `none`.
 fn fluid(f: &Fluid, velocity_word: &str) -> String {
     if f.drag_factor() == 0.0 {
@@ -52,7 +121,7 @@ fn fluid(f: &Fluid, velocity_word: &str) -> String {
         "density {} kg/m³, drag coefficient {}, {velocity_word} {}",
         f.density,
         f.drag,
-        series(&f.velocity)
+        field(&f.velocity)
     )
 }
 

@@ -341,6 +341,9 @@ impl Runner {
         let mut clock = StageClock::new();
         let mut sys = System::initial(scn);
         let e0 = sys.kinetic_energy(scn);
+        // A point outside a forcing field's extent left by an earlier run
+        // of this thread is not this run's.
+        let _ = crate::model::forcing::take_outside();
         let mut trajectory = Vec::new();
         let mut energy = Vec::new();
         let mut end = EndReason::Completed;
@@ -379,6 +382,14 @@ impl Runner {
                 }
             }
             next.t = t;
+            // A forcing field evaluated outside its extent ends the run at
+            // the last output before (docs/physics.md §2.5).
+            if let Some(message) = crate::model::forcing::take_outside() {
+                end = EndReason::Failed {
+                    message: format!("between t = {} s and t = {t} s: {message}", sys.t),
+                };
+                break;
+            }
             if let Some((floe, quantity)) = first_non_finite(&next, scn, &sample(scn, &next, e0)) {
                 end = EndReason::NonFinite { floe, t, quantity };
                 break;

@@ -14,6 +14,7 @@ mod compare;
 mod contact;
 mod event_driven;
 mod field;
+mod forcing;
 mod fracture;
 mod fuzz;
 mod lemke;

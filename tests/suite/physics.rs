@@ -5,7 +5,7 @@ use crate::common::{case_text, counter, load, run, run_with, scenario, within_bo
 use floebench::formulation::FormulationOptions;
 use floebench::geometry::{area_properties, cross, perp, Vec2};
 use floebench::model::{
-    Environment, Floe, FloeOrigin, Fluid, IntegratorKind, Scenario, VelocitySeries,
+    Environment, Floe, FloeOrigin, Fluid, IntegratorKind, Scenario, VelocityField, VelocitySeries,
 };
 use floebench::physics::{
     air_drag_quadrature, air_velocity, ForceModel, Forces, Quadrature, SmoothIntegrator,
@@ -191,7 +191,7 @@ fn windy(ua: Vec2) -> Environment {
         air: Fluid {
             density: 1.3,
             drag: 1.7e-3,
-            velocity: VelocitySeries::Constant(ua),
+            velocity: VelocityField::Uniform(VelocitySeries::Constant(ua)),
         },
         water: Fluid::none(),
     }

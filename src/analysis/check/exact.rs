@@ -4,7 +4,7 @@
 //! steady free-drift velocity.
 
 use crate::geometry::Vec2;
-use crate::model::{Scenario, VelocitySeries};
+use crate::model::Scenario;
 
 /// `(v1', v2')` of a central impact (docs/physics.md §6.1).
 pub fn head_on_velocities(m1: f64, v1: f64, m2: f64, v2: f64, e: f64) -> (f64, f64) {
@@ -19,7 +19,7 @@ pub fn head_on_velocities(m1: f64, v1: f64, m2: f64, v2: f64, e: f64) -> (f64, f
 /// (docs/physics.md §2.3: constant wind as gravity), m/s².
 pub fn wind_acceleration(scn: &Scenario, i: usize) -> f64 {
     let air = &scn.environment.air;
-    let u = air.velocity.at(0.0).norm();
+    let u = air.velocity.at(&scn.floes[i].position, 0.0).norm();
     air.drag_factor() * u * u / scn.floes[i].surface_density()
 }
 
@@ -29,9 +29,10 @@ pub fn wind_acceleration(scn: &Scenario, i: usize) -> f64 {
 /// m/s; `None` without water drag, with varying forcing, or if Newton fails.
 pub fn steady_drift_velocity(scn: &Scenario, i: usize) -> Option<Vec2> {
     let env = &scn.environment;
-    let (VelocitySeries::Constant(ua), VelocitySeries::Constant(uw)) =
-        (&env.air.velocity, &env.water.velocity)
-    else {
+    let (Some(ua), Some(uw)) = (
+        env.air.velocity.constant_value(),
+        env.water.velocity.constant_value(),
+    ) else {
         return None;
     };
     let (ka, kw) = (env.air.drag_factor(), env.water.drag_factor());

@@ -186,7 +186,8 @@ impl Drift {
             return None;
         }
         let kw = scn.environment.water.drag_factor();
-        let uw = scn.environment.water.velocity.at(0.0);
+        // Only a constant current has a steady drift (steady_drift_velocity).
+        let uw = scn.environment.water.velocity.constant_value()?;
         let mut floes = Vec::new();
         for i in 0..scn.floes.len() {
             let u = steady_drift_velocity(scn, i)?;
@@ -226,7 +227,7 @@ impl Inertial {
         let env = &scn.environment;
         let f = env.coriolis;
         let one = scn.floes.first()?;
-        let still = matches!(env.water.velocity, VelocitySeries::Constant(u) if u.norm() == 0.0);
+        let still = matches!(env.water.velocity.constant_value(), Some(u) if u.norm() == 0.0);
         if scn.floes.len() != 1
             || !scn.obstacles.is_empty()
             || f == 0.0
@@ -239,7 +240,7 @@ impl Inertial {
         let t_calm = if env.air.drag_factor() == 0.0 {
             0.0
         } else {
-            match &env.air.velocity {
+            match env.air.velocity.uniform()? {
                 VelocitySeries::Constant(u) if u.norm() == 0.0 => 0.0,
                 VelocitySeries::Constant(_) => return None,
                 VelocitySeries::Series(points) => {

@@ -5,7 +5,7 @@
 //! apply by structure, never by case name.
 
 use crate::geometry::{cross, Vec2};
-use crate::model::{Scenario, VelocitySeries};
+use crate::model::{Scenario, VelocityField, VelocitySeries};
 
 /// Relative rounding allowance when matching the initial geometry of a case
 /// (mirror images, touching floes, collinear centres).
@@ -62,11 +62,15 @@ fn same_vertices(a: &[Vec2], b: &[Vec2], tol: f64) -> bool {
     a.len() == b.len() && a.iter().all(|p| b.iter().any(|q| (p - q).norm() <= tol))
 }
 
-fn series_parallel(v: &VelocitySeries, d: &Vec2) -> bool {
+/// Whether a fluid velocity is uniform in space and parallel to `d` at all
+/// times (a field varying in space breaks the mirror symmetries the checks
+/// look for, so it never qualifies).
+fn series_parallel(v: &VelocityField, d: &Vec2) -> bool {
     let ok = |u: &Vec2| cross(d, u).abs() <= 1e-12 * u.norm();
-    match v {
-        VelocitySeries::Constant(u) => ok(u),
-        VelocitySeries::Series(points) => points.iter().all(|p| ok(&p.1)),
+    match v.uniform() {
+        Some(VelocitySeries::Constant(u)) => ok(u),
+        Some(VelocitySeries::Series(points)) => points.iter().all(|p| ok(&p.1)),
+        None => v.is_zero(),
     }
 }
 
@@ -232,7 +236,7 @@ pub fn translation_gap(scn: &Scenario, i: usize, d: &Vec2) -> Option<(f64, usize
 /// no water drag, no Coriolis.
 pub(super) fn wind_as_gravity(scn: &Scenario) -> Option<Vec2> {
     let env = &scn.environment;
-    let VelocitySeries::Constant(ua) = &env.air.velocity else {
+    let Some(ua) = env.air.velocity.constant_value() else {
         return None;
     };
     if scn.floes.len() != 1

@@ -94,8 +94,8 @@ pub(super) struct CaseHeader {
 pub(super) struct EnvSpec {
     #[serde(default)]
     pub(super) coriolis: f64,
-    pub(super) air: Option<FluidSpec>,
-    pub(super) water: Option<FluidSpec>,
+    pub(super) air: Option<Spanned<FluidSpec>>,
+    pub(super) water: Option<Spanned<FluidSpec>>,
 }
 
 #[derive(Deserialize)]
@@ -107,6 +107,76 @@ pub(super) struct FluidSpec {
     pub(super) velocity: Option<[f64; 2]>,
     #[serde(default, deserialize_with = "exact_opt_list")]
     pub(super) series: Option<Vec<[f64; 3]>>,
+    /// `"uniform"` (default), `"linear"`, `"vortex"` or `"netcdf"`.
+    pub(super) field: Option<String>,
+    /// Linear: the point where `velocity` is given, m.
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub(super) at: Option<[f64; 2]>,
+    /// Linear: `[[du/dx, du/dy], [dv/dx, dv/dy]]`, 1/s.
+    #[serde(default, deserialize_with = "exact_opt_box")]
+    pub(super) gradient: Option<[[f64; 2]; 2]>,
+    /// Linear: the box where the field is defined, m.
+    #[serde(default, deserialize_with = "exact_opt_box")]
+    pub(super) extent: Option<[[f64; 2]; 2]>,
+    /// Linear, netcdf: `"error"` (default) or `"clamp"`.
+    pub(super) outside: Option<String>,
+    /// Linear, vortex: `[[t, factor], …]`.
+    #[serde(default, deserialize_with = "exact_opt_list")]
+    pub(super) scale: Option<Vec<[f64; 2]>>,
+    /// Vortex: the centre at t = 0, m.
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub(super) center: Option<[f64; 2]>,
+    /// Vortex: the core radius, m.
+    pub(super) radius: Option<f64>,
+    /// Vortex: the peak azimuthal speed, m/s.
+    pub(super) speed: Option<f64>,
+    /// Vortex: the drift of the centre, m/s.
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub(super) center_velocity: Option<[f64; 2]>,
+    /// Netcdf: the file, relative to the case file.
+    pub(super) file: Option<String>,
+    /// Netcdf: the names of the two velocity components.
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub(super) variables: Option<[String; 2]>,
+    /// Netcdf on lon/lat: the reference point `[lon, lat]` of the local
+    /// projection, degrees.
+    #[serde(default, deserialize_with = "exact_opt")]
+    pub(super) origin: Option<[f64; 2]>,
+    /// Netcdf: the date of the run's t = 0 (`YYYY-MM-DD[ hh:mm:ss]`).
+    pub(super) start: Option<String>,
+}
+
+impl FluidSpec {
+    /// The keys written, by name, for the per-field rules.
+    pub(super) fn written(&self) -> Vec<&'static str> {
+        let mut k = Vec::new();
+        let mut add = |name, present: bool| {
+            if present {
+                k.push(name)
+            }
+        };
+        add("velocity", self.velocity.is_some());
+        add("series", self.series.is_some());
+        add("at", self.at.is_some());
+        add("gradient", self.gradient.is_some());
+        add("extent", self.extent.is_some());
+        add("outside", self.outside.is_some());
+        add("scale", self.scale.is_some());
+        add("center", self.center.is_some());
+        add("radius", self.radius.is_some());
+        add("speed", self.speed.is_some());
+        add("center_velocity", self.center_velocity.is_some());
+        add("file", self.file.is_some());
+        add("variables", self.variables.is_some());
+        add("origin", self.origin.is_some());
+        add("start", self.start.is_some());
+        k
+    }
+}
+
+/// An optional `[[a, b], [c, d]]`, each array of exactly 2 values.
+fn exact_opt_box<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[[f64; 2]; 2]>, D::Error> {
+    Option::<Exact<Exact<f64, 2>, 2>>::deserialize(d).map(|e| e.map(|e| e.0.map(|p| p.0)))
 }
 
 #[derive(Deserialize)]
