@@ -19,6 +19,7 @@ mod fuzz;
 mod lemke;
 mod moreau;
 mod output_interval;
+mod percussion;
 mod physics;
 mod plot;
 mod rapier;
