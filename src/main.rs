@@ -196,6 +196,52 @@ enum Command {
         #[arg(short, long)]
         quiet: bool,
     },
+    /// Resolve a 1D percussion of bars in a mass-spring-dashpot chain
+    /// (docs/physics.md §7.1): prints the pieces as CSV
+    /// (fragment,first,last,mass,length,centre,velocity) and a summary on
+    /// stderr.
+    #[command(name = "percussion-1d")]
+    Percussion1d {
+        /// A bar, left to right, touching the previous one:
+        /// LENGTH,NODES,VELOCITY (m, number of masses, m/s); give at least one.
+        #[arg(long = "bar", required = true, value_name = "L,N,V", value_parser = parse_bar)]
+        bars: Vec<floebench::fracture::chain::BarSpec>,
+        /// Density, kg/m³.
+        #[arg(long, default_value_t = floebench::model::DEFAULT_ICE_DENSITY)]
+        density: f64,
+        /// Young's modulus, Pa.
+        #[arg(long, default_value_t = 8.95e9)]
+        young: f64,
+        /// Cross-section, m².
+        #[arg(long, default_value_t = 1.0)]
+        area: f64,
+        /// Dashpot ratio beta (-): c = beta sqrt(k m); 0 for none.
+        #[arg(long, default_value_t = 0.5)]
+        damping: f64,
+        /// Bonds break when their tension passes this force, N [default: never].
+        #[arg(long, conflicts_with = "toughness")]
+        strength: Option<f64>,
+        /// Bonds break when their energy passes G A, G in J/m² [default: never].
+        #[arg(long)]
+        toughness: Option<f64>,
+        /// Safety factor on the stable step, in (0, 1].
+        #[arg(long, default_value_t = 0.9)]
+        safety: f64,
+        /// Internal energy, as a fraction of the initial energy, under which
+        /// the waves have settled (-).
+        #[arg(long, default_value_t = 1e-3)]
+        settle: f64,
+        /// Transit times of the longest bar after the contact ended after
+        /// which the run stops even if the waves ring on.
+        #[arg(long, default_value_t = 4.0)]
+        settle_transits: f64,
+        /// Transit times of the longest bar after which the run stops in any case.
+        #[arg(long, default_value_t = 200.0)]
+        limit_transits: f64,
+        /// Also write the final nodes as CSV (node,bar,fragment,x,v) to FILE.
+        #[arg(long, value_name = "FILE")]
+        nodes: Option<PathBuf>,
+    },
     /// List the formulations.
     Formulations,
 }
@@ -330,7 +376,40 @@ fn main() -> ExitCode {
                 quiet,
             },
         ),
-
+        Command::Percussion1d {
+            bars,
+            density,
+            young,
+            area,
+            damping,
+            strength,
+            toughness,
+            safety,
+            settle,
+            settle_transits,
+            limit_transits,
+            nodes,
+        } => {
+            use floebench::fracture::chain::{BondRule, ChainOptions, Material};
+            let material = Material {
+                density,
+                young,
+                area,
+            };
+            let options = ChainOptions {
+                damping,
+                bond: match (strength, toughness) {
+                    (Some(f), _) => BondRule::Force(f),
+                    (None, Some(g)) => BondRule::Toughness(g),
+                    (None, None) => BondRule::Unbreakable,
+                },
+                safety,
+                settle,
+                settle_transits,
+                limit_transits,
+            };
+            percussion_1d(&material, &bars, options, nodes.as_deref())
+        }
         Command::Formulations => {
             for formulation::Entry {
                 name,
@@ -978,5 +1057,88 @@ fn time_lcps(
         }
     );
     print!("{}", timing::format_summary(&timing::summarize(&rows)));
+    ExitCode::SUCCESS
+}
+
+/// A `--bar` of `percussion-1d`: `LENGTH,NODES,VELOCITY`.
+fn parse_bar(s: &str) -> Result<floebench::fracture::chain::BarSpec, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [l, n, v] = parts.as_slice() else {
+        return Err(format!("expected LENGTH,NODES,VELOCITY, got {s:?}"));
+    };
+    let num = |x: &str, what: &str| x.parse::<f64>().map_err(|e| format!("{what} {x:?}: {e}"));
+    Ok(floebench::fracture::chain::BarSpec {
+        length: num(l, "length")?,
+        nodes: n
+            .parse::<usize>()
+            .map_err(|e| format!("nodes {n:?}: {e}"))?,
+        velocity: num(v, "velocity")?,
+    })
+}
+
+/// `floebench percussion-1d`: run the chain, print the pieces.
+fn percussion_1d(
+    material: &floebench::fracture::chain::Material,
+    bars: &[floebench::fracture::chain::BarSpec],
+    options: floebench::fracture::chain::ChainOptions,
+    nodes: Option<&Path>,
+) -> ExitCode {
+    let mut chain = match floebench::fracture::chain::Chain::new(material, bars, options) {
+        Ok(c) => c,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let o = chain.run();
+    println!("fragment,first,last,mass,length,centre,velocity");
+    for (i, f) in o.fragments.iter().enumerate() {
+        println!(
+            "{i},{},{},{},{},{},{}",
+            f.first, f.last, f.mass, f.length, f.centre, f.velocity
+        );
+    }
+    eprintln!(
+        "{}: t = {} s ({} steps of {} s), contact ended at {} s; {} broken, {} pieces",
+        o.reason.name(),
+        fmt_num(o.t),
+        o.steps,
+        fmt_num(o.dt),
+        fmt_num(o.contact_end),
+        plural(o.broken.len(), "bond"),
+        o.fragments.len()
+    );
+    eprintln!(
+        "energy: initial {} J, kinetic {} J, elastic {} J, fracture {} J, dissipated {} J",
+        fmt_num(o.initial_energy),
+        fmt_num(o.energies.kinetic),
+        fmt_num(o.energies.elastic),
+        fmt_num(o.energies.fracture),
+        fmt_num(o.dissipated)
+    );
+    if o.bars.len() == 2 && bars[0].velocity != bars[1].velocity {
+        eprintln!(
+            "restitution of bars 0 and 1: {}",
+            fmt_num(o.restitution(0, 1, bars[0].velocity, bars[1].velocity))
+        );
+    }
+    if let Some(path) = nodes {
+        let pieces = &o.fragments;
+        let mut text = String::from("node,bar,fragment,x,v\n");
+        for i in 0..chain.len() {
+            let frag = pieces
+                .iter()
+                .position(|f| f.first <= i && i <= f.last)
+                .unwrap_or(0);
+            text.push_str(&format!(
+                "{i},{},{frag},{},{}\n",
+                chain.bar[i], chain.x[i], chain.v[i]
+            ));
+        }
+        if let Err(e) = std::fs::write(path, text) {
+            eprintln!("error: cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+    }
     ExitCode::SUCCESS
 }

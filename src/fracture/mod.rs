@@ -10,6 +10,7 @@
 //! history together. Without a `[fracture]` table (or `model = "none"`)
 //! nothing here runs.
 
+pub mod chain;
 pub mod split;
 pub mod stress;
 

@@ -21,6 +21,7 @@ mod lemke;
 mod moreau;
 mod nonconvex;
 mod output_interval;
+mod percussion;
 mod physics;
 mod plot;
 mod rapier;
