@@ -21,7 +21,8 @@
 //!    than a triangle of the triangulation it came from.
 //!
 //! Parts never add vertices: each is a list of indices into the outline,
-//! counter-clockwise and strictly convex, and the parts tile the polygon
+//! counter-clockwise and strictly convex, starting at its smallest index
+//! (the parts sorted), and the parts tile the polygon
 //! exactly (their areas sum to its area, they overlap only along the
 //! diagonals that were kept). An edge of a part joining two outline
 //! vertices that are not consecutive is an internal edge (a kept diagonal):
@@ -152,6 +153,12 @@ pub fn convex_parts(poly: &[Vec2]) -> Option<Vec<Vec<usize>>> {
         parts[lo] = merged;
         parts.remove(hi);
     }
+    // Each part from its smallest vertex index, the parts in that order.
+    for part in &mut parts {
+        let k = (0..part.len()).min_by_key(|&k| part[k]).unwrap_or(0);
+        *part = rotated(part, k);
+    }
+    parts.sort();
     Some(parts)
 }
 

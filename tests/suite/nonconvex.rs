@@ -307,6 +307,38 @@ fn no_contact_between_the_parts_of_one_floe() {
 }
 
 #[test]
+fn internal_edges_are_never_contact_faces() {
+    // The L splits along its diagonal from (0, 0) to the reflex corner
+    // (10, 10): parts [0, 1, 2, 3] and [0, 3, 4, 5].
+    let scn = l_and_square(100.0, 100.0, 101.0, 101.0);
+    assert_eq!(scn.floes[0].parts, vec![vec![0, 1, 2, 3], vec![0, 3, 4, 5]]);
+    // A square 1 cm left of the L's left face, its lower corner 2 cm above
+    // the diagonal's end (0, 0): the lower part is 2.1 cm away through its
+    // diagonal (hidden), and 2.2 cm from its vertex (0, 0) in a direction
+    // from inside the L (hidden too); only the left face touches it.
+    // Then 5 mm above: the lower part's closest feature is the vertex
+    // (0, 0), approached from inside the L's outline.
+    for y0 in [0.02, 0.005] {
+        let scn = l_and_square(-1.0, y0, -0.01, 1.0);
+        let c = contacts_at_start(&scn, 0.05);
+        assert_eq!(c.len(), 2, "y0 = {y0}: {c:#?}");
+        for k in &c {
+            assert_eq!((k.a, k.b), (0, 1));
+            assert!((k.geom.normal - v(-1.0, 0.0)).norm() < 1e-12, "{k:#?}");
+            assert!((k.geom.gap - 0.01).abs() < 1e-12, "{k:#?}");
+            assert_eq!(k.geom.feature.a, Feature::Edge(5), "{k:#?}");
+        }
+    }
+    // A square off the corner (0, 0) along its bisector: both parts have
+    // that vertex; one contact, not two.
+    let scn = l_and_square(-1.0, -1.0, -0.01, -0.01);
+    let c = contacts_at_start(&scn, 0.05);
+    assert_eq!(c.len(), 1, "{c:#?}");
+    assert_eq!(c[0].geom.feature.a, Feature::Vertex(0));
+    assert!((c[0].geom.gap - 0.01 * 2f64.sqrt()).abs() < 1e-12);
+}
+
+#[test]
 fn convex_bodies_are_detected_exactly_as_before() {
     let mut rng = SplitMix64::new(7);
     let mut bodies: Vec<Vec<Vec2>> = Vec::new();
