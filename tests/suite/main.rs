@@ -16,6 +16,7 @@ mod event_driven;
 mod field;
 mod fracture;
 mod fuzz;
+mod lattice;
 mod lemke;
 mod moreau;
 mod output_interval;
