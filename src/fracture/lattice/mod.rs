@@ -20,6 +20,7 @@
 
 pub mod delaunay;
 
+use super::chain::positive;
 use crate::geometry::{area_properties, cross, point_polygon_signed_distance, Vec2};
 use crate::rng::SplitMix64;
 use nalgebra::{Matrix2, Matrix3, Matrix4, Vector4};
@@ -75,14 +76,6 @@ pub struct Lattice {
     pub area: f64,
     /// The spec it was built from.
     pub spec: LatticeSpec,
-}
-
-fn positive(name: &str, x: f64) -> Result<(), String> {
-    if x.is_finite() && x > 0.0 {
-        Ok(())
-    } else {
-        Err(format!("{name} must be finite and positive, got {x}"))
-    }
 }
 
 /// A seeded Poisson-disc point set in the convex counter-clockwise polygon
