@@ -272,8 +272,8 @@ pub struct Chain {
     options: ChainOptions,
 }
 
-/// Checks that `x` is finite and positive.
-fn positive(name: &str, x: f64) -> Result<(), String> {
+/// Checks that `x` (the parameter `name`) is finite and positive.
+pub(crate) fn positive(name: &str, x: f64) -> Result<(), String> {
     if x.is_finite() && x > 0.0 {
         Ok(())
     } else {

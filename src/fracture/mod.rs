@@ -11,6 +11,7 @@
 //! nothing here runs.
 
 pub mod chain;
+pub mod lattice;
 pub mod split;
 pub mod stress;
 

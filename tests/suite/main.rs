@@ -17,6 +17,7 @@ mod field;
 mod forcing;
 mod fracture;
 mod fuzz;
+mod lattice;
 mod lemke;
 mod moreau;
 mod nonconvex;
