@@ -51,8 +51,8 @@ use faer::{Conj, MatMut};
 
 /// Pivots between two refactorisations of the basis. Each eta adds up to n
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
-/// contact group costs about as much as 20–60 such solves. Measured on the
-/// bay-jam corpus (docs/physics.md §3.3).
+/// contact group costs about as much as a few dozen such solves. Chosen,
+/// not yet tuned by measurement (an open point of docs/physics.md §3.3).
 pub(crate) const REFACTOR_EVERY: usize = 48;
 
 /// The factorised basis; see the module doc.
