@@ -132,6 +132,11 @@ pub const LCP_COMPLETED_BY_PIVOTING: Counter = Counter::sum(
     "lcp_completed_by_pivoting",
     "LCPs accepted after principal pivoting completed a Lemke path that stopped next to a solution",
 );
+/// LCPs accepted by an attempt on the factorised (revised) Lemke basis.
+pub const LCP_REVISED: Counter = Counter::sum(
+    "lcp_revised",
+    "LCPs accepted by a Lemke attempt on the factorised (revised) basis (large groups)",
+);
 /// Largest accepted relative residual.
 pub const LCP_MAX_ACCEPTED_RESIDUAL: Counter = Counter::value(
     "lcp_max_accepted_residual",
@@ -213,6 +218,7 @@ const LCP_COUNTERS: &[&Counter] = &[
     &LCP_WARM_HITS,
     &LCP_WARM_MISSES,
     &LCP_COMPLETED_BY_PIVOTING,
+    &LCP_REVISED,
     &LCP_SIZE_MAX,
     &LCP_MAX_ACCEPTED_RESIDUAL,
     &MAX_COULOMB_RATIO,
@@ -485,6 +491,7 @@ impl ContactSolver {
         c.add(&LCP_WARM_HITS, l.warm_hits);
         c.add(&LCP_WARM_MISSES, l.warm_misses);
         c.add(&LCP_COMPLETED_BY_PIVOTING, l.completed_by_pivoting);
+        c.add(&LCP_REVISED, l.revised);
         c.set(&LCP_MAX_ACCEPTED_RESIDUAL, l.max_accepted_residual);
         c.set(&MAX_COULOMB_RATIO, self.max_coulomb_ratio);
         c
