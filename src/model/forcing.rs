@@ -1,7 +1,7 @@
 //! The velocity of a fluid (wind or current) as a function of place and
 //! time, `u(x, y, t)`: the one point function of the fluid velocity that
 //! the force model, the step bounds and the checks use (docs/physics.md
-//! §2.5).
+//! §2.4).
 //!
 //! A [`VelocityField`] is one of:
 //!
@@ -29,7 +29,7 @@
 //! extent). The force law cannot fail in the middle of a step, so an
 //! outside point is evaluated clamped and recorded for the running thread
 //! ([`take_outside`]); the runner ends the run with an error naming the
-//! file, the variable and the point (docs/physics.md §2.5).
+//! file, the variable and the point (docs/physics.md §2.4).
 
 use crate::geometry::Vec2;
 use serde::Serialize;

@@ -337,7 +337,7 @@ pub const VELOCITY_GRADIENT: Limit = Limit::magnitude(
     "[environment] air, water (field = \"linear\")",
     1.0,
     "s^-1",
-    "ocean shears are below 1e-3 s^-1 and the strongest eddies' 1e-4 s^-1; 1 s^-1 is a laboratory flume's",
+    "ocean and wind shears at floe scales are below about 1e-3 s^-1; 1 s^-1 is a laboratory flume's",
 );
 
 /// The factors of an analytic field's `scale` series.

@@ -383,7 +383,7 @@ impl Runner {
             }
             next.t = t;
             // A forcing field evaluated outside its extent ends the run at
-            // the last output before (docs/physics.md §2.5).
+            // the last output before (docs/physics.md §2.4).
             if let Some(message) = crate::model::forcing::take_outside() {
                 end = EndReason::Failed {
                     message: format!("between t = {} s and t = {t} s: {message}", sys.t),

@@ -1,4 +1,4 @@
-//! Winds and currents that vary in space (docs/physics.md §2.5) and CF
+//! Winds and currents that vary in space (docs/physics.md §2.4) and CF
 //! NetCDF in and out: the grid against the analytic fields it samples, the
 //! shear-current and vortex closed forms, the trajectory file read back,
 //! and bad forcing files refused with errors naming the file, the variable

@@ -45,7 +45,7 @@ fn with_key(text: &str, key: &str, value: f64) -> String {
 /// `text` with its output interval (s) replaced and its duration cut to
 /// [`LONGEST`].
 fn with_interval(text: &str, interval: f64) -> String {
-    let scn = parse_case(text, Path::new("inline.toml")).unwrap_or_else(|e| panic!("{e}"));
+    let scn = parse_case(text, &cases_dir().join("inline.toml")).unwrap_or_else(|e| panic!("{e}"));
     let text = if scn.duration > LONGEST {
         with_key(text, "duration", LONGEST)
     } else {
@@ -57,7 +57,11 @@ fn with_interval(text: &str, interval: f64) -> String {
 /// The case `text` with output interval `interval`, run by `name`, or the
 /// formulation's refusal.
 fn run_at(text: &str, interval: f64, name: &str) -> Result<RunResult, String> {
-    let scn = parse_case(&with_interval(text, interval), Path::new("inline.toml")).unwrap();
+    let scn = parse_case(
+        &with_interval(text, interval),
+        &cases_dir().join("inline.toml"),
+    )
+    .unwrap();
     let mut f = build(name, &scn, &FormulationOptions::default())?;
     Ok(Runner::new(RunOptions::default()).run(&scn, name, f.formulation.as_mut()))
 }

@@ -236,9 +236,7 @@ pub fn translation_gap(scn: &Scenario, i: usize, d: &Vec2) -> Option<(f64, usize
 /// no water drag, no Coriolis.
 pub(super) fn wind_as_gravity(scn: &Scenario) -> Option<Vec2> {
     let env = &scn.environment;
-    let Some(ua) = env.air.velocity.constant_value() else {
-        return None;
-    };
+    let ua = env.air.velocity.constant_value()?;
     if scn.floes.len() != 1
         || scn.obstacles.is_empty()
         || env.air.drag_factor() <= 0.0
