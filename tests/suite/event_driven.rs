@@ -350,7 +350,7 @@ fn the_summary_gives_the_stepping_counters_per_simulated_hour() {
 /// of `floebench check`.
 #[test]
 fn the_pieces_of_a_split_do_not_cross_in_the_jammed_narrow_channel() {
-    let scn = load("fields/narrow_channel_fracture");
+    let scn = load("narrow_channel_fracture");
     let (r, _) = run(&scn);
     assert!(
         r.summary.fractures > 0,
