@@ -38,26 +38,10 @@ fn cpu_model() -> Option<String> {
 }
 
 /// `YYYY-MM-DD HH:MM:SS UTC` of `secs` seconds after the Unix epoch (the
-/// proleptic Gregorian calendar, by days from the civil-from-days rule).
+/// proleptic Gregorian calendar; the one date formatter,
+/// [`crate::netcdf::cf::format_date`]).
 pub fn utc(secs: u64) -> String {
-    let days = (secs / 86_400) as i64;
-    let rem = secs % 86_400;
-    // Civil from days (H. Hinnant's algorithm), the era starting 0000-03-01.
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    format!(
-        "{year:04}-{month:02}-{day:02} {:02}:{:02}:{:02} UTC",
-        rem / 3600,
-        rem / 60 % 60,
-        rem % 60
-    )
+    format!("{} UTC", crate::netcdf::cf::format_date(secs as f64))
 }
 
 impl Provenance {
