@@ -57,7 +57,7 @@ use crate::lcp::{
 };
 use crate::record::clock::Sampler;
 use crate::record::profile::{bucket_of, BUCKET_BOUNDS};
-use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, SolveProfile, Unit};
+use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, Settings, SolveProfile, Unit};
 use std::collections::HashMap;
 use std::path::PathBuf;
 
@@ -422,6 +422,14 @@ impl ContactSolver {
     /// Whether the LCPs are warm-started.
     pub fn warm_start(&self) -> bool {
         self.warm.is_some()
+    }
+
+    /// `settings` with the solver's own: `solver` (its method) and
+    /// `warm_start` (`on`/`off`).
+    pub fn settings(&self, settings: Settings) -> Settings {
+        settings
+            .text("solver", self.kind.name())
+            .text("warm_start", if self.warm_start() { "on" } else { "off" })
     }
 
     /// The LCP solves so far by size (with the timer's cost).

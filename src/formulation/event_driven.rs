@@ -489,26 +489,19 @@ fn relative_motion(
 /// `grow`. Returns the middle of the first passage as a fraction of the
 /// step, if there is one.
 ///
-/// A non-convex body is the union of its convex `parts` (indices into
-/// `local`): the passage is against the nearest-in-time part (one part, the
-/// outline itself, for a convex body).
+/// A non-convex body is the union of its convex parts (`part_polys`, from
+/// [`part_polygons`] of `local`): the passage is against the
+/// nearest-in-time part; `part_polys` is empty for a convex body, whose
+/// outline is its one part.
 fn transit(
     motion: &[(f64, f64, Vec2)],
     x: &Vec2,
     local: &[Vec2],
-    parts: &[Vec<usize>],
+    part_polys: &[Vec<Vec2>],
     grow: f64,
 ) -> Option<f64> {
     let map = |&(c, s, d): &(f64, f64, Vec2)| Vec2::new(c * x.x - s * x.y, s * x.x + c * x.y) + d;
     let pieces = motion.len().saturating_sub(1).max(1) as f64;
-    let part_polys: Vec<Vec<Vec2>> = if parts.len() > 1 {
-        parts
-            .iter()
-            .map(|ids| ids.iter().map(|&k| local[k]).collect())
-            .collect()
-    } else {
-        Vec::new()
-    };
     let mut q0 = map(&motion[0]);
     for (piece, m) in motion.iter().enumerate().skip(1) {
         let q1 = map(m);
@@ -526,6 +519,18 @@ fn transit(
         q0 = q1;
     }
     None
+}
+
+/// The convex parts (index lists `parts`) of the outline `poly` as
+/// polygons; empty (no allocation) for a convex body, which is its one part.
+fn part_polygons(poly: &[Vec2], parts: &[Vec<usize>]) -> Vec<Vec<Vec2>> {
+    if parts.len() <= 1 {
+        return Vec::new();
+    }
+    parts
+        .iter()
+        .map(|ids| ids.iter().map(|&k| poly[k]).collect())
+        .collect()
 }
 
 /// Signed distance (m) from the point `v` to body `body` of `scn` at its
@@ -1218,16 +1223,20 @@ impl EventDriven {
     /// over the pairs of their convex parts (a penetration is then the
     /// deepest overlap of two parts).
     fn pair_signed_distance(scn: &Scenario, i: usize, j: usize, a: &[Vec2], b: &[Vec2]) -> f64 {
-        let (pi, pj) = (body_parts(scn, i), body_parts(scn, j));
-        if pi.len() <= 1 && pj.len() <= 1 {
+        let (pa, pb) = (
+            part_polygons(a, body_parts(scn, i)),
+            part_polygons(b, body_parts(scn, j)),
+        );
+        if pa.is_empty() && pb.is_empty() {
             return signed_distance(a, b);
         }
-        let part = |poly: &[Vec2], ids: &[usize]| ids.iter().map(|&k| poly[k]).collect::<Vec<_>>();
+        let whole = |poly: &[Vec2]| vec![poly.to_vec()];
+        let pa = if pa.is_empty() { whole(a) } else { pa };
+        let pb = if pb.is_empty() { whole(b) } else { pb };
         let mut d = f64::INFINITY;
-        for ia in pi {
-            let pa = part(a, ia);
-            for jb in pj {
-                d = d.min(signed_distance(&pa, &part(b, jb)));
+        for qa in &pa {
+            for qb in &pb {
+                d = d.min(signed_distance(qa, qb));
             }
         }
         d
@@ -1274,6 +1283,7 @@ impl EventDriven {
                     Body::Floe(o) => &scn.floes[o].shape,
                     Body::Obstacle(_) => &p0[other],
                 };
+                let part_polys = part_polygons(local, body_parts(scn, other));
                 for (k, (v0, v1)) in p0[owner].iter().zip(&p1[owner]).enumerate() {
                     let d0 = body_distance(scn, other, v0, &p0[other]);
                     if d0 <= delta {
@@ -1293,8 +1303,7 @@ impl EventDriven {
                         Body::Floe(f) => scn.floes[f].shape[k],
                         Body::Obstacle(_) => *v0,
                     };
-                    let parts = body_parts(scn, other);
-                    if let Some(mid) = transit(motion, &x, local, parts, target) {
+                    if let Some(mid) = transit(motion, &x, local, &part_polys, target) {
                         transits.push(((owner, k), mid * h));
                     }
                 }
@@ -1647,23 +1656,16 @@ impl Formulation for EventDriven {
     }
 
     fn settings(&self) -> Settings {
-        Settings::default()
-            .number(
-                "impact_speed_threshold_m_per_s",
-                self.impact_speed,
-                Unit::MetrePerSecond,
-            )
-            .number("contact_distance_m", self.distance, Unit::Metre)
-            .number("penetration_tolerance_m", self.pen_tol, Unit::Metre)
-            .text("solver", self.solver.kind().name())
-            .text(
-                "warm_start",
-                if self.solver.warm_start() {
-                    "on"
-                } else {
-                    "off"
-                },
-            )
+        self.solver.settings(
+            Settings::default()
+                .number(
+                    "impact_speed_threshold_m_per_s",
+                    self.impact_speed,
+                    Unit::MetrePerSecond,
+                )
+                .number("contact_distance_m", self.distance, Unit::Metre)
+                .number("penetration_tolerance_m", self.pen_tol, Unit::Metre),
+        )
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {

@@ -665,24 +665,17 @@ impl Formulation for Moreau {
     }
 
     fn settings(&self) -> Settings {
-        Settings::default()
-            .number(
-                "activation_tolerance_m",
-                self.activation_tolerance,
-                Unit::Metre,
-            )
-            .number("step_s", self.step, Unit::Second)
-            .number("theta", self.theta, Unit::Dimensionless)
-            .number("gamma", self.gamma, Unit::Dimensionless)
-            .text("solver", self.solver.kind().name())
-            .text(
-                "warm_start",
-                if self.solver.warm_start() {
-                    "on"
-                } else {
-                    "off"
-                },
-            )
+        self.solver.settings(
+            Settings::default()
+                .number(
+                    "activation_tolerance_m",
+                    self.activation_tolerance,
+                    Unit::Metre,
+                )
+                .number("step_s", self.step, Unit::Second)
+                .number("theta", self.theta, Unit::Dimensionless)
+                .number("gamma", self.gamma, Unit::Dimensionless),
+        )
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {
