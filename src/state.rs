@@ -173,19 +173,27 @@ pub fn detect_contacts(
     bp: &mut BroadPhase,
     out: &mut Vec<Contact>,
 ) {
+    detect_contacts_with(scn, bodies, distance, &NarrowOptions::default(), bp, out);
+}
+
+/// [`detect_contacts`] with the contact point tolerances `options` (the
+/// event-driven scheme makes a two-point contact of every facing edge pair
+/// whose clipped ends are within `distance`, see
+/// [`crate::formulation::event_driven`]).
+pub fn detect_contacts_with(
+    scn: &Scenario,
+    bodies: &[BodyState],
+    distance: f64,
+    options: &NarrowOptions,
+    bp: &mut BroadPhase,
+    out: &mut Vec<Contact>,
+) {
     let polys = world_polygons(scn, bodies);
     let compounds = compounds(scn, &polys);
     let fixed: Vec<bool> = (0..compounds.len())
         .map(|i| matches!(scn.body(i), Body::Obstacle(_)))
         .collect();
-    detect_compound(
-        &compounds,
-        &fixed,
-        distance,
-        &NarrowOptions::default(),
-        bp,
-        out,
-    );
+    detect_compound(&compounds, &fixed, distance, options, bp, out);
 }
 
 /// The bodies of `scn` as [`Compound`]s of their convex parts, over their

@@ -95,7 +95,7 @@ use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
-use crate::contact::{signed_distance, Aabb, BroadPhase, Contact};
+use crate::contact::{signed_distance, Aabb, BroadPhase, Contact, NarrowOptions};
 use crate::fracture::{loads_of, Decision, Fracturer};
 use crate::geometry::{
     aabb, perp, point_outline_signed_distance, point_polygon_signed_distance, rotate, Vec2,
@@ -108,8 +108,8 @@ use crate::record::{
     ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, StageClock, Unit,
 };
 use crate::state::{
-    body_parts, detect_contacts, normal_velocity, tangential_velocity, world_polygons, BodyState,
-    Ledger, System,
+    body_parts, detect_contacts_with, normal_velocity, tangential_velocity, world_polygons,
+    BodyState, Ledger, System,
 };
 
 /// The registry entry (see [`crate::formulation::REGISTRY`]).
@@ -323,6 +323,18 @@ const COUNTERS: &[&Counter] = &[
 pub const DEFAULT_DISTANCE_FRACTION: f64 = 1e-3;
 /// Default penetration tolerance as a fraction of the smallest floe radius.
 pub const DEFAULT_PENETRATION_FRACTION: f64 = 1e-4;
+/// The contact points of the scheme: every facing edge pair is clipped
+/// (Box2D's reference/incident clipping at any angle, not only within the
+/// shared 1e-6 rad parallel tolerance), and each clipped end within the
+/// contact distance `δ` is a closed contact. A vertex within `δ` of the
+/// facing edge is then always a contact of the sustained problem: with one
+/// point per nearly flush pair (edges a few 1e-4 rad apart), the second
+/// corner, already within `δ`, was neither held by the LCP nor located as
+/// an event, and turned into the other floe (docs/physics.md §4.3, step 1).
+const CONTACT_POINTS: NarrowOptions = NarrowOptions {
+    parallel_tolerance: std::f64::consts::FRAC_PI_2,
+    merge_fraction: crate::contact::DEFAULT_MERGE_FRACTION,
+};
 /// Rounding floor of the approach speed that makes an impact, m/s.
 const APPROACH_TOLERANCE: f64 = 1e-10;
 /// Impact rounds at one instant before giving up (counted).
@@ -732,7 +744,14 @@ impl EventDriven {
 
     fn detect(&mut self, scn: &Scenario, bodies: &[BodyState]) -> Vec<Contact> {
         let mut out = Vec::new();
-        detect_contacts(scn, bodies, self.distance, &mut self.bp, &mut out);
+        detect_contacts_with(
+            scn,
+            bodies,
+            self.distance,
+            &CONTACT_POINTS,
+            &mut self.bp,
+            &mut out,
+        );
         out
     }
 
@@ -910,6 +929,7 @@ impl EventDriven {
         sys: &System,
         contacts: &[Contact],
         h: f64,
+        nominal: f64,
         clock: &mut StageClock,
     ) -> Result<Sustained, FormulationError> {
         let n = scn.floes.len();
@@ -925,7 +945,9 @@ impl EventDriven {
             return Ok(out);
         }
         // The separation velocity asked of each contact at the end of the
-        // step (m/s): −g/h for a penetration (relaxed Signorini), the decay
+        // step (m/s): −g/H for a penetration (relaxed Signorini over the
+        // nominal step H, not the halved or cut one: a speed −g/h grows
+        // without bound as h shrinks, and puts kinetic energy in), the decay
         // of an accumulation, else 0; `None`: open (in a flight within δ).
         let mut target: Vec<Option<f64>> = Vec::with_capacity(contacts.len());
         let mut apex_rule = vec![false; contacts.len()];
@@ -937,7 +959,7 @@ impl EventDriven {
                 continue;
             }
             let mut ask = if c.geom.gap < 0.0 {
-                -c.geom.gap / h
+                -c.geom.gap / nominal.max(h)
             } else {
                 0.0
             };
@@ -1504,7 +1526,7 @@ impl EventDriven {
         let mut stick_moves = 0;
         let mut other_cut = false;
         loop {
-            let sustained = self.sustained_wrenches(scn, sys, &contacts, h, clock)?;
+            let sustained = self.sustained_wrenches(scn, sys, &contacts, h, bound, clock)?;
             if let Some((shorter, why)) = sustained.cut {
                 if shorter < (1.0 - MIN_CUT_FRACTION) * h && cuts < MAX_CUTS {
                     self.counters.add(why.counter(), 1);
