@@ -7,7 +7,9 @@
 //! 1. **Detection.** Contacts are found by sweep and prune and exact convex
 //!    polygon distances ([`crate::contact`]; a non-convex floe or obstacle
 //!    by its convex parts): every vertex–edge point whose gap is below the
-//!    contact distance `δ` is *closed*.
+//!    contact distance `δ` is *closed*. Every facing edge pair is clipped
+//!    ([`CONTACT_POINTS`]), so both corners of a nearly flush pair within
+//!    `δ` are contacts of the sustained problem.
 //! 2. **Impacts.** If a closed contact approaches faster than the impact
 //!    threshold (`u_N < −v_imp`, [`EventDriven::new`]), the connected
 //!    group of floes it belongs to goes through an impact: the compression
@@ -34,8 +36,10 @@
 //!    shared smooth integrator. A constant force balance is therefore exact
 //!    (a floe pressed on a wall by a constant wind stays put; a sliding floe
 //!    decelerates at exactly `μ a`). A penetrating sustained contact asks for
-//!    a separating velocity `−g/h` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c`
-//!    with `c = g/h`, docs/physics.md §3.1). A separating contact of an
+//!    a separating velocity `−g/H` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c`
+//!    with `c = g/H`, docs/physics.md §3.1), `H` the step's nominal length
+//!    before cuts and halvings: over a halved step `−g/h` would grow without
+//!    bound and put kinetic energy in. A separating contact of an
 //!    isolated pair pulled back by the environment (`EventDriven::separation`):
 //!    its **accumulation** of bounces completes at its accumulation time
 //!    `T = 2u_N/(|a_N|(1 − e))`, by the mean motion (the normal velocity
@@ -253,7 +257,7 @@ pub const MICRO_BOUNCES_ABSORBED: Counter = Counter::sum(
 /// Sustained-contact steps that asked a penetrating contact to separate.
 pub const POSITION_CORRECTIONS: Counter = Counter::sum(
     "position_corrections",
-    "sustained-contact steps with a penetrating contact asked to separate at -g/h",
+    "sustained-contact steps with a penetrating contact asked to separate at -g/H (H the nominal step)",
 );
 /// Sustained-contact problems solved (one per group and trial step).
 pub const SUSTAINED_SOLVES: Counter =
