@@ -84,6 +84,8 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
         "cannon_velocities",
         "free_drift_velocity",
         "energy_ledger",
+        "fracture_conservation",
+        "ram_critical_speed",
     ] {
         assert!(
             rows.iter().any(|o| o.check == id),
@@ -213,6 +215,25 @@ fn coulomb_and_sliding_fail_on_wrong_input() {
         {
             row.vy = 1e-3;
         }
+    });
+}
+
+#[test]
+fn fracture_checks_fail_on_wrong_input() {
+    let scn = load("fracture_ram");
+    let r = run(&scn, "event-driven");
+    // A split that changed a conserved quantity by 1e-9 relative.
+    fails_when_spoiled(&scn, &r, "fracture_conservation", |b| {
+        b.fractures[0].conservation = 1e-9;
+    });
+    // A first fracture whose measure is 1 % off the closed form's (the
+    // critical speed 0.5 % off).
+    fails_when_spoiled(&scn, &r, "ram_critical_speed", |b| {
+        b.fractures[0].measure *= 1.01;
+    });
+    // No fracture at all above the critical speed.
+    fails_when_spoiled(&scn, &r, "ram_critical_speed", |b| {
+        b.fractures.clear();
     });
 }
 
