@@ -100,10 +100,11 @@ use super::{
 };
 use crate::contact::problem::{groups, ContactLcp, Gen};
 use crate::contact::{signed_distance, Aabb, BroadPhase, Contact, NarrowOptions};
-use crate::fracture::{loads_of, Decision, Fracturer};
+use crate::fracture::{loads_of, Decision, Fracturer, Load};
 use crate::geometry::{
     aabb, perp, point_outline_signed_distance, point_polygon_signed_distance, rotate, Vec2,
 };
+use crate::model::fracture::FractureModel;
 use crate::model::limits::Limit;
 use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, StepRecord, Wrench};
@@ -428,6 +429,9 @@ struct Sustained {
     stick: Option<f64>,
     /// Where a pair still sliding at the end, slower, would stop (s).
     slide_stop: Option<f64>,
+    /// The impulses of the sustained solves over the trial step, as loads
+    /// of the stress criterion (empty unless `[fracture] model = "stress"`).
+    loads: Vec<Load>,
 }
 
 /// The earlier of two cuts.
@@ -681,9 +685,13 @@ pub struct EventDriven {
     flights: Vec<Flight>,
     /// The fracture criterion's state (docs/physics.md §9).
     fracture: Fracturer,
-    /// Floes to break, found by the impacts of this instant, with the
-    /// energy the impacts of their group dissipated (J).
+    /// Floes to break, found by the impacts of this instant (with the
+    /// energy the impacts of their group dissipated, J) or by the stress
+    /// criterion at the end of the last step (0 J).
     pending: Vec<(Vec<Decision>, f64)>,
+    /// The loads of the slow approaches stopped at this step's start, for
+    /// the stress criterion with the step's sustained impulses.
+    step_loads: Vec<Load>,
 }
 
 /// Keeps at most this many impact records.
@@ -728,6 +736,7 @@ impl EventDriven {
             flights: Vec::new(),
             fracture: Fracturer::default(),
             pending: Vec::new(),
+            step_loads: Vec::new(),
         })
     }
 
@@ -839,6 +848,12 @@ impl EventDriven {
                 if !decisions.is_empty() {
                     self.pending.push((decisions, before - after));
                 }
+            } else if slow.is_some() && scn.fracture.model == FractureModel::Stress {
+                // A slow approach stopped is part of the sustained contact:
+                // the stress criterion reads it with the step's impulses.
+                let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
+                self.step_loads
+                    .extend(loads_of(scn, &group, &lcp.normal(&z), &lcp.tangential(&z)));
             }
             self.solver.log_mut().push_event(ContactEvent {
                 t: sys.t,
@@ -944,6 +959,7 @@ impl EventDriven {
             flights: Vec::new(),
             stick: None,
             slide_stop: None,
+            loads: Vec::new(),
         };
         if contacts.is_empty() {
             return Ok(out);
@@ -1090,6 +1106,12 @@ impl EventDriven {
                 lambda[k] = l[j];
                 beta[k] = b[j];
                 g_t[k] = lcp.tangential_compliance(j);
+            }
+            if scn.fracture.model == FractureModel::Stress {
+                // The group's impulses over h: loads of the stress criterion
+                // (docs/physics.md §9.3, §9.5).
+                let group: Vec<&Contact> = g.contacts.iter().map(|&k| &closed[k]).collect();
+                out.loads.extend(loads_of(scn, &group, &l, &b));
             }
             let p = lcp.impulses(&z);
             let dv = lcp.velocity_changes(&z);
@@ -1444,6 +1466,18 @@ impl EventDriven {
 }
 
 impl EventDriven {
+    /// Splits the floes of the pending decisions at `sys.t` (docs/physics.md
+    /// §9.5) and rebuilds what depends on the floe set.
+    fn apply_pending(&mut self, scn: &mut Scenario, sys: &mut System) {
+        for (decisions, dissipated) in std::mem::take(&mut self.pending) {
+            self.fracture.apply(scn, sys, &decisions, dissipated);
+        }
+        self.integ.floes_changed(scn);
+        // Flights name pairs by body ids, which the new floes shift.
+        self.flights.clear();
+        self.last = None;
+    }
+
     /// One step of the scheme's own grid from `sys` (impacts at its start,
     /// then the smooth step with sustained contacts, cut at the first event),
     /// never past `end` (s, the end of the run); keeps its record in
@@ -1455,6 +1489,13 @@ impl EventDriven {
         end: f64,
         clock: &mut StageClock,
     ) -> Result<(), FormulationError> {
+        // Fractures decided by the stress criterion at the end of the last
+        // step: this instant starts again with the new floe set.
+        if !self.pending.is_empty() {
+            self.apply_pending(scn, sys);
+            return Ok(());
+        }
+        self.step_loads.clear();
         let n = scn.floes.len();
         let t = sys.t;
         // Flights that have returned are over.
@@ -1497,13 +1538,7 @@ impl EventDriven {
         // after the impact that broke them, and the instant starts again
         // with the new floe set (its contacts detected anew).
         if !self.pending.is_empty() {
-            for (decisions, dissipated) in std::mem::take(&mut self.pending) {
-                self.fracture.apply(scn, sys, &decisions, dissipated);
-            }
-            self.integ.floes_changed(scn);
-            // Flights name pairs by body ids, which the new floes shift.
-            self.flights.clear();
-            self.last = None;
+            self.apply_pending(scn, sys);
             return Ok(());
         }
         // 3. Trial step with sustained contact forces, bounded by the
@@ -1632,6 +1667,23 @@ impl EventDriven {
             self.counters
                 .add(&FLIGHTS_WITHIN_DISTANCE, sustained.flights.len() as u64);
             self.flights.extend(sustained.flights);
+            if scn.fracture.model == FractureModel::Stress {
+                // The stress criterion reads the impulses delivered over the
+                // step [t, next.t]: the sustained wrenches (impulses over h)
+                // for the part of h taken, and the slow approaches stopped
+                // (docs/physics.md §9.3, §9.5); the floes break at the next
+                // step's start, on the lines chosen here, carried with them.
+                let taken = ((next.t - t) / h).clamp(0.0, 1.0);
+                let mut loads = std::mem::take(&mut self.step_loads);
+                loads.extend(sustained.loads.iter().map(|l| Load {
+                    impulse: l.impulse * taken,
+                    ..*l
+                }));
+                let decisions = self.fracture.decide_over(scn, sys, &loads, t, next.t);
+                if !decisions.is_empty() {
+                    self.pending.push((decisions, 0.0));
+                }
+            }
             self.last = Some(StepRecord {
                 start: std::mem::replace(sys, next),
                 wrenches,

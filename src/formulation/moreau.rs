@@ -588,10 +588,13 @@ impl Moreau {
             }
             sys.ledger.dissipated += before - after;
             if Fracturer::enabled(scn) {
-                // The step's impulses, on the floes at q_k.
+                // The step's impulses, on the floes at q_k, delivered over
+                // the step [t_k, t_k + h] (docs/physics.md §9.3).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &active[k]).collect();
                 let loads = loads_of(scn, &group, &lcp.normal(&z), &lcp.tangential(&z));
-                let decisions = self.fracture.decide(scn, sys, &loads);
+                let decisions = self
+                    .fracture
+                    .decide_over(scn, sys, &loads, sys.t, sys.t + h);
                 if !decisions.is_empty() {
                     self.pending.push((decisions, before - after));
                 }

@@ -197,9 +197,27 @@ impl Fracturer {
     }
 
     /// The floes that break under the loads `loads` of a contact solve at
-    /// `sys.t` (an energy criterion reads this solve alone; the stress
-    /// criterion its window), at most one decision per floe, in floe order.
+    /// the instant `sys.t` (an energy criterion reads this solve alone; the
+    /// stress criterion its window), at most one decision per floe, in floe
+    /// order.
     pub fn decide(&mut self, scn: &Scenario, sys: &System, loads: &[Load]) -> Vec<Decision> {
+        self.decide_over(scn, sys, loads, sys.t, sys.t)
+    }
+
+    /// As [`Fracturer::decide`], for loads delivered over `[from, to]` (s):
+    /// the span the formulation attributes to the solve (its step), over
+    /// which the stress criterion spreads their impulse in its window
+    /// ([`stress::Window`]; docs/physics.md §9.3). `sys` is the state the
+    /// loads' points and the cut refer to. The energy criterion reads the
+    /// impulses alone, whatever their span.
+    pub fn decide_over(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        loads: &[Load],
+        from: f64,
+        to: f64,
+    ) -> Vec<Decision> {
         let s = &scn.fracture;
         let mut out = Vec::new();
         for (floe, pairs) in pair_loads(loads) {
@@ -231,11 +249,11 @@ impl Fracturer {
                     let tensor =
                         stress::moment(&b.position, loads.iter().filter(|l| l.floe == floe));
                     let w = self.history.entry(f.id).or_default();
-                    w.push(sys.t, tensor, s.window);
+                    w.push(from, to, tensor, s.window);
                     if f.area < s.min_area {
                         continue;
                     }
-                    let sigma = w.mean_stress(f.area, f.thickness, s.window);
+                    let sigma = w.mean_stress(to, f.area, f.thickness, s.window);
                     let measure = stress::yield_measure(s, &sigma);
                     if measure > 1.0 {
                         if let Some((line, cut)) = brazilian_cut(scn, sys, floe, &pairs) {
@@ -273,9 +291,11 @@ impl Fracturer {
         let mut done = 0;
         for d in decisions {
             let spent = d.crack_energy.min(budget);
+            // The window is kept by floe id, not by index.
+            let id = scn.floes[d.floe].id;
             if apply_split(scn, sys, d, spent).is_some() {
                 budget -= spent;
-                self.history.remove(&d.floe);
+                self.history.remove(&id);
                 done += 1;
                 self.fractures += 1;
             }

@@ -6,8 +6,10 @@
 //! stress over the window is
 //! `σ̄ = (1/(A h W)) Σ_c sym((x_c − x̄) ⊗ P_c)` (Pa, tension positive): the
 //! impulses of the window divided by its duration are its mean forces, so an
-//! impact (an impulse in no time) and a sustained force count alike,
-//! whatever time a formulation attributes to its solves.
+//! impact (an impulse in no time) and a sustained force count alike. The
+//! impulse of a solve is spread over the span the formulation attributes to
+//! it (an instant for an impact, the step for a step's impulse), and the
+//! window counts the share of that span inside it ([`Window`]).
 
 use super::Load;
 use crate::geometry::Vec2;
@@ -45,28 +47,42 @@ pub fn principal(s: &Sym2) -> (f64, f64) {
 }
 
 /// The moments of the recent solves of one floe, to average over a window.
+///
+/// Each solve's moment is delivered over the span the formulation attributes
+/// to it, `[from, to]` (s): an instant (`from = to`) for an impact, the step
+/// for the impulse of a step (docs/physics.md §9.3). The window `[t − W, t]`
+/// counts the share of each span inside it, the impulse being spread
+/// uniformly over its span (a constant force), so that a step longer than
+/// the window does not count its whole impulse as the window's.
 #[derive(Debug, Clone, Default)]
 pub struct Window {
-    items: VecDeque<(f64, Sym2)>,
+    items: VecDeque<(f64, f64, Sym2)>,
 }
 
 impl Window {
-    /// Adds the moment `m` of a solve at `t` (s) and forgets the solves
-    /// older than `t − window`.
-    pub fn push(&mut self, t: f64, m: Sym2, window: f64) {
-        self.items.push_back((t, m));
-        while self.items.front().is_some_and(|&(s, _)| s < t - window) {
+    /// Adds the moment `m` delivered over `[from, to]` (s, `from ≤ to`) and
+    /// forgets the solves that ended before `to − window`.
+    pub fn push(&mut self, from: f64, to: f64, m: Sym2, window: f64) {
+        self.items.push_back((from, to, m));
+        while self.items.front().is_some_and(|&(_, e, _)| e < to - window) {
             self.items.pop_front();
         }
     }
 
-    /// The mean stress over the window (Pa) of a floe of `area` (m²) and
-    /// `thickness` (m).
-    pub fn mean_stress(&self, area: f64, thickness: f64, window: f64) -> Sym2 {
+    /// The mean stress (Pa) over the window `[now − window, now]` of a
+    /// floe of `area` (m²) and `thickness` (m): each solve's moment counts by
+    /// the share of its span inside the window (all of it for an instant).
+    pub fn mean_stress(&self, now: f64, area: f64, thickness: f64, window: f64) -> Sym2 {
+        let start = now - window;
         let mut m = [0.0; 3];
-        for (_, x) in &self.items {
+        for &(from, to, x) in &self.items {
+            let share = if to > from {
+                ((to - from.max(start)) / (to - from)).clamp(0.0, 1.0)
+            } else {
+                1.0
+            };
             for (a, b) in m.iter_mut().zip(x) {
-                *a += b;
+                *a += share * b;
             }
         }
         mean_stress(&m, area, thickness, window)

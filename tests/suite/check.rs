@@ -84,6 +84,8 @@ fn every_small_case_passes_every_check_its_formulations_claim() {
         "cannon_velocities",
         "free_drift_velocity",
         "energy_ledger",
+        "fracture_conservation",
+        "ram_critical_speed",
     ] {
         assert!(
             rows.iter().any(|o| o.check == id),
@@ -214,6 +216,58 @@ fn coulomb_and_sliding_fail_on_wrong_input() {
             row.vy = 1e-3;
         }
     });
+}
+
+#[test]
+fn fracture_checks_fail_on_wrong_input() {
+    let scn = load("fracture_ram");
+    let r = run(&scn, "event-driven");
+    // A split that changed a conserved quantity by 1e-9 relative.
+    fails_when_spoiled(&scn, &r, "fracture_conservation", |b| {
+        b.fractures[0].conservation = 1e-9;
+    });
+    // A first fracture whose measure is 1 % off the closed form's (the
+    // critical speed 0.5 % off).
+    fails_when_spoiled(&scn, &r, "ram_critical_speed", |b| {
+        b.fractures[0].measure *= 1.01;
+    });
+    // No fracture at all above the critical speed.
+    fails_when_spoiled(&scn, &r, "ram_critical_speed", |b| {
+        b.fractures.clear();
+    });
+}
+
+#[test]
+fn the_head_on_law_follows_the_material_of_floes_broken_at_the_impact() {
+    // head_on with a toughness so low that the impact breaks both floes:
+    // the head-on law holds for each floe's material (the mass-weighted
+    // velocity of its pieces), momentum being conserved by the split.
+    let text = format!(
+        "{}\n[fracture]\nmodel = \"energy\"\ntoughness = 0.01\n",
+        case_text("head_on")
+    );
+    let scn = scenario(&text);
+    for name in ["event-driven", "moreau"] {
+        let r = run(&scn, name);
+        assert!(!r.fractures.is_empty(), "{name}: no fracture");
+        let rows = check_run(&scn, &r);
+        for id in ["head_on_v1", "head_on_v2"] {
+            let o = find(&rows, id);
+            assert!(o.pass, "{name}: {o:#?}");
+        }
+        // One piece of floe 1 a little faster at the end: its material is
+        // too.
+        fails_when_spoiled(&scn, &r, "head_on_v2", |b| {
+            let last = b.summary.t_reached;
+            let floes = &b.floes;
+            let row = b
+                .trajectory
+                .iter_mut()
+                .find(|row| row.t == last && floes[row.floe].parent == Some(1))
+                .unwrap_or_else(|| panic!("no piece of floe 1 at the end"));
+            row.vx += 1e-3;
+        });
+    }
 }
 
 #[test]

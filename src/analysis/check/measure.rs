@@ -1,8 +1,8 @@
 //! Measurements on a recorded run that several checks share: when a floe
 //! comes to rest, the deepest overlap at the output times, a floe's final
-//! velocity.
+//! velocity (its material's, through its pieces, when floes broke).
 
-use crate::analysis::divergence::row_frames;
+use crate::analysis::divergence::{material_rows, row_frames};
 use crate::contact::{compound_signed_distance, Aabb, BroadPhase, Compound};
 use crate::geometry::Vec2;
 use crate::model::{parts_of, Scenario};
@@ -68,8 +68,27 @@ pub fn sampled_penetration(scn: &Scenario, run: &RunResult) -> f64 {
 
 /// The final velocity of floe `i`, m/s.
 pub(super) fn final_velocity(run: &RunResult, i: usize) -> Vec2 {
+    if !run.fractures.is_empty() {
+        return material_final_velocity(run, i);
+    }
     run.final_state
         .bodies
         .get(i)
         .map_or(Vec2::zeros(), |b| b.velocity)
+}
+
+/// The velocity at the end of a run where floes broke of initial floe
+/// `i`'s material (m/s): the mass-weighted velocity of its descendants alive
+/// at the last output ([`material_rows`]). A split conserves momentum, so
+/// it is the velocity the floe's momentum gives, whatever its fracture
+/// history. NaN (a failing check) if the last output is not the run's end.
+fn material_final_velocity(run: &RunResult, i: usize) -> Vec2 {
+    let rows = material_rows(run);
+    rows.iter()
+        .rev()
+        .find(|row| row.floe == i)
+        .filter(|row| row.t == run.summary.t_reached)
+        .map_or(Vec2::new(f64::NAN, f64::NAN), |row| {
+            Vec2::new(row.vx, row.vy)
+        })
 }

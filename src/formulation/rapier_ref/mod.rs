@@ -839,8 +839,10 @@ impl RapierReference {
         }
         sys.ledger.dissipated += d;
         if Fracturer::enabled(scn) {
+            // The step's impulses, delivered over the step [t, t + h]
+            // (docs/physics.md §9.3).
             let loads = self.loads(scn);
-            let decisions = self.fracture.decide(scn, sys, &loads);
+            let decisions = self.fracture.decide_over(scn, sys, &loads, t, t + h);
             if !decisions.is_empty() {
                 self.pending.push((decisions, d));
             }
