@@ -15,6 +15,7 @@
 
 pub mod cf;
 mod grid;
+mod reader;
 mod trajectory;
 
 pub use grid::{
