@@ -1,4 +1,5 @@
-//! Gridded velocities from a CF NetCDF classic file ([`read_grid`]), and
+//! Gridded velocities from a CF NetCDF file, classic or NetCDF-4
+//! ([`read_grid`], through `reader.rs`), and
 //! the writer of such files ([`write_grid`]) that makes the bundled gridded
 //! case's forcing and the tests' files.
 //!
@@ -78,8 +79,9 @@ fn monotonic(a: &[f64]) -> Option<bool> {
     }
 }
 
-/// Reads the two velocity components of `req` from the CF NetCDF classic
-/// file `path`. Every error names the file, and the variable or the node.
+/// Reads the two velocity components of `req` from the CF NetCDF file
+/// `path` (classic or NetCDF-4). Every error names the file, and the
+/// variable or the node.
 pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
     let nc = NcInput::open(path)?;
     let file = nc.file().to_string();
