@@ -7,8 +7,11 @@
 use crate::common::{case_path, load, run, scenario, tempdir};
 use floebench::formulation::load_case;
 use floebench::geometry::{area_properties, Vec2};
+use floebench::model::forcing::GridData;
 use floebench::model::Scenario;
-use floebench::netcdf::{read_trajectory, write_grid, write_trajectory, GridFile};
+use floebench::netcdf::{
+    read_grid, read_trajectory, write_grid, write_trajectory, GridFile, GridRequest,
+};
 use floebench::physics::ForceModel;
 use floebench::run::{EndReason, RunResult};
 use floebench::state::BodyState;
@@ -583,12 +586,26 @@ fn netcdf4_fixture(name: &str) -> std::path::PathBuf {
 }
 
 /// The gridded case's request for `variables` (its air or its water).
-fn gridded_request(variables: [&str; 2]) -> floebench::netcdf::GridRequest {
-    floebench::netcdf::GridRequest {
+fn gridded_request(variables: [&str; 2]) -> GridRequest {
+    GridRequest {
         variables: variables.map(String::from),
         origin: Some([0.0, 79.0]),
         start: Some("2024-03-01 00:00:00".into()),
     }
+}
+
+/// The gridded case's air and water fields (`u10`/`v10`, `uo`/`vo`) read
+/// from `cases/gridded_drift.nc` and from the fixture `name`.
+fn classic_and_fixture(name: &str) -> Vec<([&str; 2], GridData, GridData)> {
+    let classic = case_path("gridded_drift").with_file_name("gridded_drift.nc");
+    [["u10", "v10"], ["uo", "vo"]]
+        .into_iter()
+        .map(|vars| {
+            let req = gridded_request(vars);
+            let read = |p: &Path| read_grid(p, &req).unwrap_or_else(|e| panic!("{e}"));
+            (vars, read(&classic), read(&netcdf4_fixture(name)))
+        })
+        .collect()
 }
 
 #[test]
@@ -598,12 +615,7 @@ fn a_netcdf4_file_gives_the_classic_files_field_bit_for_bit() {
     // on uo/vo, values stored as doubles. The field read must be the
     // classic file's exactly (nodes, times, values, epoch): the field at
     // every point is a function of these alone.
-    let classic = case_path("gridded_drift").with_file_name("gridded_drift.nc");
-    let nc4 = netcdf4_fixture("gridded_drift_nc4.nc");
-    for vars in [["u10", "v10"], ["uo", "vo"]] {
-        let req = gridded_request(vars);
-        let a = floebench::netcdf::read_grid(&classic, &req).unwrap_or_else(|e| panic!("{e}"));
-        let b = floebench::netcdf::read_grid(&nc4, &req).unwrap_or_else(|e| panic!("{e}"));
+    for (vars, a, b) in classic_and_fixture("gridded_drift_nc4.nc") {
         assert_eq!((a.x.len(), a.y.len(), a.t.len()), (13, 9, 5));
         assert_eq!(a, b, "{vars:?}");
     }
@@ -632,12 +644,7 @@ fn a_packed_netcdf4_file_is_unpacked_to_within_half_its_scale_factor() {
     // ERA5's packing: int16 with scale_factor and add_offset, fill -32767.
     // The script packs each variable over its range, so the scale factor
     // is (max − min)/65532 and the unpacked values are within half of it.
-    let classic = case_path("gridded_drift").with_file_name("gridded_drift.nc");
-    let packed = netcdf4_fixture("gridded_drift_nc4_packed.nc");
-    for vars in [["u10", "v10"], ["uo", "vo"]] {
-        let req = gridded_request(vars);
-        let a = floebench::netcdf::read_grid(&classic, &req).unwrap_or_else(|e| panic!("{e}"));
-        let b = floebench::netcdf::read_grid(&packed, &req).unwrap_or_else(|e| panic!("{e}"));
+    for (vars, a, b) in classic_and_fixture("gridded_drift_nc4_packed.nc") {
         assert_eq!((&a.x, &a.y, &a.t, a.epoch), (&b.x, &b.y, &b.t, b.epoch));
         for (name, exact, unpacked) in [(vars[0], &a.u, &b.u), (vars[1], &a.v, &b.v)] {
             let max = exact.iter().copied().fold(f64::MIN, f64::max);
@@ -789,7 +796,6 @@ fn a_floe_in_a_drifting_vortex_core_keeps_the_free_drift_of_its_centre() {
         let dv = (Vec2::new(row.vx, row.vy) - u).norm() / u.norm();
         let dw = (row.omega - omega).abs() / omega;
         let dx = (Vec2::new(row.x, row.y) - (g0 + u * row.t)).norm() / (u.norm() * duration);
-        eprintln!("t {} dv {dv:e} dw {dw:e} dx {dx:e}", row.t);
         for (k, e) in [dv, dw, dx].into_iter().enumerate() {
             worst[k] = worst[k].max(e);
         }
