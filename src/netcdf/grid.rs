@@ -1,4 +1,5 @@
-//! Gridded velocities from a CF NetCDF classic file ([`read_grid`]), and
+//! Gridded velocities from a CF NetCDF file, classic or NetCDF-4
+//! ([`read_grid`], through `reader.rs`), and
 //! the writer of such files ([`write_grid`]) that makes the bundled gridded
 //! case's forcing and the tests' files.
 //!
@@ -16,10 +17,10 @@
 //! the first record.
 
 use super::cf::{self, Axis};
+use super::reader::NcInput;
 use crate::model::forcing::GridData;
 use crate::model::limits;
-use netcdf3::{DataSet, DataType, DataVector, FileReader, FileWriter, Version};
-use std::collections::HashMap;
+use netcdf3::{DataSet, FileWriter, Version};
 use std::path::Path;
 
 /// The mean Earth radius of the local projection of lon/lat grids, m
@@ -49,74 +50,15 @@ pub struct GridRequest {
     pub start: Option<String>,
 }
 
-/// A variable's values as `f64`, unpacked (`scale_factor`, `add_offset`);
-/// `None` marks a missing value (`_FillValue`, `missing_value`, or the
-/// type's default fill).
-fn values(ds: &DataSet, name: &str, data: &DataVector) -> Vec<Option<f64>> {
-    let attr = |a: &str| attr_f64(ds, name, a);
-    let scale = attr("scale_factor").unwrap_or(1.0);
-    let offset = attr("add_offset").unwrap_or(0.0);
-    let fills: Vec<f64> = [attr("_FillValue"), attr("missing_value")]
-        .into_iter()
-        .flatten()
-        .collect();
-    let raw: Vec<(f64, f64)> = match data {
-        DataVector::I8(v) => v
-            .iter()
-            .map(|&x| (f64::from(x), f64::from(netcdf3::NC_FILL_I8)))
-            .collect(),
-        DataVector::U8(v) => v
-            .iter()
-            .map(|&x| (f64::from(x), f64::from(netcdf3::NC_FILL_U8)))
-            .collect(),
-        DataVector::I16(v) => v
-            .iter()
-            .map(|&x| (f64::from(x), f64::from(netcdf3::NC_FILL_I16)))
-            .collect(),
-        DataVector::I32(v) => v
-            .iter()
-            .map(|&x| (f64::from(x), f64::from(netcdf3::NC_FILL_I32)))
-            .collect(),
-        DataVector::F32(v) => v
-            .iter()
-            .map(|&x| (f64::from(x), f64::from(netcdf3::NC_FILL_F32)))
-            .collect(),
-        DataVector::F64(v) => v.iter().map(|&x| (x, netcdf3::NC_FILL_F64)).collect(),
-    };
-    raw.into_iter()
-        .map(|(x, default_fill)| {
-            let missing = !x.is_finite() || x == default_fill || fills.contains(&x);
-            (!missing).then_some(x * scale + offset)
-        })
-        .collect()
-}
-
-/// A numeric attribute of a variable as `f64`.
-fn attr_f64(ds: &DataSet, var: &str, name: &str) -> Option<f64> {
-    let a = ds.get_var_attr(var, name)?;
-    match a.data_type() {
-        DataType::F64 => a.get_f64()?.first().copied(),
-        DataType::F32 => a.get_f32()?.first().map(|&x| f64::from(x)),
-        DataType::I32 => a.get_i32()?.first().map(|&x| f64::from(x)),
-        DataType::I16 => a.get_i16()?.first().map(|&x| f64::from(x)),
-        DataType::I8 => a.get_i8()?.first().map(|&x| f64::from(x)),
-        DataType::U8 => a.get_u8()?.first().map(|&x| f64::from(x)),
-    }
-}
-
-/// A coordinate variable's values, every one present.
-fn coordinate(
-    all: &HashMap<String, DataVector>,
-    ds: &DataSet,
-    file: &str,
-    name: &str,
-) -> Result<Vec<f64>, String> {
-    let Some(data) = all.get(name) else {
+/// A coordinate variable's values (unpacked), every one present.
+fn coordinate(nc: &NcInput, name: &str) -> Result<Vec<f64>, String> {
+    let file = nc.file();
+    if !nc.has_var(name) {
         return Err(format!(
             "{file}: no coordinate variable `{name}` for the dimension `{name}`"
         ));
-    };
-    values(ds, name, data)
+    }
+    nc.values(name)?
         .into_iter()
         .enumerate()
         .map(|(k, v)| {
@@ -137,42 +79,31 @@ fn monotonic(a: &[f64]) -> Option<bool> {
     }
 }
 
-/// Reads the two velocity components of `req` from the CF NetCDF classic
-/// file `path`. Every error names the file, and the variable or the node.
+/// Reads the two velocity components of `req` from the CF NetCDF file
+/// `path` (classic or NetCDF-4). Every error names the file, and the
+/// variable or the node.
 pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
-    let file = path.display().to_string();
-    let head = std::fs::read(path)
-        .map(|b| b.into_iter().take(8).collect::<Vec<u8>>())
-        .map_err(|e| format!("{file}: {e}"))?;
-    if head.starts_with(b"\x89HDF") {
-        return Err(format!(
-            "{file} is NetCDF-4 (HDF5), which this build does not read: convert it to classic with `nccopy -k nc6 {file} out.nc` (or xarray's `to_netcdf(format=\"NETCDF3_64BIT\")`)"
-        ));
-    }
-    let mut r =
-        FileReader::open(path).map_err(|e| format!("{file}: not a NetCDF classic file ({e})"))?;
-    let all = r
-        .read_all_vars()
-        .map_err(|e| format!("{file}: cannot read its variables: {e}"))?;
-    let (ds, _) = r.close();
-    let ds = &ds;
+    let nc = NcInput::open(path)?;
+    let file = nc.file().to_string();
     let [un, vn] = &req.variables;
     for name in [un, vn] {
-        if !ds.has_var(name) {
+        if !nc.has_var(name) {
             return Err(format!(
                 "{file}: no variable `{name}` (the file has: {}; name yours with `variables = [\"u\", \"v\"]`)",
-                ds.get_var_names().join(", ")
+                nc.var_names().join(", ")
             ));
         }
-        let units = ds.get_var_attr_as_string(name, "units").unwrap_or_default();
+        let units = nc.attr_string(name, "units").unwrap_or_default();
         if !cf::is_metres_per_second(&units) {
             return Err(format!(
                 "{file}: variable `{name}` has units `{units}`; expected m s-1"
             ));
         }
     }
-    let dims = ds.get_var(un).map(|v| v.dim_names()).unwrap_or_default();
-    let vdims = ds.get_var(vn).map(|v| v.dim_names()).unwrap_or_default();
+    let sized = nc.dims(un);
+    let dim_size = |d: &str| sized.iter().find(|(n, _)| n == d).map(|(_, s)| *s);
+    let dims: Vec<String> = sized.iter().map(|(n, _)| n.clone()).collect();
+    let vdims: Vec<String> = nc.dims(vn).into_iter().map(|(n, _)| n).collect();
     if dims != vdims {
         return Err(format!(
             "{file}: `{un}` has dimensions ({}) but `{vn}` has ({})",
@@ -190,15 +121,15 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
     let yd = &dims[dims.len() - 2];
     // The time dimension: the one whose coordinate has CF time units.
     let is_time = |d: &String| {
-        ds.get_var_attr_as_string(d, "units")
+        nc.attr_string(d, "units")
             .is_some_and(|u| u.contains(" since "))
     };
     let td = dims[..dims.len() - 2].iter().find(|d| is_time(d)).cloned();
     for d in &dims[..dims.len() - 2] {
-        if Some(d) != td.as_ref() && ds.dim_size(d) != Some(1) {
+        if Some(d) != td.as_ref() && dim_size(d) != Some(1) {
             return Err(format!(
                 "{file}: variable `{un}` has a dimension `{d}` of size {} that is neither time nor a single level",
-                ds.dim_size(d).unwrap_or(0)
+                dim_size(d).unwrap_or(0)
             ));
         }
     }
@@ -209,8 +140,8 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
             ));
         }
     }
-    let (nx, ny) = (ds.dim_size(xd).unwrap_or(0), ds.dim_size(yd).unwrap_or(0));
-    let nt = td.as_ref().and_then(|t| ds.dim_size(t)).unwrap_or(1);
+    let (nx, ny) = (dim_size(xd).unwrap_or(0), dim_size(yd).unwrap_or(0));
+    let nt = td.as_ref().and_then(|t| dim_size(t)).unwrap_or(1);
     if nx < 2 || ny < 2 || nt < 1 {
         return Err(format!(
             "{file}: variable `{un}` needs at least 2 nodes along `{xd}` and `{yd}` and one record (it has {nx} × {ny}, {nt} records)"
@@ -222,10 +153,10 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
         .map_err(|m| m.to_string())?;
 
     // Horizontal coordinates, to metres.
-    let mut x = coordinate(&all, ds, &file, xd)?;
-    let mut y = coordinate(&all, ds, &file, yd)?;
+    let mut x = coordinate(&nc, xd)?;
+    let mut y = coordinate(&nc, yd)?;
     let axis = |d: &str| {
-        let units = ds.get_var_attr_as_string(d, "units").unwrap_or_default();
+        let units = nc.attr_string(d, "units").unwrap_or_default();
         cf::coordinate_axis(&units).ok_or_else(|| {
             format!(
                 "{file}: coordinate `{d}` has units `{units}`; expected m or km (projected) or degrees_east / degrees_north"
@@ -273,11 +204,11 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
     let t = match &td {
         None => vec![0.0],
         Some(tn) => {
-            let raw = coordinate(&all, ds, &file, tn)?;
-            let units = ds.get_var_attr_as_string(tn, "units").unwrap_or_default();
+            let raw = coordinate(&nc, tn)?;
+            let units = nc.attr_string(tn, "units").unwrap_or_default();
             let (scale, reference) =
                 cf::parse_time_units(&units).map_err(|e| format!("{file}: `{tn}`: {e}"))?;
-            if let Some(cal) = ds.get_var_attr_as_string(tn, "calendar") {
+            if let Some(cal) = nc.attr_string(tn, "calendar") {
                 if !cf::gregorian(&cal) {
                     return Err(format!(
                         "{file}: `{tn}` has calendar `{cal}`; this reader knows standard, gregorian and proleptic_gregorian"
@@ -298,10 +229,13 @@ pub fn read_grid(path: &Path, req: &GridRequest) -> Result<GridData, String> {
     // The two components, in (t, y, x) order with increasing axes.
     let mut comps = Vec::new();
     for name in [un, vn] {
-        let Some(data) = all.get(name.as_str()) else {
-            return Err(format!("{file}: cannot read variable `{name}`"));
-        };
-        let vals = values(ds, name, data);
+        let vals = nc.values(name)?;
+        if vals.len() != nt * ny * nx {
+            return Err(format!(
+                "{file}: variable `{name}` holds {} values, not {nt} × {ny} × {nx}",
+                vals.len()
+            ));
+        }
         let mut out = Vec::with_capacity(vals.len());
         for k in 0..nt {
             for j in 0..ny {

@@ -2,10 +2,13 @@
 //! `field = "netcdf"` ([`read_grid`]), and a run's trajectory written for
 //! `run --netcdf` and `compare --netcdf` ([`write_trajectory`]).
 //!
-//! Files are NetCDF classic (CDF-1) and 64-bit offset (CDF-2), read and
-//! written by the pure-Rust `netcdf3` crate, so that the project builds
-//! with cargo alone (docs/case-format.md, "Forcing fields", says why
-//! NetCDF-4/HDF5 files are not read and how to convert them). The
+//! Files are read by one low-level reader (`reader.rs`, the pure-Rust
+//! `netcdf-reader` crate): NetCDF classic (CDF-1), 64-bit offset (CDF-2),
+//! 64-bit data (CDF-5) and NetCDF-4/HDF5, chunked and compressed (deflate,
+//! shuffle), so that the project builds with cargo alone
+//! (docs/case-format.md, "Forcing fields", lists what is not read). They are
+//! written as 64-bit offset classic files by the pure-Rust `netcdf3` crate
+//! (`netcdf-reader` has no writer). The
 //! conventions are CF 1.8 (Eaton et al., *NetCDF Climate and Forecast
 //! Metadata Conventions*): coordinate variables named as their
 //! dimensions, `units` on every variable, a time axis in
@@ -15,6 +18,7 @@
 
 pub mod cf;
 mod grid;
+mod reader;
 mod trajectory;
 
 pub use grid::{

@@ -8,8 +8,9 @@
 //! otherwise 1970-01-01 as a nominal date (`comment` says so). Written
 //! atomically like the other outputs.
 
+use super::reader::NcInput;
 use crate::run::TrajectoryRow;
-use netcdf3::{DataSet, FileReader, FileWriter, Version, NC_FILL_F64};
+use netcdf3::{DataSet, FileWriter, Version, NC_FILL_F64};
 use std::path::Path;
 
 /// The file name of the trajectory in a run's output folder.
@@ -141,42 +142,30 @@ pub fn write_trajectory(
     .map_err(|e| format!("{file}: cannot write: {e}"))
 }
 
-/// Reads a file written by [`write_trajectory`].
+/// Reads a file written by [`write_trajectory`] (or the same variables
+/// saved again by another tool, classic or NetCDF-4).
 pub fn read_trajectory(path: &Path) -> Result<NetcdfTrajectory, String> {
-    let file = path.display().to_string();
-    let mut r = FileReader::open(path).map_err(|e| format!("{file}: {e}"))?;
-    let mut all = r.read_all_vars().map_err(|e| format!("{file}: {e}"))?;
-    let (ds, _) = r.close();
-    let mut read = |n: &str| {
-        all.remove(n)
-            .ok_or_else(|| format!("{file}: no variable `{n}`"))
-    };
-    let time = read("time")?
-        .get_f64_into()
-        .map_err(|_| format!("{file}: `time` is not double"))?;
-    let floe = read("floe")?
-        .get_i32_into()
-        .map_err(|_| format!("{file}: `floe` is not int"))?
+    let nc = NcInput::open(path)?;
+    let file = nc.file();
+    let time = nc.raw("time")?;
+    let floe = nc
+        .raw("floe")?
         .into_iter()
-        .map(|f| usize::try_from(f).map_err(|_| format!("{file}: negative floe id {f}")))
+        .map(|f| {
+            (f >= 0.0 && f.fract() == 0.0 && f <= u32::MAX as f64)
+                .then_some(f as usize)
+                .ok_or_else(|| format!("{file}: floe id {f} is not a non-negative integer"))
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let mut variables = Vec::new();
     for (n, _, _) in VARIABLES {
-        let v = read(n)?
-            .get_f64_into()
-            .map_err(|_| format!("{file}: `{n}` is not double"))?;
-        let units = ds.get_var_attr_as_string(n, "units").unwrap_or_default();
-        let v = v
-            .into_iter()
-            .map(|x| (x != NC_FILL_F64).then_some(x))
-            .collect();
+        let v = nc.values(n)?;
+        let units = nc.attr_string(n, "units").unwrap_or_default();
         variables.push((n.to_string(), units, v));
     }
     Ok(NetcdfTrajectory {
         time,
-        time_units: ds
-            .get_var_attr_as_string("time", "units")
-            .unwrap_or_default(),
+        time_units: nc.attr_string("time", "units").unwrap_or_default(),
         floe,
         variables,
     })

@@ -7,8 +7,11 @@
 use crate::common::{case_path, load, run, scenario, tempdir};
 use floebench::formulation::load_case;
 use floebench::geometry::{area_properties, Vec2};
+use floebench::model::forcing::GridData;
 use floebench::model::Scenario;
-use floebench::netcdf::{read_trajectory, write_grid, write_trajectory, GridFile};
+use floebench::netcdf::{
+    read_grid, read_trajectory, write_grid, write_trajectory, GridFile, GridRequest,
+};
 use floebench::physics::ForceModel;
 use floebench::run::{EndReason, RunResult};
 use floebench::state::BodyState;
@@ -572,4 +575,233 @@ fn a_floe_leaving_the_grid_ends_the_run_with_the_file_the_variables_and_the_poin
     );
     let scn = load_with_grid(dir.path(), &grid, &clamped).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(run(&scn, "free-drift").summary.end, EndReason::Completed);
+}
+
+/// `tests/data/netcdf4/<name>`: the NetCDF-4 fixtures written by
+/// `tests/data/netcdf4/make_fixtures.py` from `cases/gridded_drift.nc`.
+fn netcdf4_fixture(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/netcdf4")
+        .join(name)
+}
+
+/// The gridded case's request for `variables` (its air or its water).
+fn gridded_request(variables: [&str; 2]) -> GridRequest {
+    GridRequest {
+        variables: variables.map(String::from),
+        origin: Some([0.0, 79.0]),
+        start: Some("2024-03-01 00:00:00".into()),
+    }
+}
+
+/// The gridded case's air and water fields (`u10`/`v10`, `uo`/`vo`) read
+/// from `cases/gridded_drift.nc` and from the fixture `name`.
+fn classic_and_fixture(name: &str) -> Vec<([&str; 2], GridData, GridData)> {
+    let classic = case_path("gridded_drift").with_file_name("gridded_drift.nc");
+    [["u10", "v10"], ["uo", "vo"]]
+        .into_iter()
+        .map(|vars| {
+            let req = gridded_request(vars);
+            let read = |p: &Path| read_grid(p, &req).unwrap_or_else(|e| panic!("{e}"));
+            (vars, read(&classic), read(&netcdf4_fixture(name)))
+        })
+        .collect()
+}
+
+#[test]
+fn a_netcdf4_file_gives_the_classic_files_field_bit_for_bit() {
+    // The NetCDF-4 twin of cases/gridded_drift.nc: chunked, deflate +
+    // shuffle, int32 hours since 1900, latitudes decreasing, a depth level
+    // on uo/vo, values stored as doubles. The field read must be the
+    // classic file's exactly (nodes, times, values, epoch): the field at
+    // every point is a function of these alone.
+    for (vars, a, b) in classic_and_fixture("gridded_drift_nc4.nc") {
+        assert_eq!((a.x.len(), a.y.len(), a.t.len()), (13, 9, 5));
+        assert_eq!(a, b, "{vars:?}");
+    }
+}
+
+#[test]
+fn a_netcdf4_file_gives_the_classic_files_trajectory_bit_for_bit() {
+    let text = std::fs::read_to_string(case_path("gridded_drift")).unwrap();
+    let classic = load("gridded_drift");
+    // The same case beside the NetCDF-4 twin.
+    let twin = text.replace(
+        "file = \"gridded_drift.nc\"",
+        "file = \"gridded_drift_nc4.nc\"",
+    );
+    assert_ne!(twin, text);
+    let twin = floebench::formulation::parse_case(&twin, &netcdf4_fixture("twin.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let (a, b) = (run(&classic, "free-drift"), run(&twin, "free-drift"));
+    assert_eq!(a.summary.end, EndReason::Completed, "{:?}", a.summary.end);
+    assert!(a.trajectory.len() > 3 * 70, "{}", a.trajectory.len());
+    assert_eq!(a.trajectory, b.trajectory);
+}
+
+#[test]
+fn a_packed_netcdf4_file_is_unpacked_to_within_half_its_scale_factor() {
+    // ERA5's packing: int16 with scale_factor and add_offset, fill -32767.
+    // The script packs each variable over its range, so the scale factor
+    // is (max − min)/65532 and the unpacked values are within half of it.
+    for (vars, a, b) in classic_and_fixture("gridded_drift_nc4_packed.nc") {
+        assert_eq!((&a.x, &a.y, &a.t, a.epoch), (&b.x, &b.y, &b.t, b.epoch));
+        for (name, exact, unpacked) in [(vars[0], &a.u, &b.u), (vars[1], &a.v, &b.v)] {
+            let max = exact.iter().copied().fold(f64::MIN, f64::max);
+            let min = exact.iter().copied().fold(f64::MAX, f64::min);
+            let half = 0.5 * (max - min) / 65532.0;
+            let worst = exact
+                .iter()
+                .zip(unpacked)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            // (rounding to int16 leaves up to half a step; 1e-9 of it for
+            // the f64 arithmetic of packing and unpacking)
+            assert!(worst <= half * (1.0 + 1e-9), "{name}: {worst:e} > {half:e}");
+            if half > 0.0 {
+                assert!(worst > 0.0, "{name}: not packed?");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_netcdf4_file_without_a_variable_is_refused_naming_the_file_and_the_variable() {
+    let text = std::fs::read_to_string(case_path("gridded_drift"))
+        .unwrap()
+        .replace(
+            "file = \"gridded_drift.nc\"",
+            "file = \"missing_variable_nc4.nc\"",
+        );
+    let e = floebench::formulation::parse_case(&text, &netcdf4_fixture("bad.toml"))
+        .map(|_| ())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("missing_variable_nc4.nc") && e.contains("no variable `v10`"),
+        "{e}"
+    );
+    // A truncated NetCDF-4 file: refused as NetCDF-4 that cannot be read.
+    let dir = tempdir();
+    let bytes = std::fs::read(netcdf4_fixture("gridded_drift_nc4.nc")).unwrap();
+    std::fs::write(dir.path().join("g.nc"), &bytes[..bytes.len() / 3]).unwrap();
+    let path = dir.path().join("c.toml");
+    std::fs::write(
+        &path,
+        case(
+            "water = { density = 1024.0, drag = 5.0e-3, field = \"netcdf\", file = \"g.nc\", origin = [0.0, 79.0] }",
+            3600.0,
+            &regular(0.0, 0.0, 50.0, 6),
+        ),
+    )
+    .unwrap();
+    let e = load_case(&path).unwrap_err().to_string();
+    assert!(
+        e.contains("g.nc")
+            && (e.contains("is NetCDF-4 (HDF5) but cannot be read")
+                || e.contains("cannot read variable `uo`")),
+        "{e}"
+    );
+}
+
+/// The steady free-drift velocity `u` of a floe of mass per area `m`
+/// (kg/m²) in a water velocity `uw` and air traction `tau_a` (N/m²),
+/// with quadratic water drag `kw |uw − u| (uw − u)` and Coriolis
+/// `−m f k ∧ u` (docs/physics.md §2.2), by Newton's method on the 2×2
+/// balance, written here independently of `src/analysis`.
+fn free_drift_newton(tau_a: Vec2, uw: Vec2, kw: f64, m: f64, f: f64) -> Vec2 {
+    // Start from the Coriolis-free root.
+    let mut u = uw + tau_a / (kw * tau_a.norm()).sqrt();
+    for _ in 0..50 {
+        let w = uw - u;
+        let r = tau_a + w * (kw * w.norm()) - Vec2::new(-u.y, u.x) * (m * f);
+        // d/du of kw|w|w = −kw (|w| I + w wᵀ/|w|); of −m f k∧u = −m f [[0, −1], [1, 0]].
+        let n = w.norm().max(1e-300);
+        let j = [
+            [-kw * (n + w.x * w.x / n), -kw * w.x * w.y / n + m * f],
+            [-kw * w.x * w.y / n - m * f, -kw * (n + w.y * w.y / n)],
+        ];
+        let det = j[0][0] * j[1][1] - j[0][1] * j[1][0];
+        let du = Vec2::new(
+            (j[1][1] * r.x - j[0][1] * r.y) / det,
+            (-j[1][0] * r.x + j[0][0] * r.y) / det,
+        );
+        u -= du;
+        if du.norm() <= 1e-16 * u.norm() {
+            break;
+        }
+    }
+    u
+}
+
+#[test]
+fn a_floe_in_a_drifting_vortex_core_keeps_the_free_drift_of_its_centre() {
+    // docs/physics.md §2.4, "Free drift in a vortex". In the core of a
+    // Rankine vortex drifting at c', the water moves as c' + Ω k ∧ (P − c(t)).
+    // A floe at G = c(t) + d moving at u and spinning at Ω sees the relative
+    // velocity W = Ω k ∧ d + c' − u at every point: uniform, so the drag is
+    // area × traction with no torque, exactly as in a uniform current
+    // U_w(G) = c' + Ω k ∧ d. Choosing d so that u = c' is the free drift
+    // (with Coriolis) of a floe in U_w(G) and U_a, the floe drifts with the
+    // core at c', spinning at Ω, forever. The state is an exact equilibrium
+    // of the force law in the frame of the core, so the only departures are
+    // rounding and the integrator's: 1e-9 of the scales below.
+    let (r_core, s, f, h, rho_i) = (2000.0, 0.2, 1.4e-4, 1.0, 917.0);
+    let omega = s / r_core;
+    let (ka, kw): (f64, f64) = (1.3 * 1.7e-3, 1024.0 * 5.0e-3);
+    let (ua, drift) = (Vec2::new(5.0, 0.0), Vec2::new(0.1, 0.0));
+    let m = rho_i * h;
+    let tau_a = ua * (ka * ua.norm());
+    // The relative water velocity W of the balance τ_a + kw|W|W − m f k∧c' = 0,
+    // and the offset d from the core's centre with Ω k ∧ d = W.
+    let t_ = Vec2::new(-drift.y, drift.x) * (m * f) - tau_a;
+    let w = t_ / (kw * t_.norm()).sqrt();
+    let d = Vec2::new(w.y, -w.x) / omega;
+    let a = 200.0;
+    assert!(d.norm() + a < 0.7 * r_core, "{}", d.norm());
+    // The floe, a 16-gon about the origin; the core's centre at −d.
+    let env = format!(
+        "coriolis = {f:?}\nair = {{ density = 1.3, drag = 1.7e-3, velocity = [{:?}, {:?}] }}\nwater = {{ density = 1024.0, drag = 5.0e-3, field = \"vortex\", center = [{:?}, {:?}], radius = {r_core:?}, speed = {s:?}, center_velocity = [{:?}, {:?}] }}",
+        ua.x, ua.y, -d.x, -d.y, drift.x, drift.y
+    );
+    let floe = format!(
+        "[[floe]]\n{}\nvelocity = [{:?}, {:?}]\nangular_velocity = {omega:?}",
+        regular(0.0, 0.0, a, 16),
+        drift.x,
+        drift.y
+    );
+    let duration = 21600.0;
+    let scn = scenario(&case(&env, duration, &floe));
+    let g0 = scn.floes[0].position;
+    // The analytic free drift at the floe's centre, by Newton's method on
+    // the water velocity there (the independent Rankine formula above).
+    let uw = rankine(g0 + d, r_core, s) + drift;
+    let u = free_drift_newton(tau_a, uw, kw, m, f);
+    assert!((u - drift).norm() <= 1e-12 * drift.norm(), "{u:?}");
+    // The closed form of docs/physics.md §2.2 gives the same root.
+    let b = Vec2::new(-uw.y, uw.x) * (m * f) - tau_a;
+    let w2 = ((m.powi(4) * f.powi(4) + 4.0 * kw * kw * b.norm_squared()).sqrt() - (m * f).powi(2))
+        / (2.0 * kw * kw);
+    let wc = (b * (kw * w2.sqrt()) - Vec2::new(-b.y, b.x) * (m * f)) * (w2 / b.norm_squared());
+    assert!(
+        (uw - wc - u).norm() <= 1e-12 * u.norm(),
+        "{:?} vs {u:?}",
+        uw - wc
+    );
+    let r = run(&scn, "free-drift");
+    assert_eq!(r.summary.end, EndReason::Completed, "{:?}", r.summary.end);
+    assert_eq!(r.trajectory.len(), 21);
+    let mut worst = [0.0f64; 3];
+    for row in &r.trajectory {
+        let dv = (Vec2::new(row.vx, row.vy) - u).norm() / u.norm();
+        let dw = (row.omega - omega).abs() / omega;
+        let dx = (Vec2::new(row.x, row.y) - (g0 + u * row.t)).norm() / (u.norm() * duration);
+        for (k, e) in [dv, dw, dx].into_iter().enumerate() {
+            worst[k] = worst[k].max(e);
+        }
+    }
+    assert!(
+        worst.iter().all(|&e| e <= 1e-9),
+        "relative departures (velocity, spin, position): {worst:?}"
+    );
 }
