@@ -5,7 +5,15 @@
 //! - a row of 5 touching floes (10 contacts, 40 unknowns),
 //! - a row of 50 touching floes (100 contacts, 400 unknowns),
 //!
-//! obliquely and spinning, so that friction is active.
+//! obliquely and spinning, so that friction is active; each on the dense
+//! tableau and on the factorised (revised) basis (docs/physics.md §3.3),
+//! whatever the driver's default threshold.
+//!
+//! `lemke_corpus`: the committed dumps of real runs (tests/data/lcp,
+//! tests/data/lcp_bay: field_200_coast, narrow_channel, elastic_pool and
+//! the bay jam, 4 to 271 unknowns), by size bucket of
+//! `floebench lcp --time`; one iteration solves every dump of the bucket
+//! with one work space and one output ([`solve_into`]).
 //!
 //! `cargo bench --bench lemke`
 
@@ -13,7 +21,8 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
 use floebench::contact::BroadPhase;
 use floebench::formulation::parse_case;
-use floebench::lcp::{solve, Lcp, SolveOptions};
+use floebench::lcp::timing::{bucket_label, bucket_of, dump_files, BUCKETS};
+use floebench::lcp::{solve, solve_into, Lcp, LcpDump, LcpSolution, SolveOptions, Workspace};
 use floebench::model::Scenario;
 use floebench::state::{detect_contacts, System};
 use std::hint::black_box;
@@ -83,8 +92,57 @@ fn lemke_on_impacts(c: &mut Criterion) {
             sol.residual,
             sol.status.as_str()
         );
-        g.bench_with_input(BenchmarkId::from_parameter(lcp.n), &lcp, |b, lcp| {
-            b.iter(|| black_box(solve(lcp, &opts).pivots))
+        for (path, revised_from) in [("dense", usize::MAX), ("revised", 0)] {
+            let o = SolveOptions {
+                revised_from,
+                ..opts.clone()
+            };
+            g.bench_with_input(BenchmarkId::new(path, lcp.n), &lcp, |b, lcp| {
+                b.iter(|| black_box(solve(lcp, &o).pivots))
+            });
+        }
+    }
+    g.finish();
+}
+
+/// The committed dumps, grouped by size bucket.
+fn corpus_buckets() -> Vec<Vec<Lcp>> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let mut buckets: Vec<Vec<Lcp>> = vec![Vec::new(); BUCKETS.len()];
+    for dir in ["lcp", "lcp_bay"] {
+        for f in dump_files(&root.join(dir)).expect("committed dumps") {
+            let lcp = LcpDump::read(&f)
+                .expect("committed dump reads")
+                .to_lcp()
+                .expect("square");
+            if let Some(b) = bucket_of(lcp.n) {
+                buckets[b].push(lcp);
+            }
+        }
+    }
+    buckets
+}
+
+fn lemke_on_corpus(c: &mut Criterion) {
+    faer::set_global_parallelism(faer::Par::Seq);
+    let mut g = c.benchmark_group("lemke_corpus");
+    let opts = SolveOptions::default();
+    for (b, lcps) in corpus_buckets().iter().enumerate() {
+        if lcps.is_empty() {
+            continue;
+        }
+        let mut ws = Workspace::default();
+        let mut out = LcpSolution::empty();
+        let id = format!("{}_{}_dumps", bucket_label(b), lcps.len());
+        g.bench_function(id, |bch| {
+            bch.iter(|| {
+                let mut pivots = 0;
+                for lcp in lcps {
+                    solve_into(&mut ws, lcp, &opts, &mut out);
+                    pivots += out.pivots;
+                }
+                black_box(pivots)
+            })
         });
     }
     g.finish();
@@ -93,6 +151,6 @@ fn lemke_on_impacts(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = lemke_on_impacts
+    targets = lemke_on_impacts, lemke_on_corpus
 }
 criterion_main!(benches);

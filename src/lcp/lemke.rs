@@ -348,8 +348,10 @@ pub struct Workspace {
     eg: i32,
     pivots: usize,
     /// Scratch vectors of the driver (candidate and best points, a copy of
-    /// M + εI, refinement vectors).
-    pub(crate) scratch: Scratch,
+    /// M + εI, refinement vectors), boxed so that the driver takes them out
+    /// of the work space and puts them back by moving a pointer (`None`
+    /// only while taken, or before the first solve).
+    pub(crate) scratch: Option<Box<Scratch>>,
 }
 
 /// Scratch vectors used by the driver, kept with the tableau so that one
@@ -516,10 +518,14 @@ impl Workspace {
         for &x in &self.prow {
             finite &= x.is_finite();
         }
+        // The non-zero positions of the pivot row, for a sparse elimination;
+        // not worth listing in a short row (the dense loop is as fast).
         self.nz.clear();
-        for (k, &x) in self.prow.iter().enumerate() {
-            if x != 0.0 {
-                self.nz.push(k);
+        if cols >= SPARSE_ROW_FROM {
+            for (k, &x) in self.prow.iter().enumerate() {
+                if x != 0.0 {
+                    self.nz.push(k);
+                }
             }
         }
         let rows = Eliminate {
@@ -754,6 +760,12 @@ impl Basis for Workspace {
     }
 }
 
+/// Rows (tableau columns, n + 2) from which the elimination of a pivot
+/// skips the zeros of the pivot row; shorter rows are eliminated densely.
+/// The two give the same entries (a zero of the pivot row changes nothing
+/// but, at most, the sign of a zero entry).
+const SPARSE_ROW_FROM: usize = 16;
+
 /// The elimination of a pivot: every row `i ≠ r` of the tableau `t`
 /// (rows of `cols` entries) becomes `row − row[s] · prow`, with `row[s]`
 /// set to 0 first (the exchanged column; `prow[s] = 1/p`), over the
@@ -799,7 +811,7 @@ impl Eliminate<'_> {
             prow,
             nz,
         } = self;
-        let sparse = 4 * nz.len() < cols;
+        let sparse = cols >= SPARSE_ROW_FROM && 4 * nz.len() < cols;
         let mut finite = true;
         for (i, row) in t.chunks_exact_mut(cols).enumerate() {
             if i == r {

@@ -79,8 +79,9 @@ pub mod timing;
 pub use dump::{DumpError, LcpDump};
 pub use lemke::{lemke, lemke_with, LemkeOptions, LemkeResult, PivotRule, Termination, Workspace};
 pub use solve::{
-    solve, solve_warm, solve_warm_with, solve_with, Attempt, BasisGuess, Covering, LcpSolution,
-    SolveCounters, SolveOptions, SolveStatus, SolveSummary, Strategy, WarmStart,
+    solve, solve_into, solve_warm, solve_warm_into, solve_warm_with, solve_with, Attempt,
+    BasisGuess, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus, SolveSummary,
+    Strategy, WarmStart,
 };
 
 use serde::{Deserialize, Serialize};
@@ -258,13 +259,42 @@ pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
 
 /// [`w_unchecked`] into a given buffer (`w.len() == q.len()`), without
 /// allocation.
+///
+/// The CPU's fused multiply–add is detected once per call rather than once
+/// per row (the rows of a small LCP are a few entries long); every entry is
+/// [`dot2_plus`] of its row, bit for bit.
 pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
     let n = q.len();
     if n == 0 {
         return;
     }
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU supports FMA, checked just above.
+            unsafe { w_into_fma(m, q, z, w) };
+            return;
+        }
+    }
     for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
         *wi = dot2_plus(row, z, qi);
+    }
+}
+
+/// [`w_into`] compiled with FMA: each row by [`dot2_fma`] (what
+/// [`dot2_plus`] computes on such a CPU), falling back to [`dot2_plus`] for
+/// a row whose fast result is not finite (its scaled or non-finite path).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+unsafe fn w_into_fma(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
+    let n = q.len();
+    for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
+        let v = dot2_fma::<1>(row, z, qi, 1.0, 1.0, 1.0);
+        *wi = if v.is_finite() {
+            v
+        } else {
+            dot2_plus(row, z, qi)
+        };
     }
 }
 

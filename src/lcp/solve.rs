@@ -50,13 +50,18 @@
 //! input). `z` is never NaN. The caller owns the last resort: the contact
 //! layer is expected to apply one (e.g. drop friction and re-solve the
 //! frictionless LCP, or apply no impulse) and to count it.
+//!
+//! With finite data and `q >= 0`, `z = 0` is returned before any set-up
+//! (residual exactly 0, one accepted attempt of 0 pivots). [`solve_into`]
+//! and [`solve_warm_into`] write into a caller's [`LcpSolution`], reusing
+//! its buffers: with a reused [`Workspace`] a solve then allocates nothing.
 
 use super::json_f64;
 use super::lemke::{
     max_abs, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
     REVISED_FROM,
 };
-use super::{w_into, w_unchecked, Lcp, ResidualScale};
+use super::{w_into, Lcp, ResidualScale};
 use serde::{Deserialize, Serialize};
 
 /// Which strategy of the driver produced an attempt.
@@ -324,6 +329,21 @@ pub struct SolveSummary {
 }
 
 impl LcpSolution {
+    /// An empty result (no unknowns, failed) to be filled by
+    /// [`solve_into`].
+    pub fn empty() -> Self {
+        Self {
+            z: Vec::new(),
+            w: Vec::new(),
+            residual: f64::INFINITY,
+            pivots: 0,
+            attempts: Vec::new(),
+            warm: None,
+            accepted_by: None,
+            status: SolveStatus::Failed,
+        }
+    }
+
     /// Compact summary for logging and counters.
     pub fn summary(&self) -> SolveSummary {
         SolveSummary {
@@ -434,32 +454,67 @@ fn plan(opts: &SolveOptions) -> impl Iterator<Item = (Strategy, PivotRule, f64)>
 
 /// [`solve`] with an explicit work space: once `ws` has grown to the problem
 /// size, a solve allocates only its result (`z`, `w`, the attempt list) when
-/// the first attempt is accepted.
+/// the first attempt is accepted. [`solve_into`] reuses those too.
 pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
+    let mut out = LcpSolution::empty();
+    solve_into(ws, lcp, opts, &mut out);
+    out
+}
+
+/// [`solve_with`] writing into `out`, whose buffers (`z`, `w`, the attempt
+/// list) are reused: once `ws` and `out` have grown to the problem size, a
+/// solve allocates nothing. Every field of `out` is overwritten; the result
+/// is the one [`solve_with`] returns.
+///
+/// Shortcut: with finite data and `q >= 0`, `z = 0` solves the LCP (`w = q
+/// >= 0`, residual exactly 0): it is returned at once, recorded as an
+/// accepted lexicographic attempt of 0 pivots, as Lemke's method would
+/// report it (it stops before its first pivot).
+pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut LcpSolution) {
     let (m, q) = (&lcp.m[..], &lcp.q[..]);
     let n = q.len();
+    out.attempts.clear();
+    out.warm = None;
+    out.pivots = 0;
     if lcp.check().is_err() || !(opts.tolerance.is_finite() && opts.tolerance >= 0.0) {
-        return LcpSolution {
-            z: vec![0.0; n],
-            w: q.to_vec(),
-            residual: f64::INFINITY,
-            pivots: 0,
-            attempts: Vec::new(),
-            warm: None,
-            accepted_by: None,
-            status: SolveStatus::Failed,
-        };
+        set_vec(&mut out.z, n, |_| 0.0);
+        set_vec(&mut out.w, n, |i| q[i]);
+        out.residual = f64::INFINITY;
+        out.accepted_by = None;
+        out.status = SolveStatus::Failed;
+        return;
     }
     let finite = lcp.is_finite();
+    if finite && q.iter().all(|&x| x >= 0.0) {
+        set_vec(&mut out.z, n, |_| 0.0);
+        set_vec(&mut out.w, n, |i| q[i]);
+        out.residual = 0.0;
+        out.attempts.push(Attempt {
+            strategy: Strategy::Lexicographic,
+            rule: PivotRule::Lexicographic,
+            epsilon_rel: 0.0,
+            epsilon: 0.0,
+            termination: Termination::Solved,
+            pivots: 0,
+            residual: 0.0,
+            polished: false,
+            basis_solves: 0,
+            accepted: true,
+            revised: false,
+        });
+        out.accepted_by = Some(Strategy::Lexicographic);
+        out.status = SolveStatus::Solved;
+        return;
+    }
     let scale = ResidualScale::of(q);
-    let mut sc = std::mem::take(&mut ws.scratch);
+    let mut sc = ws.scratch.take().unwrap_or_default();
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
         v.clear();
         v.resize(n, 0.0);
     }
     // max|M_ij|, needed only by a perturbed attempt.
     let mut mscale: Option<f64> = None;
-    let mut attempts = Vec::with_capacity(1);
+    let attempts = &mut out.attempts;
     let mut pivots = 0usize;
     let mut best_r = f64::INFINITY;
     let mut have_best = false;
@@ -567,30 +622,30 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
     }
 
     let accepted_by = attempts.iter().find(|a| a.accepted).map(|a| a.strategy);
-    let status = match accepted_by {
+    out.status = match accepted_by {
         Some(Strategy::Lexicographic) => SolveStatus::Solved,
         Some(_) => SolveStatus::SolvedByFallback,
         None => SolveStatus::Failed,
     };
-    let (z, w, residual) = if have_best && best_r.is_finite() {
-        (sc.best_z.clone(), sc.best_w.clone(), best_r)
+    out.accepted_by = accepted_by;
+    out.pivots = pivots;
+    if have_best && best_r.is_finite() {
+        set_vec(&mut out.z, n, |i| sc.best_z[i]);
+        set_vec(&mut out.w, n, |i| sc.best_w[i]);
+        out.residual = best_r;
     } else {
-        let z = vec![0.0; n];
-        let w = w_unchecked(m, q, &z);
-        let r = scale.residual(&z, &w);
-        (z, w, r)
-    };
-    ws.scratch = sc;
-    LcpSolution {
-        z,
-        w,
-        residual,
-        pivots,
-        attempts,
-        warm: None,
-        accepted_by,
-        status,
+        set_vec(&mut out.z, n, |_| 0.0);
+        out.w.resize(n, 0.0);
+        w_into(m, q, &out.z, &mut out.w);
+        out.residual = scale.residual(&out.z, &out.w);
     }
+    ws.scratch = Some(sc);
+}
+
+/// Sets `v` to `(f(0), …, f(n − 1))`, reusing its allocation.
+fn set_vec(v: &mut Vec<f64>, n: usize, f: impl Fn(usize) -> f64) {
+    v.clear();
+    v.extend((0..n).map(f));
 }
 
 /// [`solve`] preceded by a **warm start**: block principal pivoting
@@ -617,6 +672,20 @@ pub fn solve_warm_with(
     opts: &SolveOptions,
     guess: &BasisGuess,
 ) -> LcpSolution {
+    let mut out = LcpSolution::empty();
+    solve_warm_into(ws, lcp, opts, guess, &mut out);
+    out
+}
+
+/// [`solve_warm_with`] writing into `out`, whose buffers are reused (see
+/// [`solve_into`]).
+pub fn solve_warm_into(
+    ws: &mut Workspace,
+    lcp: &Lcp,
+    opts: &SolveOptions,
+    guess: &BasisGuess,
+    out: &mut LcpSolution,
+) {
     let n = lcp.q.len();
     let usable = lcp.check().is_ok()
         && opts.tolerance.is_finite()
@@ -626,34 +695,33 @@ pub fn solve_warm_with(
         && guess.z.len() == n
         && lcp.is_finite();
     if !usable {
-        return solve_with(ws, lcp, opts);
+        solve_into(ws, lcp, opts, out);
+        return;
     }
-    let pv = &mut ws.scratch.pivoting;
+    let pv = &mut ws.scratch.get_or_insert_with(Box::default).pivoting;
     pv.alpha.clear();
     pv.alpha.extend_from_slice(&guess.basic);
     pv.z.clear();
     pv.z.extend(guess.z.iter().map(|v| if v.is_finite() { *v } else { 0.0 }));
-    let out = pv.run(&lcp.m, &lcp.q, opts.warm_solves, opts.tolerance, true);
+    let res = pv.run(&lcp.m, &lcp.q, opts.warm_solves, opts.tolerance, true);
     let warm = WarmStart {
-        basis_solves: out.solves,
-        residual: out.residual,
-        accepted: out.residual <= opts.tolerance,
+        basis_solves: res.solves,
+        residual: res.residual,
+        accepted: res.residual <= opts.tolerance,
     };
     if warm.accepted {
-        return LcpSolution {
-            z: pv.z.clone(),
-            w: pv.w.clone(),
-            residual: out.residual,
-            pivots: 0,
-            attempts: Vec::new(),
-            warm: Some(warm),
-            accepted_by: Some(Strategy::WarmStart),
-            status: SolveStatus::Solved,
-        };
+        set_vec(&mut out.z, n, |i| pv.z[i]);
+        set_vec(&mut out.w, n, |i| pv.w[i]);
+        out.residual = res.residual;
+        out.pivots = 0;
+        out.attempts.clear();
+        out.warm = Some(warm);
+        out.accepted_by = Some(Strategy::WarmStart);
+        out.status = SolveStatus::Solved;
+        return;
     }
-    let mut sol = solve_with(ws, lcp, opts);
-    sol.warm = Some(warm);
-    sol
+    solve_into(ws, lcp, opts, out);
+    out.warm = Some(warm);
 }
 
 /// Maximum number of refinement steps of a basic solution.

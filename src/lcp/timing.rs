@@ -16,8 +16,9 @@
 
 use super::dump::{DumpError, LcpDump};
 use super::lemke::Termination;
+use super::lemke::Workspace;
 use super::solve::{
-    solve, solve_warm, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
+    solve_into, solve_warm_into, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
 };
 use crate::record::clock::thread_cpu_seconds;
 use std::hint::black_box;
@@ -121,19 +122,25 @@ pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
 
 /// Solves `lcp` once (the returned solution) and then times it: the median
 /// over `opts.repeats` batches of the CPU time per solve, µs (see the
-/// module doc). With `guess`, every solve is [`solve_warm`] from it.
+/// module doc). With `guess`, every solve is [`solve_warm_into`] from it.
+/// The solves share one [`Workspace`] and one output ([`solve_into`]), as a
+/// caller that solves many LCPs would: the figure is the solver's, without
+/// the allocation of its result.
 pub fn time_solve(
     lcp: &super::Lcp,
     opts: &TimingOptions,
     guess: Option<&BasisGuess>,
 ) -> (LcpSolution, f64) {
-    let run = |l: &super::Lcp| match guess {
-        Some(g) => solve_warm(l, &opts.solve, g),
-        None => solve(l, &opts.solve),
+    let mut ws = Workspace::default();
+    let mut out = LcpSolution::empty();
+    let mut run = |l: &super::Lcp, out: &mut LcpSolution| match guess {
+        Some(g) => solve_warm_into(&mut ws, l, &opts.solve, g, out),
+        None => solve_into(&mut ws, l, &opts.solve, out),
     };
     let t0 = thread_cpu_seconds();
-    let sol = run(black_box(lcp));
+    run(black_box(lcp), &mut out);
     let first = (thread_cpu_seconds() - t0).max(0.0);
+    let sol = out.clone();
     let min_batch = if opts.min_batch_seconds.is_finite() {
         opts.min_batch_seconds.max(0.0)
     } else {
@@ -151,7 +158,8 @@ pub fn time_solve(
     while samples.len() < opts.repeats.max(1) {
         let t0 = thread_cpu_seconds();
         for _ in 0..batch {
-            black_box(run(black_box(lcp)));
+            run(black_box(lcp), &mut out);
+            black_box(&out);
         }
         let dt = (thread_cpu_seconds() - t0).max(0.0);
         if dt < min_batch && batch < (1 << 24) {

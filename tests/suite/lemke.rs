@@ -6,9 +6,9 @@
 
 use crate::common::{lcp_violation, max_abs, tempdir};
 use floebench::lcp::{
-    compute_w, lemke, residual, solve, solve_warm_with, solve_with, BasisGuess, DumpError, Lcp,
-    LcpDump, LemkeOptions, PivotRule, SolveCounters, SolveOptions, SolveStatus, Strategy,
-    Termination, Workspace,
+    compute_w, lemke, residual, solve, solve_into, solve_warm_into, solve_warm_with, solve_with,
+    BasisGuess, DumpError, Lcp, LcpDump, LcpSolution, LemkeOptions, PivotRule, SolveCounters,
+    SolveOptions, SolveStatus, Strategy, Termination, Workspace,
 };
 use floebench::rng::SplitMix64;
 use std::time::Instant;
@@ -1350,6 +1350,104 @@ fn one_by_one_and_nonnegative_q_lcps() {
             (SolveStatus::Solved, 0, 0.0)
         );
         assert!(s.z.iter().all(|&x| x == 0.0));
+    }
+}
+
+#[test]
+fn nonnegative_q_shortcut_keeps_the_record_and_refuses_non_finite_data() {
+    // q >= 0 (with signed zeros) and finite M: z = 0 at once, recorded as
+    // one accepted lexicographic attempt of 0 pivots, as Lemke reports it.
+    let lcp = Lcp::new(
+        3,
+        vec![1.0, -2.0, 0.5, 3.0, 1.0, -1.0, 0.0, 2.0, 1.0],
+        vec![0.0, -0.0, 1.5],
+    )
+    .expect("sizes");
+    let s = solve(&lcp, &SolveOptions::default());
+    assert_eq!(
+        (s.status, s.pivots, s.residual, s.accepted_by),
+        (SolveStatus::Solved, 0, 0.0, Some(Strategy::Lexicographic))
+    );
+    assert_eq!(s.z, vec![0.0; 3]);
+    assert_eq!(s.w, lcp.q);
+    assert_eq!(s.attempts.len(), 1);
+    let a = &s.attempts[0];
+    assert!(a.accepted && !a.revised && !a.polished);
+    assert_eq!(
+        (a.termination, a.pivots, a.residual),
+        (Termination::Solved, 0, 0.0)
+    );
+    // q >= 0 but a non-finite M: no shortcut, a failure (w = M·0 + q is not
+    // finite), never a solution.
+    for bad in [f64::NAN, f64::INFINITY] {
+        let mut m = lcp.m.clone();
+        m[4] = bad;
+        let s = solve(
+            &Lcp::new(3, m, lcp.q.clone()).expect("sizes"),
+            &SolveOptions::default(),
+        );
+        assert_eq!(s.status, SolveStatus::Failed, "M with {bad}");
+        assert_eq!(s.residual, f64::INFINITY);
+        assert!(s.z.iter().all(|x| *x == 0.0));
+    }
+    // A single negative entry of q: Lemke pivots.
+    let s = solve(
+        &Lcp::new(2, vec![2.0, 0.0, 0.0, 2.0], vec![1.0, -1e-300]).expect("sizes"),
+        &SolveOptions::default(),
+    );
+    assert_eq!(s.status, SolveStatus::Solved);
+    assert!(s.pivots > 0 && s.z[1] > 0.0);
+}
+
+#[test]
+fn solve_into_reuses_its_output_and_equals_fresh_solves() {
+    // One work space and one output through problems of every size and
+    // outcome (solved, q >= 0, non-finite, invalid tolerance, warm right
+    // and wrong): each result equals a fresh solve's, field for field (NaN
+    // compared as NaN through the Debug text).
+    let mut rng = SplitMix64::new(0x5EED_F10E_0031);
+    let mut ws = Workspace::default();
+    let mut out = LcpSolution::empty();
+    let opts = SolveOptions::default();
+    let bad_tol = SolveOptions {
+        tolerance: f64::NAN,
+        ..SolveOptions::default()
+    };
+    for k in 0..400 {
+        let n = 1 + (rng.next_u64() % 24) as usize;
+        let m = if k % 2 == 0 {
+            spd(&mut rng, n)
+        } else {
+            nonsym_pd(&mut rng, n)
+        };
+        let mut q = random_q(&mut rng, n);
+        match k % 7 {
+            0 => q.iter_mut().for_each(|x| *x = x.abs()),
+            1 => q[0] = f64::NAN,
+            _ => {}
+        }
+        let lcp = Lcp::new(n, m, q).expect("sizes");
+        let o = if k % 11 == 0 { &bad_tol } else { &opts };
+        solve_into(&mut ws, &lcp, o, &mut out);
+        let fresh = solve_with(&mut Workspace::default(), &lcp, o);
+        assert_eq!(format!("{out:?}"), format!("{fresh:?}"), "problem {k}");
+        if k % 5 == 0 {
+            let z = &fresh.z;
+            let guess = if k % 10 == 0 {
+                BasisGuess {
+                    basic: z.iter().map(|v| *v > 0.0).collect(),
+                    z: z.clone(),
+                }
+            } else {
+                BasisGuess {
+                    basic: z.iter().map(|v| *v == 0.0).collect(),
+                    z: vec![1.0; n],
+                }
+            };
+            solve_warm_into(&mut ws, &lcp, &opts, &guess, &mut out);
+            let fresh = solve_warm_with(&mut Workspace::default(), &lcp, &opts, &guess);
+            assert_eq!(format!("{out:?}"), format!("{fresh:?}"), "warm problem {k}");
+        }
     }
 }
 
