@@ -249,7 +249,7 @@ impl<'a> Percussion<'a> {
     ) -> Result<Percussion<'a>, String> {
         options.validate()?;
         let n = impact.normal.norm();
-        if !((n - 1.0).abs() < 1e-9) {
+        if (n - 1.0).abs().is_nan() || (n - 1.0).abs() >= 1e-9 {
             return Err(format!("the impact normal must be a unit vector, got {n}"));
         }
         if impact.mass.is_nan() || impact.mass <= 0.0 {
@@ -569,13 +569,13 @@ impl<'a> Percussion<'a> {
         let mut label = vec![usize::MAX; n];
         let mut count = 0;
         let mut out = vec![0; n];
-        for i in 0..n {
+        for (i, o) in out.iter_mut().enumerate() {
             let r = root(&mut parent, i);
             if label[r] == usize::MAX {
                 label[r] = count;
                 count += 1;
             }
-            out[i] = label[r];
+            *o = label[r];
         }
         (out, count)
     }
