@@ -425,6 +425,40 @@ pub fn point_polygon_signed_distance(p: &Vec2, poly: &[Vec2]) -> f64 {
     }
 }
 
+/// The convex hull of `points`, counter-clockwise, without collinear or
+/// repeated vertices (Andrew's monotone chain, 1979); fewer than 3 vertices
+/// when the points are fewer or all collinear.
+pub fn convex_hull(points: &[Vec2]) -> Vec<Vec2> {
+    let mut p: Vec<Vec2> = points.to_vec();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let iter: Box<dyn Iterator<Item = &Vec2>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
+        for q in iter {
+            while hull.len() >= start + 2
+                && cross(
+                    &(hull[hull.len() - 1] - hull[hull.len() - 2]),
+                    &(q - hull[hull.len() - 2]),
+                ) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(*q);
+        }
+        hull.pop();
+    }
+    hull
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -475,5 +509,15 @@ mod tests {
         assert!((point_polygon_signed_distance(&v(2., 0.5), &a) - 1.0).abs() < 1e-15);
         assert!((point_polygon_signed_distance(&v(2., 2.), &a) - 2f64.sqrt()).abs() < 1e-15);
         assert!((point_polygon_signed_distance(&v(0.9, 0.5), &a) + 0.1).abs() < 1e-15);
+    }
+
+    #[test]
+    fn the_convex_hull_is_the_counter_clockwise_corners() {
+        let mut pts = vec![v(0., 0.), v(2., 0.), v(2., 2.), v(0., 2.)];
+        // Inside, on an edge (collinear) and repeated points.
+        pts.extend([v(1., 1.), v(1., 0.), v(2., 1.), v(0., 0.), v(0.5, 1.5)]);
+        let h = convex_hull(&pts);
+        assert_eq!(h, vec![v(0., 0.), v(2., 0.), v(2., 2.), v(0., 2.)]);
+        assert!(convex_hull(&[v(0., 0.), v(1., 1.), v(2., 2.)]).len() < 3);
     }
 }

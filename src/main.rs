@@ -242,6 +242,53 @@ enum Command {
         #[arg(long, value_name = "FILE")]
         nodes: Option<PathBuf>,
     },
+    /// Resolve a 2D percussion in the lattice of a rectangular floe
+    /// (docs/physics.md §7.3), struck on its left face along +x: prints
+    /// the pieces as CSV (piece,nodes,mass,x,y,vx,vy,omega,hull_area) and a
+    /// summary on stderr.
+    #[command(name = "percussion-2d")]
+    Percussion2d {
+        /// Floe size WIDTH,HEIGHT, m.
+        #[arg(long, value_name = "W,H", default_value = "10,10", value_parser = parse_pair)]
+        size: (f64, f64),
+        /// Lattice spacing, m.
+        #[arg(long, default_value_t = 0.5)]
+        spacing: f64,
+        /// Thickness, m.
+        #[arg(long, default_value_t = 1.0)]
+        thickness: f64,
+        /// Density, kg/m³.
+        #[arg(long, default_value_t = floebench::model::DEFAULT_ICE_DENSITY)]
+        density: f64,
+        /// Young's modulus, Pa.
+        #[arg(long, default_value_t = 8.95e9)]
+        young: f64,
+        /// Seed of the lattice's nodes.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Dashpot ratio beta (-): c = beta sqrt(k m); 0 for none.
+        #[arg(long, default_value_t = 0.5)]
+        damping: f64,
+        /// Bonds break past this strain (-) [default: never].
+        #[arg(long, conflicts_with = "toughness")]
+        strain: Option<f64>,
+        /// Bonds break when their energy passes G h w, G in J/m² [default: never].
+        #[arg(long)]
+        toughness: Option<f64>,
+        /// Relative normal speed of the impact, m/s.
+        #[arg(long)]
+        speed: f64,
+        /// The striker's effective mass, kg [default: a fixed coast, the
+        /// floe moving at SPEED into it].
+        #[arg(long)]
+        mass: Option<f64>,
+        /// Height of the contact point on the left face, m [default: its middle].
+        #[arg(long)]
+        at: Option<f64>,
+        /// Draw the lattice, its broken bonds red, into STEM.png and STEM.svg.
+        #[arg(long, value_name = "STEM")]
+        plot: Option<PathBuf>,
+    },
     /// List the formulations.
     Formulations,
 }
@@ -409,6 +456,47 @@ fn main() -> ExitCode {
                 limit_transits,
             };
             percussion_1d(&material, &bars, options, nodes.as_deref())
+        }
+        Command::Percussion2d {
+            size,
+            spacing,
+            thickness,
+            density,
+            young,
+            seed,
+            damping,
+            strain,
+            toughness,
+            speed,
+            mass,
+            at,
+            plot,
+        } => {
+            use floebench::fracture::chain::{BondRule, ChainOptions};
+            use floebench::fracture::lattice::LatticeSpec;
+            let spec = LatticeSpec {
+                spacing,
+                thickness,
+                density,
+                young,
+                seed,
+            };
+            let options = ChainOptions {
+                damping,
+                bond: match (strain, toughness) {
+                    (Some(e), _) => BondRule::Strain(e),
+                    (None, Some(g)) => BondRule::Toughness(g),
+                    (None, None) => BondRule::Unbreakable,
+                },
+                ..ChainOptions::default()
+            };
+            let strike = Strike {
+                size,
+                speed,
+                mass,
+                at: at.unwrap_or(0.5 * size.1),
+            };
+            percussion_2d(spec, options, strike, plot.as_deref())
         }
         Command::Formulations => {
             for formulation::Entry {
@@ -1074,6 +1162,157 @@ fn parse_bar(s: &str) -> Result<floebench::fracture::chain::BarSpec, String> {
             .map_err(|e| format!("nodes {n:?}: {e}"))?,
         velocity: num(v, "velocity")?,
     })
+}
+
+/// `W,H` of `percussion-2d --size`.
+fn parse_pair(s: &str) -> Result<(f64, f64), String> {
+    let (a, b) = s
+        .split_once(',')
+        .ok_or_else(|| format!("expected W,H, got {s:?}"))?;
+    let num = |x: &str| x.trim().parse::<f64>().map_err(|e| format!("{x:?}: {e}"));
+    Ok((num(a)?, num(b)?))
+}
+
+/// The impact of `percussion-2d`.
+struct Strike {
+    size: (f64, f64),
+    speed: f64,
+    mass: Option<f64>,
+    at: f64,
+}
+
+/// `floebench percussion-2d`: build the lattice, run the percussion, print
+/// the pieces, draw the crack.
+fn percussion_2d(
+    spec: floebench::fracture::lattice::LatticeSpec,
+    options: floebench::fracture::chain::ChainOptions,
+    strike: Strike,
+    plot: Option<&Path>,
+) -> ExitCode {
+    use floebench::fracture::lattice::percussion::{Impact, Percussion, RigidMotion};
+    use floebench::geometry::Vec2;
+    let (w, h) = strike.size;
+    let outline = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(w, 0.0),
+        Vec2::new(w, h),
+        Vec2::new(0.0, h),
+    ];
+    let fail = |e: String| {
+        eprintln!("error: {e}");
+        ExitCode::FAILURE
+    };
+    if !(strike.at > 0.0 && strike.at < h) {
+        return fail(format!(
+            "--at {} is not on the left face (0, {h})",
+            strike.at
+        ));
+    }
+    let lattice = match floebench::fracture::lattice::Lattice::build(&outline, spec) {
+        Ok(l) => l,
+        Err(e) => return fail(e),
+    };
+    let (motion, mass) = match strike.mass {
+        Some(m) => (RigidMotion::default(), m),
+        None => (
+            RigidMotion {
+                velocity: Vec2::new(-strike.speed, 0.0),
+                angular_velocity: 0.0,
+            },
+            f64::INFINITY,
+        ),
+    };
+    let impact = Impact {
+        point: Vec2::new(0.0, strike.at),
+        normal: Vec2::new(1.0, 0.0),
+        mass,
+        speed: strike.speed,
+    };
+    let mut p = match Percussion::new(&lattice, motion, impact, options) {
+        Ok(p) => p,
+        Err(e) => return fail(e),
+    };
+    let o = p.run();
+    println!("piece,nodes,mass,x,y,vx,vy,omega,hull_area");
+    for (i, f) in o.fragments.iter().enumerate() {
+        println!(
+            "{i},{},{},{},{},{},{},{},{}",
+            f.nodes.len(),
+            f.mass,
+            f.centre.x,
+            f.centre.y,
+            f.velocity.x,
+            f.velocity.y,
+            f.angular_velocity,
+            f.area
+        );
+    }
+    eprintln!(
+        "{}: t = {} s ({} steps of {} s, {} nodes), contact ended at {} s; {} broken, {} pieces",
+        o.reason.name(),
+        fmt_num(o.t),
+        o.steps,
+        fmt_num(o.dt),
+        lattice.nodes.len(),
+        fmt_num(o.contact_end),
+        plural(o.broken.len(), "bond"),
+        o.fragments.len()
+    );
+    eprintln!(
+        "energy: initial {} J, impact {} J, striker's work {} J, fracture {} J (broken bonds {} J); hull area error {}; striker {} -> {} m/s",
+        fmt_num(o.initial_energy),
+        fmt_num(o.impact_energy),
+        fmt_num(o.work),
+        fmt_num(o.fracture_energy),
+        fmt_num(o.energies.fracture),
+        fmt_num(o.hull_area_error),
+        fmt_num(o.striker_velocity[0]),
+        fmt_num(o.striker_velocity[1])
+    );
+    if let Some(stem) = plot {
+        use floebench::report::plot::{plan_view, PlanView, Series};
+        // The springs at rest (the crack pattern on the floe as it was),
+        // as broken polylines.
+        let (mut intact, mut broken) = (Vec::new(), Vec::new());
+        for (k, s) in lattice.springs.iter().enumerate() {
+            let (a, b) = (lattice.nodes[s.nodes[0]], lattice.nodes[s.nodes[1]]);
+            let list = if p.bonded(k) {
+                &mut intact
+            } else {
+                &mut broken
+            };
+            list.extend([(a.x, a.y), (b.x, b.y), (f64::NAN, f64::NAN)]);
+        }
+        let title = format!(
+            "percussion at {} m/s: {} broken, {} pieces",
+            fmt_num(strike.speed),
+            plural(o.broken.len(), "bond"),
+            o.fragments.len()
+        );
+        let paths = [
+            Series {
+                dash: Some(0),
+                ..Series::new("bonds", 5, intact)
+            },
+            Series {
+                dash: Some(0),
+                ..Series::new("broken bonds", 1, broken)
+            },
+        ];
+        match plan_view(
+            &PlanView {
+                title: &title,
+                paths: &paths,
+                obstacles: &[],
+                labels: &[],
+            },
+            stem,
+        ) {
+            Ok([png, svg]) => eprintln!("wrote {} and {}", png.display(), svg.display()),
+            Err(e) => return fail(e.to_string()),
+        }
+    }
+    ExitCode::SUCCESS
 }
 
 /// `floebench percussion-1d`: run the chain, print the pieces.

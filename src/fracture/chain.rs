@@ -106,6 +106,34 @@ pub enum BondRule {
     /// `T = G A / L₀` (J/m); its critical stress `√(2 G E / Δx)` grows as
     /// the cells shrink, as Griffith's does with a crack of length `Δx`.
     Toughness(f64),
+    /// When its elongation passes this strain (-) times its rest length:
+    /// `δ_c = ε_c L₀`. With a toughness this is `ε_c = √(2 G A / (k L₀²))`,
+    /// which grows as the cells shrink (docs/physics.md §7.4).
+    Strain(f64),
+}
+
+impl BondRule {
+    /// The critical elongation (m) of a bond of stiffness `k` (N/m), rest
+    /// length `rest` (m), opening a section of area `section` (m²) when it
+    /// breaks: `∞`, `F_c/k`, `√(2 G A/k)` or `ε_c L₀`.
+    pub fn critical(&self, k: f64, rest: f64, section: f64) -> f64 {
+        match *self {
+            BondRule::Unbreakable => f64::INFINITY,
+            BondRule::Force(f) => f / k,
+            BondRule::Toughness(g) => (2.0 * g * section / k).sqrt(),
+            BondRule::Strain(e) => e * rest,
+        }
+    }
+
+    /// Checks that its parameter is finite and positive.
+    pub fn validate(&self) -> Result<(), String> {
+        match *self {
+            BondRule::Unbreakable => Ok(()),
+            BondRule::Force(f) => positive("bond strength", f),
+            BondRule::Toughness(g) => positive("toughness", g),
+            BondRule::Strain(e) => positive("critical strain", e),
+        }
+    }
 }
 
 /// The options of a 1D percussion.
@@ -142,20 +170,46 @@ impl Default for ChainOptions {
     }
 }
 
-/// A link between node `i` and node `i + 1`.
+impl ChainOptions {
+    /// Checks the options (the 2D percussion shares them).
+    pub fn validate(&self) -> Result<(), String> {
+        if !(self.damping.is_finite() && self.damping >= 0.0) {
+            return Err(format!(
+                "damping must be finite and >= 0, got {}",
+                self.damping
+            ));
+        }
+        if !(self.safety > 0.0 && self.safety <= 1.0) {
+            return Err(format!("safety must be in (0, 1], got {}", self.safety));
+        }
+        positive("settle", self.settle)?;
+        positive("settle_transits", self.settle_transits)?;
+        positive("limit_transits", self.limit_transits)?;
+        self.bond.validate()
+    }
+}
+
+/// A link between two nodes (the chain's neighbours; a 2D lattice's
+/// spring; a striker's contact): a spring and a dashpot in parallel that
+/// pull and push while `bonded`, and only push once broken.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Link {
-    k: f64,
-    c: f64,
-    rest: f64,
-    bonded: bool,
-    critical: f64,
+pub(crate) struct Link {
+    /// Stiffness, N/m.
+    pub k: f64,
+    /// Dashpot, N·s/m.
+    pub c: f64,
+    /// Rest length, m.
+    pub rest: f64,
+    /// Whether it still pulls.
+    pub bonded: bool,
+    /// Critical elongation, m.
+    pub critical: f64,
 }
 
 impl Link {
     /// The tension (N, positive pulling the two nodes together) for
     /// elongation `d` and elongation rate `dv`.
-    fn force(&self, d: f64, dv: f64) -> f64 {
+    pub fn force(&self, d: f64, dv: f64) -> f64 {
         let f = self.k * d + self.c * dv;
         if self.bonded {
             f
@@ -167,7 +221,7 @@ impl Link {
     }
 
     /// The elastic energy held, J.
-    fn energy(&self, d: f64) -> f64 {
+    pub fn energy(&self, d: f64) -> f64 {
         if self.bonded || d < 0.0 {
             0.5 * self.k * d * d
         } else {
@@ -272,6 +326,80 @@ pub struct Chain {
     options: ChainOptions,
 }
 
+/// The stable step of velocity Verlet with dashpots (module doc), s:
+/// `(2/ω)(√(1+ζ²) − ζ)` for the highest frequency `ω` (rad/s) and the
+/// damping ratio `ζ` (-) there.
+pub(crate) fn damped_stable_step(omega: f64, zeta: f64) -> f64 {
+    (2.0 / omega) * ((1.0 + zeta * zeta).sqrt() - zeta)
+}
+
+/// Half a velocity Verlet kick: `v += h f / m` for every node.
+pub(crate) fn kick<V>(v: &mut [V], force: &[V], m: &[f64], h: f64)
+where
+    V: Copy + std::ops::AddAssign + std::ops::Mul<f64, Output = V>,
+{
+    for ((v, &f), &m) in v.iter_mut().zip(force).zip(m) {
+        *v += f * (h / m);
+    }
+}
+
+/// A velocity Verlet drift: `x += Δt v` for every node.
+pub(crate) fn drift<V>(x: &mut [V], v: &[V], dt: f64)
+where
+    V: Copy + std::ops::AddAssign + std::ops::Mul<f64, Output = V>,
+{
+    for (x, &v) in x.iter_mut().zip(v) {
+        *x += v * dt;
+    }
+}
+
+/// The stopping rule of a percussion (module doc), shared by the 1D chain
+/// and the 2D lattice: fed once per step, it says when to stop.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Settling {
+    /// When the contact was last found over (None while it goes on), s.
+    pub over_since: Option<f64>,
+    /// When the contact ended, s.
+    pub contact_end: f64,
+}
+
+impl Settling {
+    /// A rule not yet fed.
+    pub fn new() -> Settling {
+        Settling {
+            over_since: None,
+            contact_end: 0.0,
+        }
+    }
+
+    /// Whether to stop at time `t` (s), the contact being over or not, the
+    /// internal energy `internal` against the reference `reference` (J),
+    /// with `transit` (s) the transit time and `options` the thresholds.
+    pub fn stop(
+        &mut self,
+        t: f64,
+        over: bool,
+        internal: impl FnOnce() -> f64,
+        reference: f64,
+        transit: f64,
+        options: &ChainOptions,
+    ) -> Option<Stop> {
+        if over {
+            let since = *self.over_since.get_or_insert(t);
+            self.contact_end = since;
+            if internal() <= options.settle * reference {
+                return Some(Stop::Settled);
+            }
+            if t - since >= options.settle_transits * transit {
+                return Some(Stop::Rang);
+            }
+        } else {
+            self.over_since = None;
+        }
+        (t >= options.limit_transits * transit).then_some(Stop::TimeLimit)
+    }
+}
+
 /// Checks that `x` (the parameter `name`) is finite and positive.
 pub(crate) fn positive(name: &str, x: f64) -> Result<(), String> {
     if x.is_finite() && x > 0.0 {
@@ -295,23 +423,7 @@ impl Chain {
         if bars.is_empty() {
             return Err("at least one bar is needed".into());
         }
-        if !(options.damping.is_finite() && options.damping >= 0.0) {
-            return Err(format!(
-                "damping must be finite and >= 0, got {}",
-                options.damping
-            ));
-        }
-        if !(options.safety > 0.0 && options.safety <= 1.0) {
-            return Err(format!("safety must be in (0, 1], got {}", options.safety));
-        }
-        positive("settle", options.settle)?;
-        positive("settle_transits", options.settle_transits)?;
-        positive("limit_transits", options.limit_transits)?;
-        match options.bond {
-            BondRule::Unbreakable => {}
-            BondRule::Force(f) => positive("bond strength", f)?,
-            BondRule::Toughness(g) => positive("toughness", g)?,
-        }
+        options.validate()?;
         let mut chain = Chain {
             x: Vec::new(),
             v: Vec::new(),
@@ -340,11 +452,7 @@ impl Chain {
             let m = material.density * material.area * dx;
             let k = material.young * material.area / dx;
             let c = options.damping * (k * m).sqrt();
-            let critical = match options.bond {
-                BondRule::Unbreakable => f64::INFINITY,
-                BondRule::Force(f) => f / k,
-                BondRule::Toughness(g) => (2.0 * g * material.area / k).sqrt(),
-            };
+            let critical = options.bond.critical(k, dx, material.area);
             if b > 0 {
                 // The contact link with the previous bar's last node: the two
                 // half cells in series.
@@ -402,8 +510,7 @@ impl Chain {
             .map(|i| (2.0 * ks[i] / self.m[i]).sqrt())
             .fold(0.0, f64::max);
         let gamma = (0..n).map(|i| 2.0 * cs[i] / self.m[i]).fold(0.0, f64::max);
-        let zeta = gamma / (2.0 * omega);
-        (2.0 / omega) * ((1.0 + zeta * zeta).sqrt() - zeta)
+        damped_stable_step(omega, gamma / (2.0 * omega))
     }
 
     /// Number of nodes.
@@ -451,17 +558,13 @@ impl Chain {
     /// One velocity Verlet step.
     pub fn step(&mut self) {
         let h = 0.5 * self.dt;
-        for i in 0..self.x.len() {
-            self.v[i] += h * self.force[i] / self.m[i];
-            self.x[i] += self.dt * self.v[i];
-        }
+        kick(&mut self.v, &self.force, &self.m, h);
+        drift(&mut self.x, &self.v, self.dt);
         self.t += self.dt;
         self.steps += 1;
         self.break_bonds();
         self.forces();
-        for i in 0..self.x.len() {
-            self.v[i] += h * self.force[i] / self.m[i];
-        }
+        kick(&mut self.v, &self.force, &self.m, h);
     }
 
     /// The energies now.
@@ -536,46 +639,35 @@ impl Chain {
     pub fn run(&mut self) -> Outcome {
         let initial = self.energies().total();
         let momentum = self.momentum();
-        let mut over_since: Option<f64> = None;
-        let mut contact_end = 0.0;
+        let mut settling = Settling::new();
         let mut max_drift: f64 = 0.0;
+        let options = self.options;
         let reason = loop {
-            if self.t >= self.options.limit_transits * self.transit {
-                break Stop::TimeLimit;
-            }
             self.step();
             let e = self.energies();
             if self.links.iter().all(|l| l.c == 0.0) {
                 max_drift = max_drift.max((e.total() - initial).abs());
             }
-            if self.any_closed() {
-                over_since = None;
-                continue;
-            }
             let pieces = self.fragments();
-            if !self.contact_over(&pieces) {
-                over_since = None;
-                continue;
-            }
-            let since = *over_since.get_or_insert(self.t);
-            contact_end = since;
-            let rigid: f64 = pieces
-                .iter()
-                .map(|p| 0.5 * p.mass * p.velocity * p.velocity)
-                .sum();
-            let internal = e.kinetic + e.elastic - rigid;
-            if internal <= self.options.settle * initial {
-                break Stop::Settled;
-            }
-            if self.t - since >= self.options.settle_transits * self.transit {
-                break Stop::Rang;
+            let over = !self.any_closed() && self.contact_over(&pieces);
+            let internal = || {
+                let rigid: f64 = pieces
+                    .iter()
+                    .map(|p| 0.5 * p.mass * p.velocity * p.velocity)
+                    .sum();
+                e.kinetic + e.elastic - rigid
+            };
+            if let Some(stop) =
+                settling.stop(self.t, over, internal, initial, self.transit, &options)
+            {
+                break stop;
             }
         };
         let energies = self.energies();
         Outcome {
             reason,
             t: self.t,
-            contact_end,
+            contact_end: settling.contact_end,
             dt: self.dt,
             steps: self.steps,
             initial_energy: initial,

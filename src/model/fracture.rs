@@ -44,6 +44,10 @@ impl std::str::FromStr for FractureModel {
             "none" => Ok(FractureModel::None),
             "energy" => Ok(FractureModel::Energy),
             "stress" => Ok(FractureModel::Stress),
+            "lattice" => Err(
+                "model = \"lattice\" (the percussion in a floe's lattice, docs/physics.md §7.3) is not wired into the formulations yet; its library runs from `floebench percussion-2d`; expected \"none\", \"energy\" or \"stress\""
+                    .into(),
+            ),
             other => Err(format!(
                 "model = \"{other}\" is not a fracture model; expected \"none\", \"energy\" or \"stress\""
             )),

@@ -23,6 +23,7 @@ mod moreau;
 mod nonconvex;
 mod output_interval;
 mod percussion;
+mod percussion2d;
 mod physics;
 mod plot;
 mod rapier;

@@ -19,6 +19,7 @@
 //! Grenoble Alpes.
 
 pub mod delaunay;
+pub mod percussion;
 
 use super::chain::positive;
 use crate::geometry::{area_properties, cross, point_polygon_signed_distance, Vec2};

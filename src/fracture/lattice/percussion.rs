@@ -1,0 +1,731 @@
+//! The 2D percussion of a floe (docs/physics.md §7.3): the floe's lattice
+//! ([`super::Lattice`]) integrated from a rigid impact, the striker an
+//! effective mass in unilateral contact with it, bonds breaking, and the
+//! connected components of the broken lattice becoming rigid pieces.
+//!
+//! **Scheme.** The lattice's springs are geometrically exact central
+//! springs (force `κ (|x_j − x_i| − L₀)` along the current direction, so a
+//! rigid rotation loads nothing) in parallel with dashpots
+//! `c = β √(κ m_ij)` (`m_ij = 2 m_i m_j / (m_i + m_j)`, `β` the chain's
+//! damping ratio, 0.5 by default, [`ChainOptions`]). The striker is a rigid
+//! half-plane of effective mass `m*` (kg, `∞` for an obstacle) moving along
+//! the impact normal `n` (pointing into the floe); it pushes each outline
+//! node through a compression-only penalty link (the chain's unilateral
+//! link, rest length 0) of the lattice's mean spring stiffness `κ̄` and its
+//! dashpot `β √(κ̄ m_i*)` (`m_i*` the reduced mass of the node and the
+//! striker): a penalty, not an exact contact. A half-plane is what a coast
+//! is, and a face of another floe near the contact point.
+//!
+//! A bond breaks, for good, when its elongation passes `δ_c`
+//! ([`crate::fracture::chain::BondRule::critical`]): with a toughness `G` the energy `½ κ δ²` it
+//! holds reaches `G h w`, `w = 2 A_e / L₀` the width of its share of the
+//! triangles (`A_e` a third of each adjacent triangle's area): the facet it
+//! opens (`s/√3`, the Voronoi facet, in an equilateral lattice of spacing
+//! `s`). A broken bond becomes a compression-only link.
+//!
+//! **Integrator.** The chain's velocity Verlet ([`super::super::chain`]) at
+//! the damped stable step `s (2/ω)(√(1+ζ²) − ζ)`, `ω` the block-Gershgorin
+//! bound on the highest frequency of `M^{-½} K M^{-½}` (springs and every
+//! possible contact), `ω² ≤ max_i Σ_j κ_ij (1/m_i + 1/√(m_i m_j))`, and `ζ`
+//! the same bound on the dashpots over `2ω`; safety `s` (0.9 by default).
+//! The geometric stiffness of a stretched spring, `O(strain)`, is left out
+//! of the bound.
+//!
+//! **Stopping rule** (the chain's, [`super::super::chain::Stop`]): the
+//! contact is over when no outline node touches the striker and the striker
+//! is no faster along `n` than any piece's rigid motion at its node nearest
+//! the striker; the waves have settled when the internal energy (kinetic
+//! and elastic, less the pieces' and the striker's rigid kinetic energy) is
+//! under `settle` times the impact energy `½ μ u_N²` (`μ` the reduced mass
+//! of `m*` and the floe), or `settle_transits` transit times (the floe's
+//! diameter over the P-wave speed `√(E / (ρ (1 − ν²)))`) have passed since
+//! the contact ended; in any case after `limit_transits` transit times.
+//!
+//! References: D. Balasoiu (2020), PhD thesis, Université Grenoble Alpes
+//! (the percussion by an effective mass); T. Belytschko, W. K. Liu and
+//! B. Moran (2000), *Nonlinear finite elements for continua and
+//! structures*, §6.3 (the stable step with damping); A. M. Andrew (1979),
+//! *Information Processing Letters* 9(5) (the convex hull).
+
+use super::Lattice;
+use crate::fracture::chain::{
+    damped_stable_step, drift, kick, ChainOptions, Energies, Link, Settling, Stop,
+};
+use crate::geometry::{area_properties, convex_hull, cross, perp, Vec2};
+
+/// The rigid impact that starts a percussion, in the lattice's frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Impact {
+    /// The contact point, m.
+    pub point: Vec2,
+    /// The unit normal, pointing into the struck floe (the striker pushes
+    /// along it).
+    pub normal: Vec2,
+    /// The striker's effective mass along the normal, kg (`f64::INFINITY`
+    /// for an obstacle or a coast).
+    pub mass: f64,
+    /// The relative normal speed of approach, m/s (> 0).
+    pub speed: f64,
+}
+
+/// The floe's rigid motion at the impact: velocity of its centre of mass
+/// (m/s) and angular velocity (rad/s).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RigidMotion {
+    /// Velocity of the centre of mass, m/s.
+    pub velocity: Vec2,
+    /// Angular velocity, rad/s.
+    pub angular_velocity: f64,
+}
+
+/// A spring that broke.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BrokenSpring {
+    /// The spring (index in the lattice).
+    pub spring: usize,
+    /// When, s.
+    pub t: f64,
+    /// The energy it held, J.
+    pub energy: f64,
+}
+
+/// A piece: a connected component of the lattice's unbroken springs, as a
+/// rigid body.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fragment {
+    /// Its nodes.
+    pub nodes: Vec<usize>,
+    /// Mass, kg.
+    pub mass: f64,
+    /// Centre of mass, m.
+    pub centre: Vec2,
+    /// Linear momentum, kg·m/s.
+    pub momentum: Vec2,
+    /// Angular momentum about its centre of mass, kg·m²/s.
+    pub angular_momentum: f64,
+    /// Polar inertia of its nodes about its centre of mass, kg·m².
+    pub inertia: f64,
+    /// Velocity of the centre of mass (momentum / mass), m/s.
+    pub velocity: Vec2,
+    /// Angular velocity (angular momentum / inertia; 0 for one node), rad/s.
+    pub angular_velocity: f64,
+    /// The convex hull of its nodes (counter-clockwise; fewer than 3
+    /// vertices for one or two nodes), m.
+    pub hull: Vec<Vec2>,
+    /// The hull's area, m².
+    pub area: f64,
+}
+
+impl Fragment {
+    /// The kinetic energy of its rigid motion, `½ |P|²/M + ½ L²/I`, J.
+    pub fn rigid_energy(&self) -> f64 {
+        let spin = if self.inertia > 0.0 {
+            0.5 * self.angular_momentum * self.angular_momentum / self.inertia
+        } else {
+            0.0
+        };
+        0.5 * self.momentum.norm_squared() / self.mass + spin
+    }
+}
+
+/// A percussion under way: the lattice's state and the striker's.
+#[derive(Debug, Clone)]
+pub struct Percussion<'a> {
+    lattice: &'a Lattice,
+    /// Node positions, m.
+    pub x: Vec<Vec2>,
+    /// Node velocities, m/s.
+    pub v: Vec<Vec2>,
+    links: Vec<Link>,
+    /// The outline nodes and their contact links with the striker.
+    contacts: Vec<(usize, Link)>,
+    force: Vec<Vec2>,
+    /// The striker's position along the normal (its face is the line
+    /// `n · (x − point) = striker`), m.
+    pub striker: f64,
+    /// The striker's velocity along the normal, m/s.
+    pub striker_velocity: f64,
+    striker_force: f64,
+    contact_moment: f64,
+    impact: Impact,
+    /// Impulse (N·s) the striker gave the floe so far.
+    pub impulse: Vec2,
+    /// Moment of that impulse about the frame's origin, N·m·s.
+    pub impulse_moment: f64,
+    /// Work (J) done on the floe by a striker of infinite mass (which
+    /// keeps its velocity; 0 for a striker at rest and for a finite mass,
+    /// whose kinetic energy is counted instead).
+    pub work: f64,
+    /// Time since the impact, s.
+    pub t: f64,
+    /// The step, s.
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// The springs broken so far.
+    pub broken: Vec<BrokenSpring>,
+    /// Transit time of a P wave across the floe, s.
+    pub transit: f64,
+    /// The impact energy `½ μ u_N²`, J.
+    pub impact_energy: f64,
+    options: ChainOptions,
+}
+
+/// What a percussion gives.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Outcome {
+    /// Why it stopped.
+    pub reason: Stop,
+    /// When, s after the impact.
+    pub t: f64,
+    /// When the contact ended, s.
+    pub contact_end: f64,
+    /// The step, s.
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Kinetic energy of the floe and a finite striker at the impact, J.
+    pub initial_energy: f64,
+    /// Work done by a striker of infinite mass, J (0 if it is at rest).
+    pub work: f64,
+    /// The impact energy `½ μ u_N²`, J.
+    pub impact_energy: f64,
+    /// Energies at the end (the striker's kinetic energy included when its
+    /// mass is finite).
+    pub energies: Energies,
+    /// Without dashpots, the largest `|E(t) − E(0) − W(t)|` of kinetic +
+    /// elastic + fracture energy `E` over the run, `W` the striker's work,
+    /// J (0 with dashpots).
+    pub energy_drift: f64,
+    /// The pieces.
+    pub fragments: Vec<Fragment>,
+    /// The broken springs, in order.
+    pub broken: Vec<BrokenSpring>,
+    /// The striker's velocity along the normal at the impact and at the
+    /// end, m/s.
+    pub striker_velocity: [f64; 2],
+    /// The impulse the striker gave the floe, N·s.
+    pub impulse: Vec2,
+    /// Its moment about the frame's origin, N·m·s.
+    pub impulse_moment: f64,
+    /// The floe's linear momentum (kg·m/s) and angular momentum about the
+    /// frame's origin (kg·m²/s) at the impact.
+    pub initial_momentum: (Vec2, f64),
+    /// The energy not in the rigid motion of the pieces and the striker:
+    /// initial kinetic energy plus the striker's work, less their kinetic
+    /// energy at the end, J (the dashpots', the broken bonds' and what
+    /// still rings).
+    pub fracture_energy: f64,
+    /// `(Σ hull areas − lattice area) / lattice area` (-): the convex hulls
+    /// against the exact partition of the outline.
+    pub hull_area_error: f64,
+}
+
+impl Outcome {
+    /// Total linear momentum of the pieces, kg·m/s.
+    pub fn momentum(&self) -> Vec2 {
+        self.fragments.iter().map(|f| f.momentum).sum()
+    }
+
+    /// Total angular momentum of the pieces about the frame's origin,
+    /// kg·m²/s.
+    pub fn angular_momentum(&self) -> f64 {
+        self.fragments
+            .iter()
+            .map(|f| f.angular_momentum + cross(&f.centre, &f.momentum))
+            .sum()
+    }
+}
+
+impl<'a> Percussion<'a> {
+    /// A percussion of `lattice` (its floe moving rigidly at `motion`)
+    /// struck by `impact`, with the chain's `options`. Fails on an invalid
+    /// option or impact.
+    pub fn new(
+        lattice: &'a Lattice,
+        motion: RigidMotion,
+        impact: Impact,
+        options: ChainOptions,
+    ) -> Result<Percussion<'a>, String> {
+        options.validate()?;
+        let n = impact.normal.norm();
+        if (n - 1.0).abs().is_nan() || (n - 1.0).abs() >= 1e-9 {
+            return Err(format!("the impact normal must be a unit vector, got {n}"));
+        }
+        if impact.mass.is_nan() || impact.mass <= 0.0 {
+            return Err(format!(
+                "the striker's mass must be positive, got {}",
+                impact.mass
+            ));
+        }
+        if !(impact.speed.is_finite() && impact.point.iter().all(|c| c.is_finite())) {
+            return Err("the impact speed and point must be finite".into());
+        }
+        let spec = lattice.spec;
+        let m = &lattice.mass;
+        let total: f64 = m.iter().sum();
+        let g = lattice
+            .nodes
+            .iter()
+            .zip(m)
+            .map(|(x, &mi)| x * mi)
+            .sum::<Vec2>()
+            / total;
+        let x = lattice.nodes.clone();
+        let v: Vec<Vec2> = x
+            .iter()
+            .map(|p| motion.velocity + perp(&(p - g)) * motion.angular_velocity)
+            .collect();
+        // Each spring's facet: a third of each adjacent triangle's area.
+        let mut share = vec![0.0; lattice.springs.len()];
+        for (t, row) in lattice.triangles.iter().zip(&lattice.triangle_springs) {
+            let (a, b, c) = (
+                lattice.nodes[t[0]],
+                lattice.nodes[t[1]],
+                lattice.nodes[t[2]],
+            );
+            let area = 0.5 * cross(&(b - a), &(c - a));
+            for &(k, _) in row {
+                share[k] += area / 3.0;
+            }
+        }
+        let links: Vec<Link> = lattice
+            .springs
+            .iter()
+            .zip(&share)
+            .map(|(s, &a)| {
+                let [i, j] = s.nodes;
+                let mij = 2.0 * m[i] * m[j] / (m[i] + m[j]);
+                let width = 2.0 * a / s.length;
+                Link {
+                    k: s.stiffness,
+                    c: options.damping * (s.stiffness * mij).sqrt(),
+                    rest: s.length,
+                    bonded: true,
+                    critical: options
+                        .bond
+                        .critical(s.stiffness, s.length, spec.thickness * width),
+                }
+            })
+            .collect();
+        let mean_k =
+            lattice.springs.iter().map(|s| s.stiffness).sum::<f64>() / lattice.springs.len() as f64;
+        let contacts: Vec<(usize, Link)> = (0..x.len())
+            .filter(|&i| lattice.on_boundary[i])
+            .map(|i| {
+                let mu = if impact.mass.is_finite() {
+                    m[i] * impact.mass / (m[i] + impact.mass)
+                } else {
+                    m[i]
+                };
+                (
+                    i,
+                    Link {
+                        k: mean_k,
+                        c: options.damping * (mean_k * mu).sqrt(),
+                        rest: 0.0,
+                        bonded: false,
+                        critical: f64::INFINITY,
+                    },
+                )
+            })
+            .collect();
+        let striker = contacts
+            .iter()
+            .map(|&(i, _)| impact.normal.dot(&(x[i] - impact.point)))
+            .fold(f64::INFINITY, f64::min);
+        let at_point = motion.velocity + perp(&(impact.point - g)) * motion.angular_velocity;
+        let striker_velocity = impact.normal.dot(&at_point) + impact.speed;
+        let mu = if impact.mass.is_finite() {
+            impact.mass * total / (impact.mass + total)
+        } else {
+            total
+        };
+        let radius = x.iter().map(|p| (p - g).norm()).fold(0.0, f64::max);
+        let wave = (spec.young / (spec.density * (1.0 - 1.0 / 9.0))).sqrt();
+        let mut p = Percussion {
+            lattice,
+            force: vec![Vec2::zeros(); x.len()],
+            x,
+            v,
+            links,
+            contacts,
+            striker,
+            striker_velocity,
+            striker_force: 0.0,
+            contact_moment: 0.0,
+            impact,
+            impulse: Vec2::zeros(),
+            impulse_moment: 0.0,
+            work: 0.0,
+            t: 0.0,
+            dt: 0.0,
+            steps: 0,
+            broken: Vec::new(),
+            transit: 2.0 * radius / wave,
+            impact_energy: 0.5 * mu * impact.speed * impact.speed,
+            options,
+        };
+        p.dt = options.safety * p.stable_step();
+        p.forces();
+        Ok(p)
+    }
+
+    /// The stable step of the scheme, s (module doc).
+    pub fn stable_step(&self) -> f64 {
+        let m = &self.lattice.mass;
+        let n = m.len();
+        let (mut ks, mut cs) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+        let mut add = |i: usize, j: usize, mi: f64, mj: f64, l: &Link| {
+            let w = 1.0 / mi + 1.0 / (mi * mj).sqrt();
+            ks[i] += l.k * w;
+            cs[i] += l.c * w;
+            let w = 1.0 / mj + 1.0 / (mi * mj).sqrt();
+            ks[j] += l.k * w;
+            cs[j] += l.c * w;
+        };
+        for (s, l) in self.lattice.springs.iter().zip(&self.links) {
+            let [i, j] = s.nodes;
+            add(i, j, m[i], m[j], l);
+        }
+        // The striker is unknown n (infinite mass: its row is empty).
+        for (i, l) in &self.contacts {
+            add(*i, n, m[*i], self.impact.mass, l);
+        }
+        let omega = ks.iter().fold(0.0, |a: f64, &b| a.max(b)).sqrt();
+        let gamma = cs.iter().fold(0.0, |a: f64, &b| a.max(b));
+        damped_stable_step(omega, gamma / (2.0 * omega))
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether the lattice has no node (never, once built).
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Elongation (m), its rate (m/s) and direction of spring `k`.
+    fn spring_state(&self, k: usize) -> (f64, f64, Vec2) {
+        let [i, j] = self.lattice.springs[k].nodes;
+        let d = self.x[j] - self.x[i];
+        let l = d.norm();
+        let dir = d / l;
+        (
+            l - self.links[k].rest,
+            dir.dot(&(self.v[j] - self.v[i])),
+            dir,
+        )
+    }
+
+    /// Gap (m) and its rate (m/s) between the striker and node `i`.
+    fn gap(&self, i: usize) -> (f64, f64) {
+        let n = self.impact.normal;
+        (
+            n.dot(&(self.x[i] - self.impact.point)) - self.striker,
+            n.dot(&self.v[i]) - self.striker_velocity,
+        )
+    }
+
+    /// The node forces and the striker's at the current state, N.
+    fn forces(&mut self) {
+        self.force.iter_mut().for_each(|f| *f = Vec2::zeros());
+        for k in 0..self.links.len() {
+            let (d, dv, dir) = self.spring_state(k);
+            let f = self.links[k].force(d, dv);
+            let [i, j] = self.lattice.springs[k].nodes;
+            self.force[i] += dir * f;
+            self.force[j] -= dir * f;
+        }
+        self.striker_force = 0.0;
+        self.contact_moment = 0.0;
+        for c in 0..self.contacts.len() {
+            let (i, link) = self.contacts[c];
+            let (g, dg) = self.gap(i);
+            let f = link.force(g, dg);
+            if f != 0.0 {
+                let push = -self.impact.normal * f;
+                self.force[i] += push;
+                self.striker_force += f;
+                self.contact_moment += cross(&self.x[i], &push);
+            }
+        }
+    }
+
+    /// The impulse of the contact forces of the last [`Self::forces`]
+    /// over `h` seconds, added to the running totals.
+    fn book_contact(&mut self, h: f64) {
+        self.impulse -= self.impact.normal * (self.striker_force * h);
+        self.impulse_moment += self.contact_moment * h;
+        if self.impact.mass.is_infinite() {
+            self.work -= self.striker_velocity * self.striker_force * h;
+        }
+    }
+
+    /// Breaks every bond stretched past its critical elongation.
+    fn break_bonds(&mut self) {
+        for k in 0..self.links.len() {
+            let (d, _, _) = self.spring_state(k);
+            let l = &mut self.links[k];
+            if l.bonded && d > l.critical {
+                l.bonded = false;
+                self.broken.push(BrokenSpring {
+                    spring: k,
+                    t: self.t,
+                    energy: 0.5 * l.k * d * d,
+                });
+            }
+        }
+    }
+
+    /// Half a kick of the striker.
+    fn kick_striker(&mut self, h: f64) {
+        if self.impact.mass.is_finite() {
+            self.striker_velocity += h * self.striker_force / self.impact.mass;
+        }
+    }
+
+    /// One velocity Verlet step.
+    pub fn step(&mut self) {
+        let h = 0.5 * self.dt;
+        self.book_contact(h);
+        kick(&mut self.v, &self.force, &self.lattice.mass, h);
+        self.kick_striker(h);
+        drift(&mut self.x, &self.v, self.dt);
+        self.striker += self.dt * self.striker_velocity;
+        self.t += self.dt;
+        self.steps += 1;
+        self.break_bonds();
+        self.forces();
+        self.book_contact(h);
+        kick(&mut self.v, &self.force, &self.lattice.mass, h);
+        self.kick_striker(h);
+    }
+
+    /// The energies now (the striker's kinetic energy when its mass is
+    /// finite).
+    pub fn energies(&self) -> Energies {
+        let striker = if self.impact.mass.is_finite() {
+            0.5 * self.impact.mass * self.striker_velocity * self.striker_velocity
+        } else {
+            0.0
+        };
+        let springs: f64 = (0..self.links.len())
+            .map(|k| self.links[k].energy(self.spring_state(k).0))
+            .sum();
+        let contacts: f64 = self
+            .contacts
+            .iter()
+            .map(|&(i, l)| l.energy(self.gap(i).0))
+            .sum();
+        Energies {
+            kinetic: striker
+                + self
+                    .lattice
+                    .mass
+                    .iter()
+                    .zip(&self.v)
+                    .map(|(m, v)| 0.5 * m * v.norm_squared())
+                    .sum::<f64>(),
+            elastic: springs + contacts,
+            fracture: self.broken.iter().map(|b| b.energy).sum(),
+        }
+    }
+
+    /// Linear momentum (kg·m/s) and angular momentum about the frame's
+    /// origin (kg·m²/s) of the nodes.
+    pub fn momentum(&self) -> (Vec2, f64) {
+        let m = &self.lattice.mass;
+        (
+            (0..self.len()).map(|i| self.v[i] * m[i]).sum(),
+            (0..self.len())
+                .map(|i| m[i] * cross(&self.x[i], &self.v[i]))
+                .sum(),
+        )
+    }
+
+    /// The connected components of the unbroken springs, each a label;
+    /// returns the labels and their number.
+    pub fn components(&self) -> (Vec<usize>, usize) {
+        let n = self.len();
+        let mut parent: Vec<usize> = (0..n).collect();
+        fn root(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        for (s, l) in self.lattice.springs.iter().zip(&self.links) {
+            if l.bonded {
+                let (a, b) = (root(&mut parent, s.nodes[0]), root(&mut parent, s.nodes[1]));
+                if a != b {
+                    parent[a.max(b)] = a.min(b);
+                }
+            }
+        }
+        let mut label = vec![usize::MAX; n];
+        let mut count = 0;
+        let mut out = vec![0; n];
+        for (i, o) in out.iter_mut().enumerate() {
+            let r = root(&mut parent, i);
+            if label[r] == usize::MAX {
+                label[r] = count;
+                count += 1;
+            }
+            *o = label[r];
+        }
+        (out, count)
+    }
+
+    /// The pieces now, in the order of their first node.
+    pub fn fragments(&self) -> Vec<Fragment> {
+        let (label, count) = self.components();
+        let m = &self.lattice.mass;
+        let mut nodes: Vec<Vec<usize>> = vec![Vec::new(); count];
+        for (i, &c) in label.iter().enumerate() {
+            nodes[c].push(i);
+        }
+        nodes
+            .into_iter()
+            .map(|list| {
+                let mass: f64 = list.iter().map(|&i| m[i]).sum();
+                let centre = list.iter().map(|&i| self.x[i] * m[i]).sum::<Vec2>() / mass;
+                let momentum: Vec2 = list.iter().map(|&i| self.v[i] * m[i]).sum();
+                let velocity = momentum / mass;
+                let (mut l, mut inertia) = (0.0, 0.0);
+                for &i in &list {
+                    let r = self.x[i] - centre;
+                    l += m[i] * cross(&r, &(self.v[i] - velocity));
+                    inertia += m[i] * r.norm_squared();
+                }
+                let points: Vec<Vec2> = list.iter().map(|&i| self.x[i]).collect();
+                let hull = convex_hull(&points);
+                let area = if hull.len() >= 3 {
+                    area_properties(&hull).area
+                } else {
+                    0.0
+                };
+                Fragment {
+                    nodes: list,
+                    mass,
+                    centre,
+                    momentum,
+                    angular_momentum: l,
+                    inertia,
+                    velocity,
+                    angular_velocity: if inertia > 0.0 { l / inertia } else { 0.0 },
+                    hull,
+                    area,
+                }
+            })
+            .collect()
+    }
+
+    /// Whether the contact is over (module doc): no node touches the
+    /// striker and it is no faster along the normal than any piece at its
+    /// node nearest the striker.
+    fn contact_over(&self, pieces: &[Fragment]) -> bool {
+        if self.contacts.iter().any(|&(i, _)| self.gap(i).0 < 0.0) {
+            return false;
+        }
+        let n = self.impact.normal;
+        pieces.iter().all(|p| {
+            let near = p
+                .nodes
+                .iter()
+                .copied()
+                .min_by(|&a, &b| self.gap(a).0.total_cmp(&self.gap(b).0));
+            near.is_none_or(|i| {
+                let r = self.x[i] - p.centre;
+                let u = n.dot(&(p.velocity + perp(&r) * p.angular_velocity));
+                self.striker_velocity <= u
+            })
+        })
+    }
+
+    /// Runs to the stopping rule (module doc).
+    pub fn run(&mut self) -> Outcome {
+        let initial = self.energies().total();
+        let momentum = self.momentum();
+        let u0 = self.striker_velocity;
+        let undamped = self.links.iter().all(|l| l.c == 0.0);
+        let mut settling = Settling::new();
+        let mut max_drift: f64 = 0.0;
+        let options = self.options;
+        let mass = self.impact.mass;
+        let striker_energy = move |u: f64| {
+            if mass.is_finite() {
+                0.5 * mass * u * u
+            } else {
+                0.0
+            }
+        };
+        let reason = loop {
+            self.step();
+            let e = self.energies();
+            if undamped {
+                max_drift = max_drift.max((e.total() - initial - self.work).abs());
+            }
+            let closed = self.contacts.iter().any(|&(i, _)| self.gap(i).0 < 0.0);
+            let pieces = if closed { Vec::new() } else { self.fragments() };
+            let over = !closed && self.contact_over(&pieces);
+            let internal = || {
+                let rigid: f64 = pieces.iter().map(Fragment::rigid_energy).sum();
+                e.kinetic + e.elastic - rigid - striker_energy(self.striker_velocity)
+            };
+            if let Some(stop) = settling.stop(
+                self.t,
+                over,
+                internal,
+                self.impact_energy,
+                self.transit,
+                &options,
+            ) {
+                break stop;
+            }
+        };
+        let fragments = self.fragments();
+        let rigid: f64 = fragments.iter().map(Fragment::rigid_energy).sum();
+        let hulls: f64 = fragments.iter().map(|f| f.area).sum();
+        Outcome {
+            reason,
+            t: self.t,
+            contact_end: settling.contact_end,
+            dt: self.dt,
+            steps: self.steps,
+            initial_energy: initial,
+            work: self.work,
+            impact_energy: self.impact_energy,
+            energies: self.energies(),
+            energy_drift: max_drift,
+            broken: self.broken.clone(),
+            striker_velocity: [u0, self.striker_velocity],
+            impulse: self.impulse,
+            impulse_moment: self.impulse_moment,
+            initial_momentum: momentum,
+            fracture_energy: initial + self.work - rigid - striker_energy(self.striker_velocity),
+            hull_area_error: (hulls - self.lattice.area) / self.lattice.area,
+            fragments,
+        }
+    }
+
+    /// Whether spring `k` still holds.
+    pub fn bonded(&self, k: usize) -> bool {
+        self.links[k].bonded
+    }
+
+    /// The lattice.
+    pub fn lattice(&self) -> &Lattice {
+        self.lattice
+    }
+}
+
+/// The rule a bond breaks by, for a lattice of `spacing` (m) and Young's
+/// modulus `young` (Pa): the critical strain `√(4 G / (3 E s))` a toughness
+/// `G` amounts to in an equilateral lattice (docs/physics.md §7.3).
+pub fn strain_of_toughness(toughness: f64, young: f64, spacing: f64) -> f64 {
+    (4.0 * toughness / (3.0 * young * spacing)).sqrt()
+}
