@@ -566,3 +566,62 @@ fn compare_writes_the_floe_size_distribution_of_a_fracture_case_and_none_elsewhe
     }
     assert!(!md.contains("head_on/floe_sizes"));
 }
+
+#[test]
+fn run_writes_the_floes_and_fractures_of_a_broken_run() {
+    // `floebench run fracture_ram`: floes.json lists the parent (ended at
+    // the fracture) and its two pieces (born then, parent 0), each outline
+    // about its own centre of mass with the recorded area and mass; one row
+    // of fractures.csv names them.
+    let dir = tempdir();
+    let out = dir.path().join("out");
+    let o = floebench()
+        .arg("run")
+        .arg(case_path("fracture_ram"))
+        .args(["--quiet", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(out.join("fractures.csv")).unwrap();
+    let rows: Vec<&str> = text.lines().collect();
+    assert_eq!(rows.len(), 2, "{text}");
+    let f: Vec<&str> = rows[1].split(',').collect();
+    assert_eq!((f[1], f[2], f[3]), ("0", "1;2", "energy"), "{text}");
+    let t: f64 = f[0].parse().unwrap();
+    let floes: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("floes.json")).unwrap()).unwrap();
+    let floes = floes.as_array().unwrap();
+    assert_eq!(floes.len(), 3);
+    assert!(floes[0]["parent"].is_null() && floes[0]["t_end"].as_f64() == Some(t));
+    for (id, g) in floes.iter().enumerate() {
+        assert_eq!(g["id"], id);
+        let poly: Vec<Vec2> = g["polygon"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| Vec2::new(p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+            .collect();
+        let props = area_properties(&poly);
+        let area = g["area"].as_f64().unwrap();
+        assert!(
+            rel(props.area, area) <= 1e-12,
+            "{id}: {} vs {area}",
+            props.area
+        );
+        assert!(
+            props.centroid.norm() <= 1e-12 * area.sqrt(),
+            "{id}: {:?}",
+            props.centroid
+        );
+        let mass = g["mass"].as_f64().unwrap();
+        let h = g["thickness"].as_f64().unwrap();
+        assert!(rel(mass, 917.0 * h * area) <= 1e-12, "{id}: {mass}");
+        if id > 0 {
+            assert_eq!(g["parent"], 0);
+            assert_eq!(g["t_birth"].as_f64(), Some(t));
+            assert!(g["t_end"].is_null());
+            assert!(rel(area, 50.0) <= 1e-12, "{id}: {area}");
+        }
+    }
+}
