@@ -466,10 +466,10 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
 /// solve allocates nothing. Every field of `out` is overwritten; the result
 /// is the one [`solve_with`] returns.
 ///
-/// Shortcut: with finite data and `q >= 0`, `z = 0` solves the LCP (`w = q
-/// >= 0`, residual exactly 0): it is returned at once, recorded as an
-/// accepted lexicographic attempt of 0 pivots, as Lemke's method would
-/// report it (it stops before its first pivot).
+/// Shortcut: with finite data and `q >= 0`, `z = 0` solves the LCP (then
+/// `w = q`, and the residual is exactly 0): it is returned at once,
+/// recorded as an accepted lexicographic attempt of 0 pivots, as Lemke's
+/// method would report it (it stops before its first pivot).
 pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut LcpSolution) {
     let (m, q) = (&lcp.m[..], &lcp.q[..]);
     let n = q.len();
