@@ -26,10 +26,6 @@ fn pieces(l: &Lattice, v0: f64, bond: BondRule, min: usize) -> usize {
         },
         ChainOptions {
             bond,
-            // A shattered floe's debris keeps touching the coast and its
-            // neighbours (docs/physics.md §7.3): the pieces are made within
-            // a few transits, so stop after 20.
-            limit_transits: 20.0,
             ..ChainOptions::default()
         },
     )

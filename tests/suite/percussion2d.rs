@@ -198,3 +198,38 @@ fn a_strong_ram_into_a_fixed_coast_breaks_the_floe() {
     assert!(o.striker_velocity == [0.0, 0.0]);
     assert!(matches!(o.reason, Stop::Settled | Stop::Rang));
 }
+
+#[test]
+fn percussion_2d_prints_the_pieces_draws_the_crack_and_refuses_a_bad_point() {
+    let dir = crate::common::tempdir();
+    let stem = dir.path().join("crack");
+    let out = crate::common::floebench()
+        .args(["percussion-2d", "--speed", "20", "--strain", "1e-4"])
+        .args(["--spacing", "1", "--plot"])
+        .arg(&stem)
+        .output()
+        .expect("runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut lines = stdout.lines();
+    assert_eq!(
+        lines.next(),
+        Some("piece,nodes,mass,x,y,vx,vy,omega,hull_area")
+    );
+    // A ram at 20 m/s breaks the floe (as the library test).
+    assert!(lines.count() >= 2, "{stdout}");
+    for ext in ["png", "svg"] {
+        let f = stem.with_extension(ext);
+        assert!(std::fs::metadata(&f).map(|m| m.len() > 0).unwrap_or(false));
+    }
+    let bad = crate::common::floebench()
+        .args(["percussion-2d", "--speed", "1", "--at", "20"])
+        .output()
+        .expect("runs");
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("not on the left face"));
+}

@@ -33,8 +33,9 @@
 //!
 //! **Stopping rule** (the chain's, [`super::super::chain::Stop`]): the
 //! contact is over when no outline node touches the striker and the striker
-//! is no faster along `n` than any piece's rigid motion at its node nearest
-//! the striker; the waves have settled when the internal energy (kinetic
+//! is no faster along `n` than the rigid motion of any piece within one
+//! lattice spacing of it, at its node nearest the striker (a piece further
+//! away, spinning, can have a node moving towards the striker for ever); the waves have settled when the internal energy (kinetic
 //! and elastic, less the pieces' and the striker's rigid kinetic energy) is
 //! under `settle` times the impact energy `½ μ u_N²` (`μ` the reduced mass
 //! of `m*` and the floe), or `settle_transits` transit times (the floe's
@@ -625,13 +626,14 @@ impl<'a> Percussion<'a> {
     }
 
     /// Whether the contact is over (module doc): no node touches the
-    /// striker and it is no faster along the normal than any piece at its
-    /// node nearest the striker.
+    /// striker and it is no faster along the normal than any piece within
+    /// one lattice spacing of it, at that piece's node nearest it.
     fn contact_over(&self, pieces: &[Fragment]) -> bool {
         if self.contacts.iter().any(|&(i, _)| self.gap(i).0 < 0.0) {
             return false;
         }
         let n = self.impact.normal;
+        let reach = self.lattice.spec.spacing;
         pieces.iter().all(|p| {
             let near = p
                 .nodes
@@ -641,7 +643,7 @@ impl<'a> Percussion<'a> {
             near.is_none_or(|i| {
                 let r = self.x[i] - p.centre;
                 let u = n.dot(&(p.velocity + perp(&r) * p.angular_velocity));
-                self.striker_velocity <= u
+                self.gap(i).0 > reach || self.striker_velocity <= u
             })
         })
     }
