@@ -214,6 +214,18 @@ pub fn interrupt_after(
 
 /// A temporary folder, removed when the value is dropped: keep it alive for
 /// as long as the test uses its files.
+/// Runs `cmd`, asserts that it succeeded (showing its stderr if not) and
+/// returns its standard output.
+pub fn stdout_of_success(cmd: &mut Command) -> String {
+    let out = cmd.output().expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8_lossy(&out.stdout).into_owned()
+}
+
 pub fn tempdir() -> tempfile::TempDir {
     tempfile::tempdir().expect("a temporary folder")
 }

@@ -181,17 +181,11 @@ fn without_dashpots_or_breaking_the_energy_error_is_under_one_percent_and_shrink
 fn percussion_1d_prints_the_pieces_and_refuses_a_bad_bar() {
     let dir = crate::common::tempdir();
     let nodes = dir.path().join("nodes.csv");
-    let out = crate::common::floebench()
-        .args(["percussion-1d", "--bar", "1,20,1", "--bar", "3,60,0"])
-        .args(["--strength", "1e6", "--nodes"])
-        .arg(&nodes)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = crate::common::stdout_of_success(
+        crate::common::floebench()
+            .args(["percussion-1d", "--bar", "1,20,1", "--bar", "3,60,0"])
+            .args(["--strength", "1e6", "--nodes"])
+            .arg(&nodes),
     );
     let mut lines = stdout.lines();
     assert_eq!(

@@ -203,17 +203,11 @@ fn a_strong_ram_into_a_fixed_coast_breaks_the_floe() {
 fn percussion_2d_prints_the_pieces_draws_the_crack_and_refuses_a_bad_point() {
     let dir = crate::common::tempdir();
     let stem = dir.path().join("crack");
-    let out = crate::common::floebench()
-        .args(["percussion-2d", "--speed", "20", "--strain", "1e-4"])
-        .args(["--spacing", "1", "--plot"])
-        .arg(&stem)
-        .output()
-        .expect("runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = crate::common::stdout_of_success(
+        crate::common::floebench()
+            .args(["percussion-2d", "--speed", "20", "--strain", "1e-4"])
+            .args(["--spacing", "1", "--plot"])
+            .arg(&stem),
     );
     let mut lines = stdout.lines();
     assert_eq!(
