@@ -31,6 +31,7 @@ fn percussion(c: &mut Criterion) {
                 thickness: 1.0,
                 density: 917.0,
                 young: 8.95e9,
+                poisson: 1.0 / 3.0,
                 seed: 1,
             },
         )

@@ -58,6 +58,7 @@ fn main() {
                     thickness: 1.0,
                     density: 917.0,
                     young: 8.95e9,
+                    poisson: 1.0 / 3.0,
                     seed,
                 },
             )

@@ -263,6 +263,10 @@ enum Command {
         /// Young's modulus, Pa.
         #[arg(long, default_value_t = 8.95e9)]
         young: f64,
+        /// Poisson ratio (-), in (-1, 1/3]: 1/3 is central springs alone,
+        /// below it torsion springs at the triangle corners (ice: 0.3).
+        #[arg(long, default_value_t = 1.0 / 3.0)]
+        poisson: f64,
         /// Seed of the lattice's nodes.
         #[arg(long, default_value_t = 1)]
         seed: u64,
@@ -463,6 +467,7 @@ fn main() -> ExitCode {
             thickness,
             density,
             young,
+            poisson,
             seed,
             damping,
             strain,
@@ -479,6 +484,7 @@ fn main() -> ExitCode {
                 thickness,
                 density,
                 young,
+                poisson,
                 seed,
             };
             let options = ChainOptions {

@@ -287,14 +287,18 @@ pub struct Energies {
     pub kinetic: f64,
     /// Elastic energy of the springs (bonds and compressed links).
     pub elastic: f64,
-    /// Held by the bonds when they broke.
+    /// Elastic energy of the torsion springs of the 2D lattice (0 in 1D
+    /// and with none).
+    pub torsion: f64,
+    /// Held by the bonds (and the torsion springs they took with them) when
+    /// they broke.
     pub fracture: f64,
 }
 
 impl Energies {
     /// Their sum.
     pub fn total(&self) -> f64 {
-        self.kinetic + self.elastic + self.fracture
+        self.kinetic + self.elastic + self.torsion + self.fracture
     }
 }
 
@@ -576,6 +580,7 @@ impl Chain {
             elastic: (0..self.links.len())
                 .map(|i| self.links[i].energy(self.elongation(i)))
                 .sum(),
+            torsion: 0.0,
             fracture: self.broken.iter().map(|b| b.energy).sum(),
         }
     }

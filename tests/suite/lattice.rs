@@ -34,6 +34,7 @@ fn spec(spacing: f64, seed: u64) -> LatticeSpec {
         thickness: 1.5,
         density: 917.0,
         young: YOUNG,
+        poisson: 1.0 / 3.0,
         seed,
     }
 }

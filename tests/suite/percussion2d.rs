@@ -25,6 +25,7 @@ fn floe(spacing: f64) -> Lattice {
             thickness: 1.0,
             density: 917.0,
             young: 8.95e9,
+            poisson: 1.0 / 3.0,
             seed: 1,
         },
     )

@@ -3,10 +3,15 @@
 //! triangulation ([`delaunay`], Bowyer–Watson), lumped node masses whose
 //! total mass, centre of mass and polar inertia are the rigid floe's, and
 //! central springs of stiffness `k / sin θ` per triangle edge (θ the angle
-//! opposite the edge, after Balasoiu 2020), `k` calibrated so that the
-//! lattice's isotropic (orientation-averaged) affine response has the
-//! floe's Young's modulus; its Poisson ratio is then 1/3 (the Cauchy
-//! relation of central springs; no torsion springs).
+//! opposite the edge, after Balasoiu 2020) and, when the Poisson ratio asked
+//! for is below 1/3, torsion (angular) springs of stiffness `c` at every
+//! triangle corner (energy `½ c (θ − θ₀)²`, the corner's angle θ measured
+//! from the current positions, so a rigid rotation loads nothing). `k` and
+//! `c` are calibrated so that the lattice's isotropic (orientation-averaged)
+//! affine response has the floe's Young's modulus and Poisson ratio: central
+//! springs give the Lamé coefficients `λ = μ` (the Cauchy relation, ν = 1/3)
+//! and torsion springs add to `μ` what they take from `λ`
+//! (docs/physics.md §7.2).
 //!
 //! Static solutions ([`Lattice::solve`]) are linear (small displacements):
 //! conjugate gradients on the lattice's stiffness matrix, applied without
@@ -22,7 +27,7 @@ pub mod delaunay;
 pub mod percussion;
 
 use super::chain::positive;
-use crate::geometry::{area_properties, cross, point_polygon_signed_distance, Vec2};
+use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, Vec2};
 use crate::rng::SplitMix64;
 use nalgebra::{Matrix2, Matrix3, Matrix4, Vector4};
 use std::collections::HashMap;
@@ -38,8 +43,87 @@ pub struct LatticeSpec {
     pub density: f64,
     /// Young's modulus, Pa.
     pub young: f64,
+    /// Poisson ratio (-), in `(−1, 1/3]` ([`POISSON_MIN`], [`POISSON_MAX`]).
+    /// 1/3 (the default) is central springs alone, no torsion springs;
+    /// below it, torsion springs at the triangle corners lower it (ice:
+    /// about 0.3).
+    pub poisson: f64,
     /// Seed of the Poisson-disc sampling.
     pub seed: u64,
+}
+
+/// The Poisson ratio of central springs alone (the Cauchy relation
+/// `λ = μ`), the largest a lattice of springs and torsion springs has: 1/3.
+pub const POISSON_MAX: f64 = 1.0 / 3.0;
+
+/// The lower bound (excluded) of the Poisson ratio: −1, where the torsion
+/// stiffness would be infinite (the 2D isotropic stability bound
+/// `λ + μ > 0`, `μ > 0`).
+pub const POISSON_MIN: f64 = -1.0;
+
+impl Default for LatticeSpec {
+    /// Ice at the lattice's usual resolution: spacing 1 m, thickness 1 m,
+    /// density 917 kg/m³ (the project's), Young's modulus 8.95 GPa
+    /// (Balasoiu's), Poisson ratio 1/3 (central springs alone: no torsion
+    /// springs, what the lattice was before they were built), seed 1.
+    fn default() -> Self {
+        LatticeSpec {
+            spacing: 1.0,
+            thickness: 1.0,
+            density: 917.0,
+            young: 8.95e9,
+            poisson: POISSON_MAX,
+            seed: 1,
+        }
+    }
+}
+
+impl LatticeSpec {
+    /// The torsion springs' share of the Lamé coefficients, as the ratio
+    /// `Δμ / μ_s` of what they add to `μ` (and take from `λ`) to the
+    /// central springs' `μ_s = λ_s`: `(1 − 3ν)/(1 + ν)`, 0 at ν = 1/3
+    /// (docs/physics.md §7.2).
+    pub fn torsion_ratio(&self) -> f64 {
+        (1.0 - 3.0 * self.poisson) / (1.0 + self.poisson)
+    }
+}
+
+/// A torsion (angular) spring at the corner of a triangle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Corner {
+    /// Its nodes: the corner's vertex `o`, then `a` and `b`, the angle
+    /// going counter-clockwise from `a − o` to `b − o`.
+    pub nodes: [usize; 3],
+    /// Stiffness `c`, J/rad² (N·m per radian of angle change, per radian).
+    pub stiffness: f64,
+    /// Rest angle `θ₀`, rad.
+    pub angle: f64,
+    /// The gradient of the angle with respect to the three nodes'
+    /// positions at rest (same order as `nodes`), 1/m.
+    pub grad: [Vec2; 3],
+}
+
+impl Corner {
+    /// The linearised change of its angle under displacements `u` (m),
+    /// rad.
+    pub fn angle_change(&self, u: &[Vec2]) -> f64 {
+        self.nodes
+            .iter()
+            .zip(&self.grad)
+            .map(|(&i, g)| g.dot(&u[i]))
+            .sum()
+    }
+}
+
+/// The angle (rad) at `o` from `a − o` to `b − o`, counter-clockwise, in
+/// `(−π, π]`, and its gradients with respect to `o`, `a`, `b` (1/m): the
+/// direction `φ` of a vector `e` has `∂φ/∂e = k ∧ e / |e|²`.
+pub fn corner_angle(o: &Vec2, a: &Vec2, b: &Vec2) -> (f64, [Vec2; 3]) {
+    let (ea, eb) = (a - o, b - o);
+    let theta = cross(&ea, &eb).atan2(ea.dot(&eb));
+    let ga = -perp(&ea) / ea.norm_squared();
+    let gb = perp(&eb) / eb.norm_squared();
+    (theta, [-(ga + gb), ga, gb])
 }
 
 /// A central spring between two nodes.
@@ -73,6 +157,12 @@ pub struct Lattice {
     pub triangle_springs: Vec<[(usize, f64); 3]>,
     /// The calibrated `k`, N/m.
     pub k: f64,
+    /// The torsion springs, three per triangle (those of triangle `t` are
+    /// `3t..3t + 3`), or none when the Poisson ratio is 1/3.
+    pub corners: Vec<Corner>,
+    /// The calibrated torsion stiffness `c` of every corner, J/rad² (0
+    /// when there are none).
+    pub torsion: f64,
     /// The area covered by the triangles, m².
     pub area: f64,
     /// The spec it was built from.
@@ -164,6 +254,13 @@ impl Lattice {
         positive("thickness", spec.thickness)?;
         positive("density", spec.density)?;
         positive("Young's modulus", spec.young)?;
+        if !(spec.poisson > POISSON_MIN && spec.poisson <= POISSON_MAX) {
+            return Err(format!(
+                "the lattice's Poisson ratio must be in (-1, 1/3] (central springs give 1/3, \
+                 torsion springs lower it; -1 would need infinitely stiff ones), got {}",
+                spec.poisson
+            ));
+        }
         let props = area_properties(poly);
         if props.area.is_nan() || props.area <= 0.0 {
             return Err("the outline has no area".into());
@@ -214,9 +311,35 @@ impl Lattice {
             }
             triangle_springs.push(row);
         }
-        // The isotropic average of the affine response: λ = μ = k Σ / (8 A)
-        // per unit thickness, so E h = 8 μ / 3 = k Σ / (3 A).
-        let k = 3.0 * area * spec.young * spec.thickness / sum;
+        // The isotropic average of the affine response of the springs:
+        // λ_s = μ_s = k Σ / (8 A) (times the thickness: k carries it); the
+        // bulk modulus λ + μ = 2 μ_s is theirs alone, E h / (2 (1 − ν)), so
+        // k = 2 A E h / ((1 − ν) Σ) (3 A E h / Σ at ν = 1/3).
+        let k = 2.0 * area * spec.young * spec.thickness / ((1.0 - spec.poisson) * sum);
+        // Torsion springs add Δμ = c Σ sin²θ / (2 A) to μ and take it from
+        // λ; Δμ = μ_s (1 − 3ν)/(1 + ν) gives the Poisson ratio ν.
+        let mut corners = Vec::new();
+        let mut torsion = 0.0;
+        let ratio = spec.torsion_ratio();
+        if ratio > 0.0 {
+            let mut sines = 0.0;
+            for t in &triangles {
+                for e in 0..3 {
+                    let (o, a, b) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+                    let (angle, grad) = corner_angle(&nodes[o], &nodes[a], &nodes[b]);
+                    sines += angle.sin().powi(2);
+                    corners.push(Corner {
+                        nodes: [o, a, b],
+                        stiffness: 0.0,
+                        angle,
+                        grad,
+                    });
+                }
+            }
+            let mu_s = k * sum / (8.0 * area);
+            torsion = 2.0 * area * ratio * mu_s / sines;
+            corners.iter_mut().for_each(|c| c.stiffness = torsion);
+        }
         for s in &mut springs {
             s.stiffness *= k;
         }
@@ -236,6 +359,8 @@ impl Lattice {
             springs,
             triangle_springs,
             k,
+            corners,
+            torsion,
             area,
             spec,
         })
@@ -251,6 +376,48 @@ impl Lattice {
             out[i] -= f;
             out[j] += f;
         }
+        for c in &self.corners {
+            let m = c.stiffness * c.angle_change(u);
+            for (&i, g) in c.nodes.iter().zip(&c.grad) {
+                out[i] += g * m;
+            }
+        }
+    }
+
+    /// The torsion springs' forces (N) at the node positions `x` (m),
+    /// geometrically exact (a rigid motion gives none), added to `out`,
+    /// those of the triangles `t` with `intact(t)` false left out; returns
+    /// their energy `Σ ½ c (θ − θ₀)²`, J.
+    pub fn torsion_forces(
+        &self,
+        x: &[Vec2],
+        intact: impl Fn(usize) -> bool,
+        out: &mut [Vec2],
+    ) -> f64 {
+        let mut energy = 0.0;
+        for (n, c) in self.corners.iter().enumerate() {
+            if !intact(n / 3) {
+                continue;
+            }
+            let [o, a, b] = c.nodes;
+            let (theta, grad) = corner_angle(&x[o], &x[a], &x[b]);
+            let d = theta - c.angle;
+            energy += 0.5 * c.stiffness * d * d;
+            for (&i, g) in c.nodes.iter().zip(&grad) {
+                out[i] -= g * (c.stiffness * d);
+            }
+        }
+        energy
+    }
+
+    /// The virial `Σ_i x_i ⊗ g_i` of corner `c`'s rest gradient, m/m: times
+    /// the corner's moment `c δθ` it is its contribution to `A h σ`.
+    fn corner_virial(&self, c: &Corner) -> Matrix2<f64> {
+        c.nodes
+            .iter()
+            .zip(&c.grad)
+            .map(|(&i, g)| self.nodes[i] * g.transpose())
+            .sum()
     }
 
     /// The tension of each spring under displacements `u`, N.
@@ -262,12 +429,14 @@ impl Lattice {
     }
 
     /// The stress of each triangle under displacements `u`, Pa: the virial
-    /// `(1/(A_T h)) Σ_e f_e l_e t_e ⊗ t_e` of its share of its three springs.
+    /// `(1/(A_T h)) Σ_e f_e l_e t_e ⊗ t_e` of its share of its three springs,
+    /// plus that of its torsion springs, `(1/(A_T h)) Σ_corners c δθ Σ_i x_i ⊗ ∇_i θ`.
     pub fn triangle_stress(&self, u: &[Vec2]) -> Vec<Matrix2<f64>> {
         self.triangles
             .iter()
             .zip(&self.triangle_springs)
-            .map(|(t, row)| {
+            .enumerate()
+            .map(|(n, (t, row))| {
                 let a = 0.5
                     * cross(
                         &(self.nodes[t[1]] - self.nodes[t[0]]),
@@ -279,25 +448,33 @@ impl Lattice {
                     let f = kt * s.dir.dot(&(u[s.nodes[1]] - u[s.nodes[0]]));
                     sigma += s.dir * s.dir.transpose() * (f * s.length);
                 }
+                for c in self.corners.iter().skip(3 * n).take(3) {
+                    sigma += self.corner_virial(c) * (c.stiffness * c.angle_change(u));
+                }
                 sigma / (a * self.spec.thickness)
             })
             .collect()
     }
 
     /// The mean stress of the whole lattice under `u`, Pa: the virial of
-    /// every spring over the lattice's volume.
+    /// every spring and torsion spring over the lattice's volume.
     pub fn mean_stress(&self, u: &[Vec2]) -> Matrix2<f64> {
         let mut sigma = Matrix2::zeros();
         for (s, f) in self.springs.iter().zip(self.tensions(u)) {
             sigma += s.dir * s.dir.transpose() * (f * s.length);
+        }
+        for c in &self.corners {
+            sigma += self.corner_virial(c) * (c.stiffness * c.angle_change(u));
         }
         sigma / (self.area * self.spec.thickness)
     }
 
     /// The force (N) that the material on the left of the segment `a → b`
     /// exerts on the material on its right, through the springs that cross
-    /// the segment, under displacements `u` (small displacements: the
-    /// crossing is judged at rest). Across a cut this is exact statics,
+    /// the segment and the torsion springs of the triangles it cuts (in
+    /// the share of the triangle's two cut edges that it crosses), under
+    /// displacements `u` (small displacements: the crossing is judged at
+    /// rest). Across a cut through the whole body this is exact statics,
     /// with no averaging window.
     pub fn force_across(&self, u: &[Vec2], a: &Vec2, b: &Vec2) -> Vec2 {
         let d = b - a;
@@ -316,6 +493,33 @@ impl Lattice {
             }
             // The spring pulls its right node towards its left one.
             total += if sp > 0.0 { -s.dir * f } else { s.dir * f };
+        }
+        // A triangle the line separates has two edges across it; its
+        // torsion springs push its nodes on the right with Σ_right f_i,
+        // counted in the share of those two crossings inside the segment.
+        let crosses = |p: &Vec2, q: &Vec2| {
+            let e = q - p;
+            side(p) * side(q) < 0.0 && cross(&e, &(a - p)) * cross(&e, &(b - p)) < 0.0
+        };
+        for (n, t) in self.triangles.iter().enumerate() {
+            let Some(corners) = self.corners.get(3 * n..3 * n + 3) else {
+                break;
+            };
+            let p: Vec<Vec2> = t.iter().map(|&i| self.nodes[i]).collect();
+            let cut = (0..3).filter(|&e| crosses(&p[e], &p[(e + 1) % 3])).count();
+            if cut == 0 {
+                continue;
+            }
+            let mut push = Vec2::zeros();
+            for c in corners {
+                let m = c.stiffness * c.angle_change(u);
+                for (&i, g) in c.nodes.iter().zip(&c.grad) {
+                    if side(&self.nodes[i]) < 0.0 {
+                        push -= g * m;
+                    }
+                }
+            }
+            total += push * (cut as f64 / 2.0);
         }
         total
     }

@@ -48,7 +48,7 @@
 //! structures*, §6.3 (the stable step with damping); A. M. Andrew (1979),
 //! *Information Processing Letters* 9(5) (the convex hull).
 
-use super::Lattice;
+use super::{corner_angle, Lattice};
 use crate::fracture::chain::{
     damped_stable_step, drift, kick, ChainOptions, Energies, Link, Settling, Stop,
 };
@@ -138,6 +138,11 @@ pub struct Percussion<'a> {
     /// Node velocities, m/s.
     pub v: Vec<Vec2>,
     links: Vec<Link>,
+    /// Whether each triangle keeps its torsion springs (until one of its
+    /// edges breaks).
+    intact: Vec<bool>,
+    /// The triangles on each side of each spring (`usize::MAX` for none).
+    sides: Vec<[usize; 2]>,
     /// The outline nodes and their contact links with the striker.
     contacts: Vec<(usize, Link)>,
     force: Vec<Vec2>,
@@ -343,13 +348,22 @@ impl<'a> Percussion<'a> {
             total
         };
         let radius = x.iter().map(|p| (p - g).norm()).fold(0.0, f64::max);
-        let wave = (spec.young / (spec.density * (1.0 - 1.0 / 9.0))).sqrt();
+        let wave = (spec.young / (spec.density * (1.0 - spec.poisson * spec.poisson))).sqrt();
+        let mut sides = vec![[usize::MAX; 2]; lattice.springs.len()];
+        for (t, row) in lattice.triangle_springs.iter().enumerate() {
+            for &(k, _) in row {
+                let side = if sides[k][0] == usize::MAX { 0 } else { 1 };
+                sides[k][side] = t;
+            }
+        }
         let mut p = Percussion {
             lattice,
             force: vec![Vec2::zeros(); x.len()],
             x,
             v,
             links,
+            intact: vec![true; lattice.triangles.len()],
+            sides,
             contacts,
             striker,
             striker_velocity,
@@ -392,6 +406,19 @@ impl<'a> Percussion<'a> {
         // The striker is unknown n (infinite mass: its row is empty).
         for (i, l) in &self.contacts {
             add(*i, n, m[*i], self.impact.mass, l);
+        }
+        // A torsion spring's linearised stiffness is c ∇θ ∇θᵀ: its (i, j)
+        // block has norm c |∇_i θ| |∇_j θ|.
+        for c in &self.lattice.corners {
+            for (&i, gi) in c.nodes.iter().zip(&c.grad) {
+                let row: f64 = c
+                    .nodes
+                    .iter()
+                    .zip(&c.grad)
+                    .map(|(&j, gj)| gj.norm() / (m[i] * m[j]).sqrt())
+                    .sum();
+                ks[i] += c.stiffness * gi.norm() * row;
+            }
         }
         let omega = ks.iter().fold(0.0, |a: f64, &b| a.max(b)).sqrt();
         let gamma = cs.iter().fold(0.0, |a: f64, &b| a.max(b));
@@ -440,6 +467,9 @@ impl<'a> Percussion<'a> {
             self.force[i] += dir * f;
             self.force[j] -= dir * f;
         }
+        let intact = &self.intact;
+        self.lattice
+            .torsion_forces(&self.x, |t| intact[t], &mut self.force);
         self.striker_force = 0.0;
         self.contact_moment = 0.0;
         for c in 0..self.contacts.len() {
@@ -465,20 +495,44 @@ impl<'a> Percussion<'a> {
         }
     }
 
-    /// Breaks every bond stretched past its critical elongation.
+    /// Breaks every bond stretched past its critical elongation; the
+    /// triangles on its sides lose their torsion springs, whose energy goes
+    /// with the bond's.
     fn break_bonds(&mut self) {
         for k in 0..self.links.len() {
             let (d, _, _) = self.spring_state(k);
             let l = &mut self.links[k];
             if l.bonded && d > l.critical {
                 l.bonded = false;
+                let mut energy = 0.5 * l.k * d * d;
+                for t in self.sides[k] {
+                    if t != usize::MAX && self.intact[t] {
+                        energy += self.triangle_torsion_energy(t);
+                        self.intact[t] = false;
+                    }
+                }
                 self.broken.push(BrokenSpring {
                     spring: k,
                     t: self.t,
-                    energy: 0.5 * l.k * d * d,
+                    energy,
                 });
             }
         }
+    }
+
+    /// The energy of triangle `t`'s torsion springs now, J.
+    fn triangle_torsion_energy(&self, t: usize) -> f64 {
+        self.lattice
+            .corners
+            .iter()
+            .skip(3 * t)
+            .take(3)
+            .map(|c| {
+                let [o, a, b] = c.nodes;
+                let d = corner_angle(&self.x[o], &self.x[a], &self.x[b]).0 - c.angle;
+                0.5 * c.stiffness * d * d
+            })
+            .sum()
     }
 
     /// Half a kick of the striker.
@@ -521,7 +575,12 @@ impl<'a> Percussion<'a> {
             .iter()
             .map(|&(i, l)| l.energy(self.gap(i).0))
             .sum();
+        let torsion: f64 = (0..self.intact.len())
+            .filter(|&t| self.intact[t])
+            .map(|t| self.triangle_torsion_energy(t))
+            .sum();
         Energies {
+            torsion,
             kinetic: striker
                 + self
                     .lattice
@@ -676,7 +735,7 @@ impl<'a> Percussion<'a> {
             let over = !closed && self.contact_over(&pieces);
             let internal = || {
                 let rigid: f64 = pieces.iter().map(Fragment::rigid_energy).sum();
-                e.kinetic + e.elastic - rigid - striker_energy(self.striker_velocity)
+                e.kinetic + e.elastic + e.torsion - rigid - striker_energy(self.striker_velocity)
             };
             if let Some(stop) = settling.stop(
                 self.t,
