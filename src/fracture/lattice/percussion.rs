@@ -790,3 +790,73 @@ impl<'a> Percussion<'a> {
 pub fn strain_of_toughness(toughness: f64, young: f64, spacing: f64) -> f64 {
     (4.0 * toughness / (3.0 * young * spacing)).sqrt()
 }
+
+/// The percussion of `lattice`'s floe rammed at `speed` (m/s) along
+/// `normal` (unit, into the floe) into a fixed coast touching it at
+/// `point` (m): the floe moves rigidly at `−speed · normal`, the striker is
+/// an obstacle at rest ([`Impact::mass`] infinite).
+pub fn ram(
+    lattice: &Lattice,
+    point: Vec2,
+    normal: Vec2,
+    speed: f64,
+    options: ChainOptions,
+) -> Result<Outcome, String> {
+    let motion = RigidMotion {
+        velocity: -normal * speed,
+        angular_velocity: 0.0,
+    };
+    let impact = Impact {
+        point,
+        normal,
+        mass: f64::INFINITY,
+        speed,
+    };
+    Ok(Percussion::new(lattice, motion, impact, options)?.run())
+}
+
+/// The critical ramming speed of [`ram`], m/s: the least speed at which
+/// the floe ends in at least two pieces of `min_nodes` nodes or more (a
+/// piece of fewer is debris), found by doubling from 1 m/s until it
+/// breaks (an error past `max_speed`), then bisection to `rel_tol` of the
+/// speed (docs/physics.md §7.3). Bisection assumes that a floe that breaks
+/// at a speed breaks at every higher one; returned is the upper end of the
+/// last bracket (a speed that breaks it).
+pub fn critical_ram_speed(
+    lattice: &Lattice,
+    point: Vec2,
+    normal: Vec2,
+    options: ChainOptions,
+    min_nodes: usize,
+    rel_tol: f64,
+    max_speed: f64,
+) -> Result<f64, String> {
+    if !(rel_tol > 0.0 && rel_tol < 1.0) {
+        return Err(format!("the tolerance must be in (0, 1), got {rel_tol}"));
+    }
+    let breaks = |v: f64| -> Result<bool, String> {
+        let o = ram(lattice, point, normal, v, options)?;
+        Ok(o.fragments
+            .iter()
+            .filter(|f| f.nodes.len() >= min_nodes)
+            .count()
+            >= 2)
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while !breaks(hi)? {
+        lo = hi;
+        hi *= 2.0;
+        if hi > max_speed {
+            return Err(format!("the floe does not break up to {max_speed} m/s"));
+        }
+    }
+    while hi - lo > rel_tol * hi {
+        let mid = 0.5 * (lo + hi);
+        if breaks(mid)? {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Ok(hi)
+}
