@@ -1,7 +1,10 @@
 //! The cost of one 2D percussion (docs/physics.md §7.3) against the number
 //! of nodes: a 10 m square floe 1 m thick struck in the middle of a face by
 //! a striker of its own mass at 0.1 m/s (it stays whole), at lattice
-//! spacings 1, 0.5 and 0.25 m (about 90, 300 and 1100 nodes). The lattice
+//! spacings 1, 0.5 and 0.25 m (about 90, 300 and 1100 nodes), with
+//! central springs alone (`percussion_2d`, ν = 1/3) and with torsion
+//! springs (`percussion_2d_torsion`, ν = 0.3: three corners per triangle,
+//! about six per node, each an `atan2` per force evaluation). The lattice
 //! is built once; one iteration is one percussion, from the impact to the
 //! stopping rule.
 //!
@@ -21,45 +24,47 @@ fn percussion(c: &mut Criterion) {
         Vec2::new(10.0, 10.0),
         Vec2::new(0.0, 10.0),
     ];
-    let mut group = c.benchmark_group("percussion_2d");
-    group.sample_size(10);
-    for spacing in [1.0, 0.5, 0.25] {
-        let lattice = Lattice::build(
-            &square,
-            LatticeSpec {
-                spacing,
-                thickness: 1.0,
-                density: 917.0,
-                young: 8.95e9,
-                poisson: 1.0 / 3.0,
-                seed: 1,
-            },
-        )
-        .expect("lattice");
-        let mass: f64 = lattice.mass.iter().sum();
-        let impact = Impact {
-            point: Vec2::new(0.0, 5.0),
-            normal: Vec2::new(1.0, 0.0),
-            mass,
-            speed: 0.1,
-        };
-        let options = ChainOptions {
-            bond: BondRule::Strain(1e-4),
-            ..ChainOptions::default()
-        };
-        group.bench_with_input(
-            BenchmarkId::new("nodes", lattice.nodes.len()),
-            &lattice,
-            |b, l| {
-                b.iter(|| {
-                    let mut p = Percussion::new(l, RigidMotion::default(), impact, options)
-                        .expect("percussion");
-                    black_box(p.run().steps)
-                })
-            },
-        );
+    for (name, poisson) in [("percussion_2d", 1.0 / 3.0), ("percussion_2d_torsion", 0.3)] {
+        let mut group = c.benchmark_group(name);
+        group.sample_size(10);
+        for spacing in [1.0, 0.5, 0.25] {
+            let lattice = Lattice::build(
+                &square,
+                LatticeSpec {
+                    spacing,
+                    thickness: 1.0,
+                    density: 917.0,
+                    young: 8.95e9,
+                    poisson,
+                    seed: 1,
+                },
+            )
+            .expect("lattice");
+            let mass: f64 = lattice.mass.iter().sum();
+            let impact = Impact {
+                point: Vec2::new(0.0, 5.0),
+                normal: Vec2::new(1.0, 0.0),
+                mass,
+                speed: 0.1,
+            };
+            let options = ChainOptions {
+                bond: BondRule::Strain(1e-4),
+                ..ChainOptions::default()
+            };
+            group.bench_with_input(
+                BenchmarkId::new("nodes", lattice.nodes.len()),
+                &lattice,
+                |b, l| {
+                    b.iter(|| {
+                        let mut p = Percussion::new(l, RigidMotion::default(), impact, options)
+                            .expect("percussion");
+                        black_box(p.run().steps)
+                    })
+                },
+            );
+        }
+        group.finish();
     }
-    group.finish();
 }
 
 criterion_group!(benches, percussion);

@@ -115,13 +115,20 @@ fn main() -> Result<(), String> {
                 1e3,
             )?;
             let n = lattice.nodes.len();
-            writeln!(out, "{l},{spacing},{seed},{n},{},{rule},{value},{v}", a.poisson)
-                .map_err(io)?;
+            writeln!(
+                out,
+                "{l},{spacing},{seed},{n},{},{rule},{value},{v}",
+                a.poisson
+            )
+            .map_err(io)?;
             out.flush().map_err(io)?;
             sum += v;
         }
         means.push(sum / a.seeds as f64);
-        eprintln!("spacing {spacing}: mean v_c {:.4} m/s", sum / a.seeds as f64);
+        eprintln!(
+            "spacing {spacing}: mean v_c {:.4} m/s",
+            sum / a.seeds as f64
+        );
     }
     // |v̄(s_i) − v̄(s_{i+1})| against s_i, and the slope of their logs.
     let diffs: Vec<(f64, f64)> = means
@@ -139,7 +146,10 @@ fn main() -> Result<(), String> {
         );
         let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
         let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-        eprintln!("rate of the differences (slope of log|dv| on log s): {:.3}", sxy / sxx);
+        eprintln!(
+            "rate of the differences (slope of log|dv| on log s): {:.3}",
+            sxy / sxx
+        );
     }
     Ok(())
 }

@@ -4,9 +4,9 @@
 
 use floebench::fracture::lattice::delaunay::triangulate;
 use floebench::fracture::lattice::{moduli, Lattice, LatticeSpec};
-use nalgebra::Matrix2;
 use floebench::geometry::{area_properties, cross, Vec2};
 use floebench::rng::SplitMix64;
+use nalgebra::Matrix2;
 
 const YOUNG: f64 = 8.95e9;
 
@@ -343,7 +343,9 @@ fn the_brazilian_test_holds_with_torsion_springs_at_poisson_0_3() {
         .iter()
         .map(|&s| {
             let each: Vec<f64> = (1..=3).map(|seed| brazilian_nu(s, seed, 0.3)).collect();
-            println!("nu 0.3: Brazilian tension / (2F/(pi D h)), spacing {s} m, seeds 1-3: {each:?}");
+            println!(
+                "nu 0.3: Brazilian tension / (2F/(pi D h)), spacing {s} m, seeds 1-3: {each:?}"
+            );
             each.iter().sum::<f64>() / 3.0
         })
         .collect();

@@ -268,7 +268,11 @@ fn with_torsion_springs_the_energy_with_its_torsion_share_is_conserved_to_the_in
             assert_eq!(o.fragments.len(), 1);
             assert!(o.energies.fracture == 0.0);
             // The waves left ringing hold torsion energy.
-            assert!(o.energies.torsion > 1e-3 * o.energies.elastic, "{:?}", o.energies);
+            assert!(
+                o.energies.torsion > 1e-3 * o.energies.elastic,
+                "{:?}",
+                o.energies
+            );
             o.energy_drift / o.initial_energy
         })
         .collect();
@@ -406,7 +410,8 @@ fn mean_critical_speed(spacing: f64, bond: BondRule) -> f64 {
 }
 
 #[test]
-fn the_critical_ramming_speed_grows_as_the_spacing_shrinks_with_a_toughness_and_not_with_a_strain() {
+fn the_critical_ramming_speed_grows_as_the_spacing_shrinks_with_a_toughness_and_not_with_a_strain()
+{
     let spacings = [0.5, 0.25, 0.125];
     let tough: Vec<f64> = spacings
         .iter()

@@ -7,7 +7,10 @@
 //! springs (force `κ (|x_j − x_i| − L₀)` along the current direction, so a
 //! rigid rotation loads nothing) in parallel with dashpots
 //! `c = β √(κ m_ij)` (`m_ij = 2 m_i m_j / (m_i + m_j)`, `β` the chain's
-//! damping ratio, 0.5 by default, [`ChainOptions`]). The striker is a rigid
+//! damping ratio, 0.5 by default, [`ChainOptions`]), and, when the lattice
+//! has them (Poisson ratio below 1/3), its torsion springs with their
+//! geometrically exact forces ([`Lattice::torsion_forces`]), undamped. The
+//! striker is a rigid
 //! half-plane of effective mass `m*` (kg, `∞` for an obstacle) moving along
 //! the impact normal `n` (pointing into the floe); it pushes each outline
 //! node through a compression-only penalty link (the chain's unilateral
@@ -21,12 +24,16 @@
 //! holds reaches `G h w`, `w = 2 A_e / L₀` the width of its share of the
 //! triangles (`A_e` a third of each adjacent triangle's area): the facet it
 //! opens (`s/√3`, the Voronoi facet, in an equilateral lattice of spacing
-//! `s`). A broken bond becomes a compression-only link.
+//! `s`). A broken bond becomes a compression-only link, and the triangles on
+//! its sides lose their torsion springs, whose energy is booked with the
+//! bond's.
 //!
 //! **Integrator.** The chain's velocity Verlet ([`super::super::chain`]) at
 //! the damped stable step `s (2/ω)(√(1+ζ²) − ζ)`, `ω` the block-Gershgorin
 //! bound on the highest frequency of `M^{-½} K M^{-½}` (springs and every
-//! possible contact), `ω² ≤ max_i Σ_j κ_ij (1/m_i + 1/√(m_i m_j))`, and `ζ`
+//! possible contact), `ω² ≤ max_i Σ_j κ_ij (1/m_i + 1/√(m_i m_j))` plus
+//! the torsion springs' `Σ c |∇_i θ| Σ_j |∇_j θ| / √(m_i m_j)` over the
+//! corners of node `i` (their blocks `c ∇_i θ ∇_j θᵀ`), and `ζ`
 //! the same bound on the dashpots over `2ω`; safety `s` (0.9 by default).
 //! The geometric stiffness of a stretched spring, `O(strain)`, is left out
 //! of the bound.
@@ -39,7 +46,7 @@
 //! and elastic, less the pieces' and the striker's rigid kinetic energy) is
 //! under `settle` times the impact energy `½ μ u_N²` (`μ` the reduced mass
 //! of `m*` and the floe), or `settle_transits` transit times (the floe's
-//! diameter over the P-wave speed `√(E / (ρ (1 − ν²)))`) have passed since
+//! diameter over the P-wave speed `√(E / (ρ (1 − ν²)))`, ν the lattice's) have passed since
 //! the contact ended; in any case after `limit_transits` transit times.
 //!
 //! References: D. Balasoiu (2020), PhD thesis, Université Grenoble Alpes
@@ -47,6 +54,9 @@
 //! B. Moran (2000), *Nonlinear finite elements for continua and
 //! structures*, §6.3 (the stable step with damping); A. M. Andrew (1979),
 //! *Information Processing Letters* 9(5) (the convex hull).
+//!
+//! [`critical_ram_speed`] finds, by bisection, the least speed at which a
+//! floe rammed into a coast ([`ram`]) breaks.
 
 use super::{corner_angle, Lattice};
 use crate::fracture::chain::{
