@@ -35,7 +35,7 @@
 use super::chain::{BondRule, ChainOptions};
 use super::lattice::percussion::{Fragment, Impact, Percussion, RigidMotion};
 use super::lattice::{Lattice, LatticeSpec};
-use super::split::Piece;
+use super::split::{self, Piece};
 use super::PairLoad;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, rotate, Vec2};
 use crate::model::fracture::{FractureSettings, LatticeRule, DEFAULT_SPACING_FRACTION};
@@ -236,15 +236,44 @@ pub fn merge_small(
     large
 }
 
-/// The rigid pieces of `parent` (state `b`, after the formulation's impact)
-/// from `split` (module doc, docs/physics.md §9.8): each piece's outline is
-/// its hull scaled about the hull's centroid to the area `m_j / (ρ h)` and
-/// moved so that its centroid is the piece's centre of mass; its velocity
-/// is the parent's rigid velocity there plus the piece's deviation from the
-/// lattice's overall rigid motion, and its spin angular momentum
-/// `I_j Ω + (L_j − I_j Ω_L)` (`I_j` its nodes' inertia, `L_j` theirs), so
-/// that linear and angular momentum are the parent's. `None` if a piece has
-/// no area.
+/// The convex cell of seed `j` among `seeds` in the convex outline
+/// `outline` (all in one frame): the outline clipped by the bisector of `j`
+/// and every other seed, on `j`'s side (a Voronoi cell). `None` when it is
+/// empty.
+fn voronoi_cell(outline: &[Vec2], seeds: &[Vec2], j: usize) -> Option<Vec<Vec2>> {
+    let mut poly = outline.to_vec();
+    for (k, c) in seeds.iter().enumerate() {
+        if k == j {
+            continue;
+        }
+        let mid = (seeds[j] + c) * 0.5;
+        let dir = perp(&(c - seeds[j]));
+        // `j` is on the left of `dir` (cross(dir, s_j − mid) > 0).
+        match split::cut(&poly, &mid, &dir) {
+            Some(cut) => poly = cut.left,
+            None => {
+                let g = area_properties(&poly).centroid;
+                if cross(&dir, &(g - mid)) < 0.0 {
+                    return None;
+                }
+            }
+        }
+    }
+    Some(poly)
+}
+
+/// The rigid pieces of `parent` (state `b`, after the formulation's
+/// impact) from `split` (module doc, docs/physics.md §9.8). Outlines: the
+/// Voronoi cells of the components' centres of mass in the parent's
+/// outline, so the pieces are convex, do not overlap and partition the
+/// parent (area and mass exactly). Velocities: the parent's rigid velocity
+/// at each piece's centre plus the component's deviation `δ_j` from the
+/// lattice's overall rigid motion, less their mass-weighted mean over the
+/// pieces; spins: the parent's `Ω` plus the component's spin deviation
+/// `(L_j − I_j Ω_L)/I_j`, less the constant that makes the angular
+/// momentum about the parent's centre of mass the parent's. Linear and
+/// angular momentum are then the parent's to rounding. `None` if a cell is
+/// empty.
 pub fn pieces(parent: &Floe, b: &BodyState, split: &LatticeSplit) -> Option<Vec<Piece>> {
     let mass: f64 = split.pieces.iter().map(|f| f.mass).sum();
     let g = split.pieces.iter().map(|f| f.centre * f.mass).sum::<Vec2>() / mass;
@@ -256,45 +285,82 @@ pub fn pieces(parent: &Floe, b: &BodyState, split: &LatticeSplit) -> Option<Vec<
         inertia += f.inertia + f.mass * r.norm_squared();
     }
     let (v_l, omega_l) = (momentum / mass, angular / inertia);
-    let surface = parent.density * parent.thickness;
-    let mut out = Vec::with_capacity(split.pieces.len());
-    for f in &split.pieces {
-        let hull = area_properties(&f.hull);
-        let area = f.mass / surface;
-        if !(hull.area > 0.0 && area > 0.0) {
-            return None;
-        }
-        let s = (area / hull.area).sqrt();
-        let r = f.centre - g;
-        let outline: Vec<Vec2> = f
-            .hull
-            .iter()
-            .map(|p| rotate(&(r + (p - hull.centroid) * s), b.angle))
-            .collect();
-        let deviation = f.momentum / f.mass - (v_l + perp(&r) * omega_l);
-        let rw = rotate(&r, b.angle);
-        let velocity = b.velocity + perp(&rw) * b.angular_velocity + rotate(&deviation, b.angle);
-        let spin = f.inertia * b.angular_velocity + f.angular_momentum - f.inertia * omega_l;
-        let mut floe = Floe::from_world_polygon(
-            &outline,
+    // Cells in the parent's centre frame (world axes, origin at its centre
+    // of mass), seeded by the components' centres.
+    let mut outline = Vec::with_capacity(parent.shape.len());
+    parent.world_polygon(&Vec2::zeros(), b.angle, &mut outline);
+    let seeds: Vec<Vec2> = split
+        .pieces
+        .iter()
+        .map(|f| rotate(&f.centre, b.angle))
+        .collect();
+    let mut floes = Vec::with_capacity(seeds.len());
+    for j in 0..seeds.len() {
+        let cell = voronoi_cell(&outline, &seeds, j)?;
+        let f = Floe::from_world_polygon(
+            &cell,
             parent.thickness,
             parent.density,
-            velocity,
+            Vec2::zeros(),
             0.0,
             parent.origin,
         );
-        let omega = spin / floe.inertia;
-        floe.angular_velocity = omega;
-        floe.parent = Some(parent.id);
-        floe.position = b.position + floe.position;
+        if !(f.area > 0.0) {
+            return None;
+        }
+        floes.push(f);
+    }
+    let total: f64 = floes.iter().map(|f| f.mass).sum();
+    let deviation: Vec<Vec2> = split
+        .pieces
+        .iter()
+        .map(|f| rotate(&(f.momentum / f.mass - (v_l + perp(&(f.centre - g)) * omega_l)), b.angle))
+        .collect();
+    let mean = floes
+        .iter()
+        .zip(&deviation)
+        .map(|(f, d)| d * f.mass)
+        .sum::<Vec2>()
+        / total;
+    let velocity: Vec<Vec2> = floes
+        .iter()
+        .zip(&deviation)
+        .map(|(f, d)| b.velocity + perp(&f.position) * b.angular_velocity + d - mean)
+        .collect();
+    let spin: Vec<f64> = split
+        .pieces
+        .iter()
+        .map(|f| {
+            if f.inertia > 0.0 {
+                (f.angular_momentum - f.inertia * omega_l) / f.inertia
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    // Angular momentum about the parent's centre of mass: the parent's
+    // `I Ω` once the spins are shifted by `c`.
+    let (mut l, mut polar) = (0.0, 0.0);
+    for ((f, v), s) in floes.iter().zip(&velocity).zip(&spin) {
+        l += f.inertia * (b.angular_velocity + s) + f.mass * cross(&f.position, v);
+        polar += f.inertia;
+    }
+    let c = (l - parent.inertia * b.angular_velocity) / polar;
+    let mut out = Vec::with_capacity(floes.len());
+    for ((mut f, v), s) in floes.into_iter().zip(velocity).zip(spin) {
+        let omega = b.angular_velocity + s - c;
+        f.velocity = v;
+        f.angular_velocity = omega;
+        f.parent = Some(parent.id);
+        f.position = b.position + f.position;
         out.push(Piece {
             state: BodyState {
-                position: floe.position,
+                position: f.position,
                 angle: 0.0,
-                velocity,
+                velocity: v,
                 angular_velocity: omega,
             },
-            floe,
+            floe: f,
         });
     }
     Some(out)
