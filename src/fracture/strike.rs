@@ -27,7 +27,10 @@
 //! percussion, measured at the nodes' rest positions (the crack pattern on
 //! the floe as it was) with their final velocities; a component of one
 //! node, of fewer than three hull vertices or of area below `min_area` is
-//! merged into the piece whose hull is nearest its centre.
+//! merged into the piece whose hull is nearest its centre. The rigid pieces
+//! are the Voronoi cells of the components' centres of mass in the parent's
+//! outline ([`pieces`]): convex and a partition of the parent, where the
+//! convex hulls of jagged components overlap.
 //!
 //! References: D. Balasoiu (2020), PhD thesis, Université Grenoble Alpes
 //! (the percussion by an effective mass).
@@ -144,6 +147,8 @@ pub struct Strike {
     /// Whether the percussion ran (`trigger = "always"`, or the bound
     /// reached the weakest bond).
     pub ran: bool,
+    /// Bonds the percussion broke (0 if it did not run).
+    pub broken: usize,
     /// The split, when at least two pieces were left.
     pub split: Option<LatticeSplit>,
 }
@@ -168,6 +173,7 @@ pub fn strike(
             bound,
             weakest,
             ran: false,
+            broken: 0,
             split: None,
         });
     }
@@ -187,6 +193,7 @@ pub fn strike(
         bound,
         weakest,
         ran: true,
+        broken: o.broken.len(),
         split: (pieces.len() >= 2).then(|| LatticeSplit {
             pieces,
             loss: o.fracture_energy,
@@ -305,7 +312,7 @@ pub fn pieces(parent: &Floe, b: &BodyState, split: &LatticeSplit) -> Option<Vec<
             0.0,
             parent.origin,
         );
-        if !(f.area > 0.0) {
+        if f.area.is_nan() || f.area <= 0.0 {
             return None;
         }
         floes.push(f);

@@ -238,7 +238,7 @@ step = 0.5
 fn bad_fracture_tables_are_refused_with_file_line_and_key() {
     let base = RAM.replace("SPEED", "0.01");
     for (table, line, key) in [
-        ("model = \"lattice\"", 2, "model"),
+        ("model = \"chord\"", 2, "model"),
         ("model = \"energy\"\ntoughness = -1.0", 3, "toughness"),
         ("model = \"stress\"\nyield = \"tresca\"", 3, "yield"),
         ("model = \"energy\"\nmin_area = 1e20", 3, "min_area"),
