@@ -194,7 +194,7 @@ pub fn strike(
         weakest,
         ran: true,
         broken: o.broken.len(),
-        split: (pieces.len() >= 2).then(|| LatticeSplit {
+        split: (pieces.len() >= 2).then_some(LatticeSplit {
             pieces,
             loss: o.fracture_energy,
             broken: o.broken.len(),
@@ -214,11 +214,9 @@ pub fn merge_small(
     min_area: f64,
     area_density: f64,
 ) -> Vec<Fragment> {
-    let small = |f: &Fragment| {
-        f.nodes.len() < 2 || f.hull.len() < 3 || f.mass / area_density < min_area
-    };
-    let (small, mut large): (Vec<Fragment>, Vec<Fragment>) =
-        fragments.into_iter().partition(small);
+    let small =
+        |f: &Fragment| f.nodes.len() < 2 || f.hull.len() < 3 || f.mass / area_density < min_area;
+    let (small, mut large): (Vec<Fragment>, Vec<Fragment>) = fragments.into_iter().partition(small);
     if large.is_empty() || small.is_empty() {
         return large;
     }
@@ -321,7 +319,12 @@ pub fn pieces(parent: &Floe, b: &BodyState, split: &LatticeSplit) -> Option<Vec<
     let deviation: Vec<Vec2> = split
         .pieces
         .iter()
-        .map(|f| rotate(&(f.momentum / f.mass - (v_l + perp(&(f.centre - g)) * omega_l)), b.angle))
+        .map(|f| {
+            rotate(
+                &(f.momentum / f.mass - (v_l + perp(&(f.centre - g)) * omega_l)),
+                b.angle,
+            )
+        })
         .collect();
     let mean = floes
         .iter()

@@ -407,12 +407,10 @@ impl FractureSettings {
         }
         r.finish()?;
         match (s.model, s.rule, strain) {
-            (FractureModel::Lattice, LatticeRule::Strain, None) => {
-                return Err(t.error(
-                    Some("rule"),
-                    "rule = \"strain\" needs critical_strain (the bond strain at which a bond breaks)",
-                ))
-            }
+            (FractureModel::Lattice, LatticeRule::Strain, None) => return Err(t.error(
+                Some("rule"),
+                "rule = \"strain\" needs critical_strain (the bond strain at which a bond breaks)",
+            )),
             (_, _, Some(e)) => s.critical_strain = e,
             _ => {}
         }

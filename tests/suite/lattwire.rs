@@ -46,7 +46,11 @@ fn bad_lattice_tables_are_refused_with_file_line_and_key() {
         ("model = \"lattice\"\nyoung = 0.0", 3, "young"),
         ("model = \"lattice\"\ndamping = -0.5", 3, "damping"),
         ("model = \"lattice\"\nspacing = 0.0", 3, "spacing"),
-        ("model = \"lattice\"\ncritical_strain = 2.0", 3, "critical_strain"),
+        (
+            "model = \"lattice\"\ncritical_strain = 2.0",
+            3,
+            "critical_strain",
+        ),
         ("model = \"lattice\"\nseed = -1", 3, "seed"),
         ("model = \"lattice\"\nseed = 1.5", 3, "seed"),
     ] {
@@ -101,14 +105,21 @@ fn the_trigger_bound_skips_only_impacts_that_break_no_bond() {
                 let o = strike(&l, impact, chain_options(&s), true, s.min_area, 917.0).unwrap();
                 if o.bound < o.weakest {
                     below += 1;
-                    assert_eq!(o.broken, 0, "{point:?} {mass} {speed}: bound {} weakest {}", o.bound, o.weakest);
+                    assert_eq!(
+                        o.broken, 0,
+                        "{point:?} {mass} {speed}: bound {} weakest {}",
+                        o.bound, o.weakest
+                    );
                 } else if o.broken > 0 {
                     broke_above += 1;
                 }
             }
         }
     }
-    assert!(below >= 12 && broke_above >= 12, "{below} below, {broke_above} broke above");
+    assert!(
+        below >= 12 && broke_above >= 12,
+        "{below} below, {broke_above} broke above"
+    );
 }
 
 #[test]
@@ -148,7 +159,10 @@ fn the_pieces_of_a_percussion_conserve_mass_and_momenta_and_partition_the_floe()
     let scale = f.mass * (b.velocity.norm() + b.angular_velocity.abs() * f.radius);
     assert!(rel(area, f.area) < 1e-12, "area {area} {}", f.area);
     assert!(rel(mass, f.mass) < 1e-12, "mass {mass} {}", f.mass);
-    assert!((p - b.velocity * f.mass).norm() / scale < 1e-12, "momentum {p:?}");
+    assert!(
+        (p - b.velocity * f.mass).norm() / scale < 1e-12,
+        "momentum {p:?}"
+    );
     assert!(
         (lz - f.inertia * b.angular_velocity).abs() / (scale * f.radius) < 1e-12,
         "angular momentum {lz} {}",
@@ -167,12 +181,18 @@ fn the_pieces_of_a_percussion_conserve_mass_and_momenta_and_partition_the_floe()
     for i in 0..world.len() {
         for j in i + 1..world.len() {
             let sep = sat_separation(&world[i], &world[j]);
-            assert!(sep > -1e-9 * f.radius, "pieces {i} and {j} overlap by {sep}");
+            assert!(
+                sep > -1e-9 * f.radius,
+                "pieces {i} and {j} overlap by {sep}"
+            );
         }
     }
     let k: f64 = ps
         .iter()
-        .map(|q| q.floe.kinetic_energy(&q.state.velocity, q.state.angular_velocity))
+        .map(|q| {
+            q.floe
+                .kinetic_energy(&q.state.velocity, q.state.angular_velocity)
+        })
         .sum();
     assert!(k > f.kinetic_energy(&b.velocity, b.angular_velocity));
 }
@@ -185,10 +205,19 @@ fn a_fast_ram_breaks_a_floe_and_a_slow_one_does_not_in_every_formulation() {
         let r = run(&scn, name);
         let broken: Vec<usize> = r.fractures.iter().map(|f| f.parent).collect();
         // Floes 0 and 1 (0.3 and 0.6 m/s) stay whole; 2 and 3 (1 and 2 m/s) break.
-        assert!(!broken.contains(&0) && !broken.contains(&1), "{name}: {broken:?}");
-        assert!(broken.contains(&2) && broken.contains(&3), "{name}: {broken:?}");
+        assert!(
+            !broken.contains(&0) && !broken.contains(&1),
+            "{name}: {broken:?}"
+        );
+        assert!(
+            broken.contains(&2) && broken.contains(&3),
+            "{name}: {broken:?}"
+        );
         for fr in &r.fractures {
-            assert!(fr.children.len() >= 2 && fr.conservation < 1e-12, "{name}: {fr:?}");
+            assert!(
+                fr.children.len() >= 2 && fr.conservation < 1e-12,
+                "{name}: {fr:?}"
+            );
             assert!(fr.measure >= fr.threshold, "{name}: {fr:?}");
         }
     }
