@@ -1,5 +1,5 @@
 //! The lattice model in the formulations (docs/physics.md §9.8): its
-//! `[fracture]` keys are validated, the trigger bound never skips an impact
+//! `[fracture]` keys are read, the trigger bound never skips an impact
 //! that could break a bond, a k-piece split conserves mass and momenta, and
 //! a fast ram breaks where a slow one does not, in every formulation.
 
@@ -36,36 +36,10 @@ fn settings(spacing: f64) -> FractureSettings {
 }
 
 #[test]
-fn bad_lattice_tables_are_refused_with_file_line_and_key() {
+fn lattice_keys_are_read() {
+    // The refusals are in `fracture::bad_fracture_tables_are_refused_with_file_line_and_key`.
     let base = std::fs::read_to_string(case_path("fracture_ram")).unwrap();
     let base = &base[..base.find("[fracture]").unwrap()];
-    for (table, line, key) in [
-        ("model = \"lattice\"\nrule = \"strain\"", 3, "rule"),
-        ("model = \"lattice\"\nrule = \"griffith\"", 3, "rule"),
-        ("model = \"lattice\"\ntrigger = \"never\"", 3, "trigger"),
-        ("model = \"lattice\"\nyoung = 0.0", 3, "young"),
-        ("model = \"lattice\"\ndamping = -0.5", 3, "damping"),
-        ("model = \"lattice\"\nspacing = 0.0", 3, "spacing"),
-        (
-            "model = \"lattice\"\ncritical_strain = 2.0",
-            3,
-            "critical_strain",
-        ),
-        ("model = \"lattice\"\nseed = -1", 3, "seed"),
-        ("model = \"lattice\"\nseed = 1.5", 3, "seed"),
-    ] {
-        let text = format!("{base}[fracture]\n{table}\n");
-        let at = base.lines().count() + line;
-        let err = match parse_case(&text, Path::new("bad.toml")) {
-            Ok(_) => panic!("accepted: {table}"),
-            Err(e) => e.to_string(),
-        };
-        assert!(
-            err.starts_with(&format!("bad.toml:{at}: [fracture] ")) && err.contains(key),
-            "{table}: {err}"
-        );
-        assert_eq!(err.lines().count(), 1, "{err}");
-    }
     let ok = format!(
         "{base}[fracture]\nmodel = \"lattice\"\nrule = \"strain\"\ncritical_strain = 1e-4\ntrigger = \"always\"\nseed = 7\nspacing = 2.0\nyoung = 1e9\ndamping = 0.3\n"
     );
