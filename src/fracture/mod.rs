@@ -14,13 +14,14 @@ pub mod chain;
 pub mod lattice;
 pub mod split;
 pub mod stress;
+pub mod strike;
 
 use crate::contact::Contact;
 use crate::geometry::{rotate, Vec2};
 use crate::model::fracture::{FloeRecord, FractureModel, FractureRecord};
 use crate::model::{Body, Scenario};
 use crate::state::{BodyState, System};
-use split::{conservation_error, cut_floe, split, Cut};
+use split::{conservation_error, cut_floe, split, Cut, Piece};
 use std::collections::BTreeMap;
 
 /// One impulse that a contact solve applied to a floe.
@@ -173,8 +174,10 @@ pub struct Decision {
     /// What it compared it with.
     pub threshold: f64,
     /// The crack energy the criterion spends, J (`G h L` for `energy`, 0
-    /// for `stress`).
+    /// for `stress`, the lattice's loss for `lattice`).
     pub crack_energy: f64,
+    /// The pieces of the lattice model (`None`: the chord cut on `line`).
+    pub lattice: Option<strike::LatticeSplit>,
 }
 
 /// A formulation's fracture state: the criterion of the case and, for the
@@ -183,6 +186,10 @@ pub struct Decision {
 pub struct Fracturer {
     history: BTreeMap<usize, stress::Window>,
     fractures: u64,
+    /// The lattice model's lattices, by floe id (a floe's shape never
+    /// changes, so its lattice is built once).
+    lattices: BTreeMap<usize, lattice::Lattice>,
+    percussions: u64,
 }
 
 impl Fracturer {
@@ -194,6 +201,11 @@ impl Fracturer {
     /// The fractures made so far.
     pub fn count(&self) -> u64 {
         self.fractures
+    }
+
+    /// The percussions the lattice model ran so far.
+    pub fn percussions(&self) -> u64 {
+        self.percussions
     }
 
     /// The floes that break under the loads `loads` of a contact solve at
@@ -241,7 +253,16 @@ impl Fracturer {
                             measure,
                             threshold,
                             crack_energy: threshold,
+                            lattice: None,
                         });
+                    }
+                }
+                FractureModel::Lattice => {
+                    if f.area < s.min_area {
+                        continue;
+                    }
+                    if let Some(d) = self.percussion(scn, sys, floe, &pairs) {
+                        out.push(d);
                     }
                 }
                 FractureModel::Stress => {
@@ -264,6 +285,7 @@ impl Fracturer {
                                 measure,
                                 threshold: 1.0,
                                 crack_energy: 0.0,
+                                lattice: None,
                             });
                         }
                     }
@@ -271,6 +293,57 @@ impl Fracturer {
             }
         }
         out
+    }
+
+    /// The lattice model's decision for floe `floe` under `pairs`: the
+    /// percussion of its most loaded pair's equivalent impact
+    /// ([`strike`], docs/physics.md §9.8), when the trigger lets it run
+    /// and it leaves at least two pieces.
+    fn percussion(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        floe: usize,
+        pairs: &[PairLoad],
+    ) -> Option<Decision> {
+        let s = &scn.fracture;
+        let f = &scn.floes[floe];
+        let most = pairs
+            .iter()
+            .max_by(|a, b| a.impulse.norm().total_cmp(&b.impulse.norm()))?;
+        let (impact, _) = strike::equivalent_impact(scn, sys, floe, most)?;
+        let lattice = match self.lattices.entry(f.id) {
+            std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
+            std::collections::btree_map::Entry::Vacant(e) => {
+                e.insert(lattice::Lattice::build(&f.shape, strike::lattice_spec(s, f)).ok()?)
+            }
+        };
+        let always = s.trigger == crate::model::fracture::Trigger::Always;
+        let out = strike::strike(
+            lattice,
+            impact,
+            strike::chain_options(s),
+            always,
+            s.min_area,
+            f.density * f.thickness,
+        )
+        .ok()?;
+        if out.ran {
+            self.percussions += 1;
+        }
+        let split = out.split?;
+        Some(Decision {
+            floe,
+            line: BodyLine {
+                point: impact.point,
+                dir: impact.normal,
+            },
+            length: 0.0,
+            measure: out.bound,
+            threshold: out.weakest,
+            crack_energy: split.loss,
+            lattice: Some(split),
+        })
     }
 
     /// Applies `decisions` (from [`Fracturer::decide`] on the same `scn`
@@ -290,12 +363,19 @@ impl Fracturer {
         let mut budget = dissipated.max(0.0);
         let mut done = 0;
         for d in decisions {
-            let spent = d.crack_energy.min(budget);
             // The window is kept by floe id, not by index.
             let id = scn.floes[d.floe].id;
-            if apply_split(scn, sys, d, spent).is_some() {
-                budget -= spent;
+            let applied = match &d.lattice {
+                None => {
+                    let spent = d.crack_energy.min(budget);
+                    apply_split(scn, sys, d, spent).map(|_| spent)
+                }
+                Some(l) => apply_lattice(scn, sys, d, l, budget),
+            };
+            if let Some(taken) = applied {
+                budget = (budget - taken).max(0.0);
                 self.history.remove(&id);
+                self.lattices.remove(&id);
                 done += 1;
                 self.fractures += 1;
             }
@@ -305,15 +385,15 @@ impl Fracturer {
 }
 
 /// Replaces floe `d.floe` of `scn` and `sys` by its two pieces on
-/// `d.line` (at the floe's pose in `sys`) at time `sys.t`: the left piece takes the parent's index, the
-/// right one is appended (so every other floe keeps its index); the parent
-/// ends in `scn.history`, with the fracture's row, and `spent` (J) moves from
-/// the ledger's `dissipated` to its `fracture` column. Returns the pieces'
-/// indices, or `None` (nothing changed) when the cut leaves a piece without
-/// area or one smaller than the case's `min_area`: a chord through a
-/// loaded corner can cut off a sliver (7.6e-5 m long, 5e-7 m² of a floe of
-/// hundreds, on the narrow channel), whose crack energy `G h L` is almost
-/// nothing and which no scheme resolves at a reasonable cost.
+/// `d.line` (at the floe's pose in `sys`) at time `sys.t` ([`replace`]:
+/// the left piece takes the parent's index, the right one is appended), and
+/// `spent` (J) moves from the ledger's `dissipated` to its `fracture`
+/// column. Returns the pieces' indices, or `None` (nothing changed) when
+/// the cut leaves a piece without area or one smaller than the case's
+/// `min_area`: a chord through a loaded corner can cut off a sliver
+/// (7.6e-5 m long, 5e-7 m² of a floe of hundreds, on the narrow channel),
+/// whose crack energy `G h L` is almost nothing and which no scheme
+/// resolves at a reasonable cost.
 pub fn apply_split(
     scn: &mut Scenario,
     sys: &mut System,
@@ -323,35 +403,96 @@ pub fn apply_split(
     let k = d.floe;
     let parent = scn.floes[k].clone();
     let cut = d.line.cut(&parent, &sys.bodies[k])?;
-    let [mut left, mut right] = split(&parent, &sys.bodies[k], &cut)?;
-    if left.floe.area < scn.fracture.min_area || right.floe.area < scn.fracture.min_area {
+    let pieces = split(&parent, &sys.bodies[k], &cut)?;
+    if pieces.iter().any(|p| p.floe.area < scn.fracture.min_area) {
         return None;
     }
-    let conservation = conservation_error(&parent, &sys.bodies[k], &[left.clone(), right.clone()]);
+    let conservation = conservation_error(&parent, &sys.bodies[k], &pieces, true);
+    let at = replace(scn, sys, d, pieces.into(), conservation, spent, spent);
+    Some((at[0], at[1]))
+}
+
+/// Replaces floe `d.floe` by the lattice model's pieces `l` at `sys.t`
+/// ([`strike::pieces`], docs/physics.md §9.8). The kinetic energy the
+/// pieces gain over the parent, `ΔK`, leaves the ledger's `dissipated`
+/// column, and the lattice's loss, at most what the solve dissipated less
+/// `ΔK` (`budget`, J), moves from it to `fracture`. Returns the energy taken
+/// from `budget` (`ΔK` + the loss booked), or `None` (nothing changed) when
+/// a piece has no area.
+pub fn apply_lattice(
+    scn: &mut Scenario,
+    sys: &mut System,
+    d: &Decision,
+    l: &strike::LatticeSplit,
+    budget: f64,
+) -> Option<f64> {
+    let k = d.floe;
+    let parent = scn.floes[k].clone();
+    let b = sys.bodies[k];
+    let pieces = strike::pieces(&parent, &b, l)?;
+    let conservation = conservation_error(&parent, &b, &pieces, false);
+    let gain = pieces
+        .iter()
+        .map(|p| {
+            p.floe
+                .kinetic_energy(&p.state.velocity, p.state.angular_velocity)
+        })
+        .sum::<f64>()
+        - parent.kinetic_energy(&b.velocity, b.angular_velocity);
+    let spent = l.loss.min(budget - gain).max(0.0);
+    replace(scn, sys, d, pieces, conservation, spent, spent + gain);
+    Some(spent + gain)
+}
+
+/// Replaces floe `d.floe` by `pieces` (at least two) at `sys.t`: the first
+/// takes the parent's index, the others are appended in order (so every
+/// other floe keeps its index), each with the next id; the parent ends in
+/// `scn.history`, with the fracture's row (`energy` = `fracture`, J);
+/// `removed` (J) leaves the ledger's `dissipated` column and `fracture`
+/// joins its `fracture` column. Returns the pieces' indices.
+fn replace(
+    scn: &mut Scenario,
+    sys: &mut System,
+    d: &Decision,
+    pieces: Vec<Piece>,
+    conservation: f64,
+    fracture: f64,
+    removed: f64,
+) -> Vec<usize> {
+    let k = d.floe;
+    let parent = scn.floes[k].clone();
     let t = sys.t;
-    let ids = [scn.history.next_id, scn.history.next_id + 1];
-    scn.history.next_id += 2;
-    for (p, id) in [(&mut left, ids[0]), (&mut right, ids[1])] {
-        p.floe.id = id;
-        p.floe.t_birth = t;
-        p.floe.theta_birth = parent.theta_birth + sys.bodies[k].angle;
-    }
+    let first = scn.history.next_id;
+    scn.history.next_id += pieces.len();
+    let ids: Vec<usize> = (first..scn.history.next_id).collect();
     scn.history.ended.push(FloeRecord::of(&parent, Some(t)));
     scn.history.fractures.push(FractureRecord {
         t,
         parent: parent.id,
-        children: ids.to_vec(),
+        children: ids.clone(),
         model: scn.fracture.model.name(),
         measure: d.measure,
         threshold: d.threshold,
-        energy: spent,
+        energy: fracture,
         conservation,
     });
-    scn.floes[k] = left.floe;
-    sys.bodies[k] = left.state;
-    scn.floes.push(right.floe);
-    sys.bodies.push(right.state);
-    sys.ledger.dissipated -= spent;
-    sys.ledger.fracture += spent;
-    Some((k, scn.floes.len() - 1))
+    let theta = parent.theta_birth + sys.bodies[k].angle;
+    let mut at = Vec::with_capacity(pieces.len());
+    for (j, (mut p, id)) in pieces.into_iter().zip(ids).enumerate() {
+        p.floe.id = id;
+        p.floe.t_birth = t;
+        p.floe.theta_birth = theta;
+        if j == 0 {
+            scn.floes[k] = p.floe;
+            sys.bodies[k] = p.state;
+            at.push(k);
+        } else {
+            scn.floes.push(p.floe);
+            sys.bodies.push(p.state);
+            at.push(scn.floes.len() - 1);
+        }
+    }
+    sys.ledger.dissipated -= removed;
+    sys.ledger.fracture += fracture;
+    at
 }

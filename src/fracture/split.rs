@@ -150,9 +150,10 @@ pub fn split(floe: &Floe, b: &BodyState, c: &Cut) -> Option<[Piece; 2]> {
 
 /// The largest relative change that splitting `parent` (in state `b`) into
 /// `pieces` makes to area, mass, linear momentum, angular momentum about the
-/// parent's centre of mass and kinetic energy (the measure of
-/// [`crate::model::fracture::FractureRecord::conservation`]).
-pub fn conservation_error(parent: &Floe, b: &BodyState, pieces: &[Piece]) -> f64 {
+/// parent's centre of mass and, if `kinetic`, kinetic energy (the measure of
+/// [`crate::model::fracture::FractureRecord::conservation`]; the lattice
+/// model's pieces change the kinetic energy, and the ledger books it).
+pub fn conservation_error(parent: &Floe, b: &BodyState, pieces: &[Piece], kinetic: bool) -> f64 {
     let (mut area, mut mass, mut p, mut l, mut e) = (0.0, 0.0, Vec2::zeros(), 0.0, 0.0);
     for q in pieces {
         area += q.floe.area;
@@ -173,7 +174,11 @@ pub fn conservation_error(parent: &Floe, b: &BodyState, pieces: &[Piece]) -> f64
         rel(mass, parent.mass),
         (p - b.velocity * parent.mass).norm() / pscale,
         (l - parent.inertia * b.angular_velocity).abs() / (pscale * parent.radius),
-        if e0 > 0.0 { rel(e, e0) } else { e },
+        match (kinetic, e0 > 0.0) {
+            (false, _) => 0.0,
+            (true, true) => rel(e, e0),
+            (true, false) => e,
+        },
     ]
     .into_iter()
     .fold(0.0, f64::max)

@@ -24,6 +24,9 @@ pub enum FractureModel {
     Energy,
     /// The floe-averaged stress against a yield curve (§9.3).
     Stress,
+    /// The percussion of each triggered impact in the struck floe's
+    /// mass–spring lattice; its broken bonds give the pieces (§9.8).
+    Lattice,
 }
 
 impl FractureModel {
@@ -33,6 +36,7 @@ impl FractureModel {
             FractureModel::None => "none",
             FractureModel::Energy => "energy",
             FractureModel::Stress => "stress",
+            FractureModel::Lattice => "lattice",
         }
     }
 }
@@ -44,12 +48,9 @@ impl std::str::FromStr for FractureModel {
             "none" => Ok(FractureModel::None),
             "energy" => Ok(FractureModel::Energy),
             "stress" => Ok(FractureModel::Stress),
-            "lattice" => Err(
-                "model = \"lattice\" (the percussion in a floe's lattice, docs/physics.md §7.3) is not wired into the formulations yet; its library runs from `floebench percussion-2d`; expected \"none\", \"energy\" or \"stress\""
-                    .into(),
-            ),
+            "lattice" => Ok(FractureModel::Lattice),
             other => Err(format!(
-                "model = \"{other}\" is not a fracture model; expected \"none\", \"energy\" or \"stress\""
+                "model = \"{other}\" is not a fracture model; expected \"none\", \"energy\", \"stress\" or \"lattice\""
             )),
         }
     }
@@ -78,6 +79,115 @@ impl std::str::FromStr for YieldCurve {
         }
     }
 }
+
+/// The bond rule of the lattice model (docs/physics.md §7.3, §9.8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LatticeRule {
+    /// A bond breaks when the energy it holds reaches `G h w` (`toughness`).
+    #[default]
+    Toughness,
+    /// A bond breaks when its strain passes `critical_strain`.
+    Strain,
+}
+
+impl std::str::FromStr for LatticeRule {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "toughness" => Ok(LatticeRule::Toughness),
+            "strain" => Ok(LatticeRule::Strain),
+            other => Err(format!(
+                "rule = \"{other}\" is not a bond rule; expected \"toughness\" or \"strain\""
+            )),
+        }
+    }
+}
+
+/// When the lattice model resolves an impact in the lattice (docs/physics.md §9.8).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Trigger {
+    /// Only when the impact energy bound reaches the floe's weakest bond.
+    #[default]
+    Bound,
+    /// Every impact (for validation of the bound).
+    Always,
+}
+
+impl std::str::FromStr for Trigger {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "bound" => Ok(Trigger::Bound),
+            "always" => Ok(Trigger::Always),
+            other => Err(format!(
+                "trigger = \"{other}\" is not a trigger; expected \"bound\" or \"always\""
+            )),
+        }
+    }
+}
+
+/// `young`: Young's modulus of the lattice model, Pa.
+pub const YOUNG: Limit = Limit::range(
+    "young",
+    "[fracture]",
+    1e6,
+    1e12,
+    "Pa",
+    "from slush-like 1 MPa to above any ice (about 1e10 Pa)",
+);
+/// `damping`: the dashpot ratio `β` of the lattice model.
+pub const DAMPING: Limit = Limit::range(
+    "damping",
+    "[fracture]",
+    0.0,
+    10.0,
+    "",
+    "0 is no dashpot; 10 is far past critical damping of a bond",
+);
+/// `spacing`: the lattice spacing of the lattice model, m.
+pub const SPACING: Limit = Limit::range(
+    "spacing",
+    "[fracture]",
+    1e-3,
+    1e5,
+    "m",
+    "a millimetre to 100 km; a floe's lattice needs a few nodes across",
+)
+.exclusive_min();
+/// `critical_strain`: the bond strain of `rule = "strain"`.
+pub const CRITICAL_STRAIN: Limit = Limit::range(
+    "critical_strain",
+    "[fracture]",
+    0.0,
+    1.0,
+    "",
+    "a strain; ice breaks at about 1e-4",
+)
+.exclusive_min();
+/// `seed`: the seed of the lattices' Poisson-disc sampling.
+pub const SEED: Limit = Limit::range(
+    "seed",
+    "[fracture]",
+    0.0,
+    9.007_199_254_740_992e15,
+    "",
+    "a non-negative integer that a double holds exactly",
+)
+.integers();
+
+/// Default Young's modulus of the lattice model, Pa: the 8.95 GPa of
+/// Balasoiu's (2020) numerics of sea ice.
+pub const DEFAULT_YOUNG: f64 = 8.95e9;
+/// Default dashpot ratio of the lattice model: 0.5, with which the 1D spall
+/// threshold converges with resolution (docs/physics.md §7.1).
+pub const DEFAULT_DAMPING: f64 = 0.5;
+/// Default lattice spacing as a fraction of the floe's size `√A`: 1/8, about
+/// 80 nodes in a square. A percussion costs `O(N^{3/2})` (`N` nodes times
+/// the steps of a few transit times, `√N` each), so this keeps it at a few
+/// milliseconds for every impact that passes the trigger.
+pub const DEFAULT_SPACING_FRACTION: f64 = 0.125;
 
 /// `toughness`: the fracture energy `G` of sea ice, J/m².
 pub const TOUGHNESS: Limit = Limit::range(
@@ -201,6 +311,21 @@ pub struct FractureSettings {
     pub hibler_c: f64,
     /// Ice concentration `A` of Hibler's strength (default 1: compact ice).
     pub concentration: f64,
+    /// Lattice model: Young's modulus, Pa (default [`DEFAULT_YOUNG`]).
+    pub young: f64,
+    /// Lattice model: dashpot ratio `β` (default [`DEFAULT_DAMPING`]).
+    pub damping: f64,
+    /// Lattice model: the lattice spacing, m (default `None`:
+    /// [`DEFAULT_SPACING_FRACTION`] of each floe's `√A`).
+    pub spacing: Option<f64>,
+    /// Lattice model: the bond rule (default `toughness`, with `toughness`).
+    pub rule: LatticeRule,
+    /// Lattice model: the critical strain of `rule = "strain"` (required then).
+    pub critical_strain: f64,
+    /// Lattice model: when an impact is resolved in the lattice (default `bound`).
+    pub trigger: Trigger,
+    /// Lattice model: the seed of every floe's lattice (default 1).
+    pub seed: u64,
 }
 
 impl Default for FractureSettings {
@@ -217,6 +342,13 @@ impl Default for FractureSettings {
             hibler_p_star: 2.25e5,
             hibler_c: 20.0,
             concentration: 1.0,
+            young: DEFAULT_YOUNG,
+            damping: DEFAULT_DAMPING,
+            spacing: None,
+            rule: LatticeRule::Toughness,
+            critical_strain: f64::NAN,
+            trigger: Trigger::Bound,
+            seed: 1,
         }
     }
 }
@@ -244,7 +376,13 @@ impl FractureSettings {
         if let Some(y) = r.choice::<YieldCurve>("yield")? {
             s.yield_curve = y;
         }
-        let numbers: [(&Limit, &mut f64); 9] = [
+        if let Some(rule) = r.choice::<LatticeRule>("rule")? {
+            s.rule = rule;
+        }
+        if let Some(trigger) = r.choice::<Trigger>("trigger")? {
+            s.trigger = trigger;
+        }
+        let numbers: [(&Limit, &mut f64); 11] = [
             (&TOUGHNESS, &mut s.toughness),
             (&MIN_AREA, &mut s.min_area),
             (&WINDOW, &mut s.window),
@@ -254,13 +392,28 @@ impl FractureSettings {
             (&HIBLER_P_STAR, &mut s.hibler_p_star),
             (&HIBLER_C, &mut s.hibler_c),
             (&CONCENTRATION, &mut s.concentration),
+            (&YOUNG, &mut s.young),
+            (&DAMPING, &mut s.damping),
         ];
         for (limit, slot) in numbers {
             if let Some(v) = r.bounded(limit)? {
                 *slot = v;
             }
         }
+        s.spacing = r.bounded(&SPACING)?;
+        let strain = r.bounded(&CRITICAL_STRAIN)?;
+        if let Some(seed) = r.integer(&SEED)? {
+            s.seed = u64::try_from(seed).unwrap_or(0);
+        }
         r.finish()?;
+        match (s.model, s.rule, strain) {
+            (FractureModel::Lattice, LatticeRule::Strain, None) => return Err(t.error(
+                Some("rule"),
+                "rule = \"strain\" needs critical_strain (the bond strain at which a bond breaks)",
+            )),
+            (_, _, Some(e)) => s.critical_strain = e,
+            _ => {}
+        }
         Ok(s)
     }
 }

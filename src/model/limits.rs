@@ -576,6 +576,11 @@ pub const CASE_LIMITS: &[Limit] = &[
     super::fracture::HIBLER_P_STAR,
     super::fracture::HIBLER_C,
     super::fracture::CONCENTRATION,
+    super::fracture::YOUNG,
+    super::fracture::DAMPING,
+    super::fracture::SPACING,
+    super::fracture::CRITICAL_STRAIN,
+    super::fracture::SEED,
 ];
 
 /// Bytes a run keeps per output time and floe: the trajectory row (64 B)

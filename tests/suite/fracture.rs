@@ -238,13 +238,26 @@ step = 0.5
 fn bad_fracture_tables_are_refused_with_file_line_and_key() {
     let base = RAM.replace("SPEED", "0.01");
     for (table, line, key) in [
-        ("model = \"lattice\"", 2, "model"),
+        ("model = \"chord\"", 2, "model"),
         ("model = \"energy\"\ntoughness = -1.0", 3, "toughness"),
         ("model = \"stress\"\nyield = \"tresca\"", 3, "yield"),
         ("model = \"energy\"\nmin_area = 1e20", 3, "min_area"),
         ("model = \"stress\"\nwindow = 0.0", 3, "window"),
         ("model = \"energy\"\ntoughnes = 2.0", 3, "toughnes"),
         ("model = 3", 2, "model"),
+        ("model = \"lattice\"\nrule = \"strain\"", 3, "rule"),
+        ("model = \"lattice\"\nrule = \"griffith\"", 3, "rule"),
+        ("model = \"lattice\"\ntrigger = \"never\"", 3, "trigger"),
+        ("model = \"lattice\"\nyoung = 0.0", 3, "young"),
+        ("model = \"lattice\"\ndamping = -0.5", 3, "damping"),
+        ("model = \"lattice\"\nspacing = 0.0", 3, "spacing"),
+        (
+            "model = \"lattice\"\ncritical_strain = 2.0",
+            3,
+            "critical_strain",
+        ),
+        ("model = \"lattice\"\nseed = -1", 3, "seed"),
+        ("model = \"lattice\"\nseed = 1.5", 3, "seed"),
     ] {
         let text = format!("{base}\n[fracture]\n{table}\n");
         let at = base.lines().count() + 1 + line;

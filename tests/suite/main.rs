@@ -18,6 +18,7 @@ mod forcing;
 mod fracture;
 mod fuzz;
 mod lattice;
+mod lattwire;
 mod lemke;
 mod moreau;
 mod nonconvex;

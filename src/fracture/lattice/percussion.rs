@@ -128,6 +128,41 @@ pub struct Fragment {
 }
 
 impl Fragment {
+    /// The rigid body of the nodes `list` at positions `x` (m) with
+    /// velocities `v` (m/s) and masses `m` (kg): its mass, centre of mass,
+    /// momenta, inertia and the convex hull of the positions.
+    pub fn of_nodes(list: Vec<usize>, x: &[Vec2], v: &[Vec2], m: &[f64]) -> Fragment {
+        let mass: f64 = list.iter().map(|&i| m[i]).sum();
+        let centre = list.iter().map(|&i| x[i] * m[i]).sum::<Vec2>() / mass;
+        let momentum: Vec2 = list.iter().map(|&i| v[i] * m[i]).sum();
+        let velocity = momentum / mass;
+        let (mut l, mut inertia) = (0.0, 0.0);
+        for &i in &list {
+            let r = x[i] - centre;
+            l += m[i] * cross(&r, &(v[i] - velocity));
+            inertia += m[i] * r.norm_squared();
+        }
+        let points: Vec<Vec2> = list.iter().map(|&i| x[i]).collect();
+        let hull = convex_hull(&points);
+        let area = if hull.len() >= 3 {
+            area_properties(&hull).area
+        } else {
+            0.0
+        };
+        Fragment {
+            nodes: list,
+            mass,
+            centre,
+            momentum,
+            angular_momentum: l,
+            inertia,
+            velocity,
+            angular_velocity: if inertia > 0.0 { l / inertia } else { 0.0 },
+            hull,
+            area,
+        }
+    }
+
     /// The kinetic energy of its rigid motion, `½ |P|²/M + ½ L²/I`, J.
     pub fn rigid_energy(&self) -> f64 {
         let spin = if self.inertia > 0.0 {
@@ -660,37 +695,7 @@ impl<'a> Percussion<'a> {
         }
         nodes
             .into_iter()
-            .map(|list| {
-                let mass: f64 = list.iter().map(|&i| m[i]).sum();
-                let centre = list.iter().map(|&i| self.x[i] * m[i]).sum::<Vec2>() / mass;
-                let momentum: Vec2 = list.iter().map(|&i| self.v[i] * m[i]).sum();
-                let velocity = momentum / mass;
-                let (mut l, mut inertia) = (0.0, 0.0);
-                for &i in &list {
-                    let r = self.x[i] - centre;
-                    l += m[i] * cross(&r, &(self.v[i] - velocity));
-                    inertia += m[i] * r.norm_squared();
-                }
-                let points: Vec<Vec2> = list.iter().map(|&i| self.x[i]).collect();
-                let hull = convex_hull(&points);
-                let area = if hull.len() >= 3 {
-                    area_properties(&hull).area
-                } else {
-                    0.0
-                };
-                Fragment {
-                    nodes: list,
-                    mass,
-                    centre,
-                    momentum,
-                    angular_momentum: l,
-                    inertia,
-                    velocity,
-                    angular_velocity: if inertia > 0.0 { l / inertia } else { 0.0 },
-                    hull,
-                    area,
-                }
-            })
+            .map(|list| Fragment::of_nodes(list, &self.x, &self.v, m))
             .collect()
     }
 
@@ -781,6 +786,16 @@ impl<'a> Percussion<'a> {
             hull_area_error: (hulls - self.lattice.area) / self.lattice.area,
             fragments,
         }
+    }
+
+    /// The smallest energy that breaks a bond, `½ κ δ_c²` over the springs,
+    /// J (`∞` for unbreakable bonds): the trigger bound's threshold
+    /// (docs/physics.md §9.8).
+    pub fn weakest_bond_energy(&self) -> f64 {
+        self.links
+            .iter()
+            .map(|l| 0.5 * l.k * l.critical * l.critical)
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// Whether spring `k` still holds.
