@@ -298,6 +298,60 @@ unsafe fn w_into_fma(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
     }
 }
 
+/// Largest dimension for which [`ResidualScale::certified`] is tried: the
+/// factor `1 + CERTIFY_SLACK` below covers the rounding of the norms up to
+/// this size with a wide margin.
+pub(crate) const CERTIFY_MAX_N: usize = 256;
+
+/// Relative slack of the certified acceptance test (see
+/// [`ResidualScale::certified`]): `8 (n + 2) u ≤ 2.3e-13` for
+/// `n ≤ CERTIFY_MAX_N`, `u = 2⁻⁵³`.
+const CERTIFY_SLACK: f64 = 1e-12;
+
+/// Plain `w = M z + q` over the support of `z` (`support`: the indices of
+/// the non-zero `z_j`), and the sum over the rows of a rigorous bound on the
+/// error of each `w_i`; `None` if a computed value is not finite.
+///
+/// Terms with `z_j = 0` are skipped: for finite `M` they are exact zeros.
+/// Each `w_i` is a recursive sum of `k + 1` terms (`k` = support size), so
+/// (Higham 2002, §3.1, eq. 3.5) `|ŵ_i − w_i| ≤ γ_{k+1} S_i` with
+/// `S_i = |q_i| + Σ_j |M_ij z_j|` and `γ_m = m u / (1 − m u)`; the computed
+/// `Ŝ_i` (a sum of non-negative terms) satisfies `S_i ≤ Ŝ_i / (1 − γ_{k+1})`,
+/// and every product may lose at most `2⁻¹⁰⁷⁵` to underflow. The bound used,
+/// `e_i = 2 (k + 1) u Ŝ_i + (k + 1) 2⁻¹⁰²²`, covers both for `(k + 1) u ≤ 1/4`
+/// (`γ_{k+1}/(1 − γ_{k+1}) ≤ 2 (k + 1) u` with room for the rounding of the
+/// bound itself).
+pub(crate) fn w_plain_bounded(
+    m: &[f64],
+    q: &[f64],
+    z: &[f64],
+    w: &mut [f64],
+    support: &mut Vec<usize>,
+) -> Option<f64> {
+    let n = q.len();
+    support.clear();
+    support.extend((0..n).filter(|&j| z[j] != 0.0));
+    let terms = (support.len() + 1) as f64;
+    let mut abs_total = 0.0_f64;
+    for ((row, &qi), wi) in m.chunks_exact(n).zip(q).zip(w.iter_mut()) {
+        let (mut s, mut a) = (qi, qi.abs());
+        for &j in support.iter() {
+            let p = row[j] * z[j];
+            s += p;
+            a += p.abs();
+        }
+        *wi = s;
+        abs_total += a;
+    }
+    // 2 (k + 1) u = (k + 1) ε; the underflow term for every product.
+    let err = terms * f64::EPSILON * abs_total + terms * n as f64 * f64::MIN_POSITIVE;
+    if err.is_finite() && w.iter().all(|x| x.is_finite()) {
+        Some(err)
+    } else {
+        None
+    }
+}
+
 /// Error-free transformation `a + b = s + e`.
 fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
@@ -510,6 +564,26 @@ impl ResidualScale {
         } else {
             r
         }
+    }
+}
+
+impl ResidualScale {
+    /// Certified acceptance: given `ŵ` with `Σ_i |ŵ_i − w_i| ≤ err` (from
+    /// [`w_plain_bounded`]), returns the residual of `(z, ŵ)` if it proves
+    /// that the exact residual of `z` is at most `tol`, else `None` (the
+    /// caller then evaluates the compensated residual).
+    ///
+    /// `min(z_i, ·)` is 1-Lipschitz, so `‖min(z, w)‖₂ ≤ ‖min(z, ŵ)‖₂ + ‖ŵ − w‖₂`
+    /// and `‖ŵ − w‖₂ ≤ err`; the rounding of the norm and of the quotients
+    /// (a few `(n + 2) u` relative) is covered by the factor
+    /// `1 + CERTIFY_SLACK`.
+    pub(crate) fn certified(&self, z: &[f64], w: &[f64], err: f64, tol: f64) -> Option<f64> {
+        if z.len() > CERTIFY_MAX_N {
+            return None;
+        }
+        let r = self.residual(z, w);
+        let bound = (r + err / self.den) * (1.0 + CERTIFY_SLACK);
+        (bound <= tol).then_some(r)
     }
 }
 
