@@ -794,13 +794,54 @@ impl Eliminate<'_> {
                 return unsafe { self.run_avx2() };
             }
         }
-        self.body()
+        self.dispatch()
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn run_avx2(self) -> bool {
-        self.body()
+        self.dispatch()
+    }
+
+    /// The tableaux of one and two frictional contacts (n = 4, 8: rows of
+    /// 6 and 10 entries) by a loop of constant length, fully unrolled; the
+    /// others by [`Eliminate::body`]. The same operations in the same order.
+    #[inline(always)]
+    fn dispatch(self) -> bool {
+        match self.cols {
+            6 => self.fixed::<6>(),
+            10 => self.fixed::<10>(),
+            _ => self.body(),
+        }
+    }
+
+    /// [`Eliminate::body`] for rows of `C` entries, dense (`C` below
+    /// [`SPARSE_ROW_FROM`]).
+    #[inline(always)]
+    fn fixed<const C: usize>(self) -> bool {
+        let Some(prow) = self.prow.first_chunk::<C>() else {
+            return self.body();
+        };
+        let (r, s) = (self.r, self.s);
+        let mut finite = true;
+        for (i, row) in self.t.chunks_exact_mut(C).enumerate() {
+            if i == r {
+                continue;
+            }
+            let f = row[s];
+            if f == 0.0 {
+                continue;
+            }
+            row[s] = 0.0;
+            let mut ok = true;
+            for (x, &pr) in row.iter_mut().zip(prow) {
+                let v = *x - f * pr;
+                *x = v;
+                ok &= v.is_finite();
+            }
+            finite &= ok;
+        }
+        finite
     }
 
     #[inline(always)]
