@@ -367,8 +367,6 @@ pub(crate) struct Scratch {
     pub(crate) rho: Vec<f64>,
     pub(crate) z2: Vec<f64>,
     pub(crate) w2: Vec<f64>,
-    /// Indices of the non-zero entries of a candidate `z`.
-    pub(crate) support: Vec<usize>,
     pub(crate) pivoting: super::pivoting::Pivoting,
 }
 

@@ -262,10 +262,42 @@ pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
 ///
 /// The CPU's fused multiply–add is detected once per call rather than once
 /// per row (the rows of a small LCP are a few entries long); every entry is
-/// [`dot2_plus`] of its row, bit for bit.
+/// [`dot2_plus`] of its row. Up to [`SUPPORT_MAX_N`] unknowns the sums run
+/// over the support of `z` only (its non-zero entries, listed once per
+/// call): a term `M_ij · 0` adds exact zeros to both the sum and its
+/// compensation, so the result is the same number (at most the sign of a
+/// zero `w_i` differs), for the cost of the support's columns only — a
+/// candidate of Lemke's method has at most n of its 2n + 1 variables
+/// basic, and on the contact LCPs about a third of its `z` is non-zero.
 pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
     let n = q.len();
     if n == 0 {
+        return;
+    }
+    if n <= SUPPORT_MAX_N && z.len() == n {
+        let mut idx = [0u16; SUPPORT_MAX_N];
+        let mut k = 0;
+        for (j, &v) in z.iter().enumerate() {
+            idx[k] = j as u16;
+            k += usize::from(v != 0.0);
+        }
+        let support = &idx[..k];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU supports FMA, checked just above.
+                unsafe { w_support_fma(m, q, z, support, w) };
+                return;
+            }
+        }
+        for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
+            let v = dot2_support(row, z, support, qi, two_prod);
+            *wi = if v.is_finite() {
+                v
+            } else {
+                dot2_plus(row, z, qi)
+            };
+        }
         return;
     }
     #[cfg(target_arch = "x86_64")]
@@ -279,6 +311,52 @@ pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
     for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
         *wi = dot2_plus(row, z, qi);
     }
+}
+
+/// Largest n for which [`w_into`] sums over the support of `z` (its index
+/// list lives on the stack).
+const SUPPORT_MAX_N: usize = 64;
+
+/// [`w_into`] over the support, compiled with FMA (the products' errors are
+/// `fma(a, b, −ab)`, as in [`dot2_fma`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+unsafe fn w_support_fma(m: &[f64], q: &[f64], z: &[f64], support: &[u16], w: &mut [f64]) {
+    let n = q.len();
+    for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
+        let v = dot2_support(row, z, support, qi, |a, b| {
+            let h = a * b;
+            (h, a.mul_add(b, -h))
+        });
+        *wi = if v.is_finite() {
+            v
+        } else {
+            dot2_plus(row, z, qi)
+        };
+    }
+}
+
+/// [`dot2_body`] with one lane and unit scalings, over the terms `support`
+/// only: `Σ_{j ∈ support} x_j y_j + c`, the same operations in the same
+/// order as the full sum without its zero terms. Non-finite when the
+/// unscaled sum overflows (the caller then takes [`dot2_plus`]).
+#[inline(always)]
+fn dot2_support(
+    x: &[f64],
+    y: &[f64],
+    support: &[u16],
+    c: f64,
+    prod: impl Fn(f64, f64) -> (f64, f64),
+) -> f64 {
+    let (mut p, mut s) = (c, 0.0_f64);
+    for &j in support {
+        let j = usize::from(j);
+        let (h, r) = prod(x[j], y[j]);
+        let (np, t) = two_sum(p, h);
+        p = np;
+        s += t + r;
+    }
+    p + s
 }
 
 /// [`w_into`] compiled with FMA: each row by [`dot2_fma`] (what
@@ -295,60 +373,6 @@ unsafe fn w_into_fma(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
         } else {
             dot2_plus(row, z, qi)
         };
-    }
-}
-
-/// Largest dimension for which [`ResidualScale::certified`] is tried: the
-/// factor `1 + CERTIFY_SLACK` below covers the rounding of the norms up to
-/// this size with a wide margin.
-pub(crate) const CERTIFY_MAX_N: usize = 256;
-
-/// Relative slack of the certified acceptance test (see
-/// [`ResidualScale::certified`]): `8 (n + 2) u ≤ 2.3e-13` for
-/// `n ≤ CERTIFY_MAX_N`, `u = 2⁻⁵³`.
-const CERTIFY_SLACK: f64 = 1e-12;
-
-/// Plain `w = M z + q` over the support of `z` (`support`: the indices of
-/// the non-zero `z_j`), and the sum over the rows of a rigorous bound on the
-/// error of each `w_i`; `None` if a computed value is not finite.
-///
-/// Terms with `z_j = 0` are skipped: for finite `M` they are exact zeros.
-/// Each `w_i` is a recursive sum of `k + 1` terms (`k` = support size), so
-/// (Higham 2002, §3.1, eq. 3.5) `|ŵ_i − w_i| ≤ γ_{k+1} S_i` with
-/// `S_i = |q_i| + Σ_j |M_ij z_j|` and `γ_m = m u / (1 − m u)`; the computed
-/// `Ŝ_i` (a sum of non-negative terms) satisfies `S_i ≤ Ŝ_i / (1 − γ_{k+1})`,
-/// and every product may lose at most `2⁻¹⁰⁷⁵` to underflow. The bound used,
-/// `e_i = 2 (k + 1) u Ŝ_i + (k + 1) 2⁻¹⁰²²`, covers both for `(k + 1) u ≤ 1/4`
-/// (`γ_{k+1}/(1 − γ_{k+1}) ≤ 2 (k + 1) u` with room for the rounding of the
-/// bound itself).
-pub(crate) fn w_plain_bounded(
-    m: &[f64],
-    q: &[f64],
-    z: &[f64],
-    w: &mut [f64],
-    support: &mut Vec<usize>,
-) -> Option<f64> {
-    let n = q.len();
-    support.clear();
-    support.extend((0..n).filter(|&j| z[j] != 0.0));
-    let terms = (support.len() + 1) as f64;
-    let mut abs_total = 0.0_f64;
-    for ((row, &qi), wi) in m.chunks_exact(n).zip(q).zip(w.iter_mut()) {
-        let (mut s, mut a) = (qi, qi.abs());
-        for &j in support.iter() {
-            let p = row[j] * z[j];
-            s += p;
-            a += p.abs();
-        }
-        *wi = s;
-        abs_total += a;
-    }
-    // 2 (k + 1) u = (k + 1) ε; the underflow term for every product.
-    let err = terms * f64::EPSILON * abs_total + terms * n as f64 * f64::MIN_POSITIVE;
-    if err.is_finite() && w.iter().all(|x| x.is_finite()) {
-        Some(err)
-    } else {
-        None
     }
 }
 
@@ -567,26 +591,6 @@ impl ResidualScale {
     }
 }
 
-impl ResidualScale {
-    /// Certified acceptance: given `ŵ` with `Σ_i |ŵ_i − w_i| ≤ err` (from
-    /// [`w_plain_bounded`]), returns the residual of `(z, ŵ)` if it proves
-    /// that the exact residual of `z` is at most `tol`, else `None` (the
-    /// caller then evaluates the compensated residual).
-    ///
-    /// `min(z_i, ·)` is 1-Lipschitz, so `‖min(z, w)‖₂ ≤ ‖min(z, ŵ)‖₂ + ‖ŵ − w‖₂`
-    /// and `‖ŵ − w‖₂ ≤ err`; the rounding of the norm and of the quotients
-    /// (a few `(n + 2) u` relative) is covered by the factor
-    /// `1 + CERTIFY_SLACK`.
-    pub(crate) fn certified(&self, z: &[f64], w: &[f64], err: f64, tol: f64) -> Option<f64> {
-        if z.len() > CERTIFY_MAX_N {
-            return None;
-        }
-        let r = self.residual(z, w);
-        let bound = (r + err / self.den) * (1.0 + CERTIFY_SLACK);
-        (bound <= tol).then_some(r)
-    }
-}
-
 /// Euclidean norm, scaled by the largest magnitude so that it neither
 /// overflows nor underflows for finite input.
 pub(crate) fn norm2(v: &[f64]) -> f64 {
@@ -611,4 +615,51 @@ fn scaled_norm(s: f64, len: usize, f: impl Fn(usize) -> f64) -> f64 {
         })
         .sum::<f64>()
         .sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic stream in [−1, 1) (SplitMix64).
+    fn stream(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut x = s;
+            x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            x ^= x >> 31;
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    #[test]
+    fn w_over_the_support_of_z_is_the_compensated_sum_of_the_whole_rows() {
+        let mut u = stream(7);
+        for n in (1..=70).chain([SUPPORT_MAX_N, SUPPORT_MAX_N + 1]) {
+            for zeros in [0.0, 0.5, 0.9, 1.0] {
+                // Entries of very different magnitudes, so that the
+                // compensation matters, and z with a share of exact zeros.
+                let m: Vec<f64> = (0..n * n).map(|_| u() * 10f64.powf(8.0 * u())).collect();
+                let q: Vec<f64> = (0..n).map(|_| u() * 1e8).collect();
+                let z: Vec<f64> = (0..n)
+                    .map(|_| {
+                        if 0.5 * (u() + 1.0) < zeros {
+                            0.0
+                        } else {
+                            u().abs() * 1e8
+                        }
+                    })
+                    .collect();
+                let mut w = vec![f64::NAN; n];
+                w_into(&m, &q, &z, &mut w);
+                for i in 0..n {
+                    let full = dot2_plus(&m[i * n..(i + 1) * n], &z, q[i]);
+                    // Equal as numbers (the sign of a zero may differ).
+                    assert!(w[i] == full, "n = {n}, row {i}: {} against {full}", w[i]);
+                }
+            }
+        }
+    }
 }
