@@ -283,7 +283,7 @@ pub fn lemke_with(ws: &mut Workspace, m: &[f64], q: &[f64], opts: &LemkeOptions)
         w.copy_from_slice(q);
         f64::INFINITY
     } else {
-        super::w_into(m, q, &z, &mut w);
+        super::w_into(m, q, &z, &mut w, false);
         residual_with_w(q, &z, &w)
     };
     LemkeResult {

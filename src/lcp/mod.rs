@@ -253,7 +253,7 @@ pub fn compute_w(m: &[f64], q: &[f64], z: &[f64]) -> Result<Vec<f64>, LcpError> 
 /// from the acceptance test of [`solve`].
 pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
     let mut w = vec![0.0; q.len()];
-    w_into(m, q, z, &mut w);
+    w_into(m, q, z, &mut w, false);
     w
 }
 
@@ -262,19 +262,21 @@ pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
 ///
 /// The CPU's fused multiply–add is detected once per call rather than once
 /// per row (the rows of a small LCP are a few entries long); every entry is
-/// [`dot2_plus`] of its row. Up to [`SUPPORT_MAX_N`] unknowns the sums run
-/// over the support of `z` only (its non-zero entries, listed once per
-/// call): a term `M_ij · 0` adds exact zeros to both the sum and its
-/// compensation, so the result is the same number (at most the sign of a
-/// zero `w_i` differs), for the cost of the support's columns only — a
+/// [`dot2_plus`] of its row. When the caller knows `M` to be finite
+/// (`m_finite`), up to [`SUPPORT_MAX_N`] unknowns the sums run over the
+/// support of `z` only (its non-zero entries, listed once per call): a
+/// term `M_ij · 0` of a finite `M_ij` adds exact zeros to both the sum and
+/// its compensation, so the result is the same number (at most the sign of
+/// a zero `w_i` differs), for the cost of the support's columns only — a
 /// candidate of Lemke's method has at most n of its 2n + 1 variables
 /// basic, and on the contact LCPs about a third of its `z` is non-zero.
-pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
+/// (A non-finite `M_ij` times 0 is NaN, which the full sum keeps.)
+pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64], m_finite: bool) {
     let n = q.len();
     if n == 0 {
         return;
     }
-    if n <= SUPPORT_MAX_N && z.len() == n {
+    if m_finite && n <= SUPPORT_MAX_N && z.len() == n {
         let mut idx = [0u16; SUPPORT_MAX_N];
         let mut k = 0;
         for (j, &v) in z.iter().enumerate() {
@@ -653,7 +655,7 @@ mod tests {
                     })
                     .collect();
                 let mut w = vec![f64::NAN; n];
-                w_into(&m, &q, &z, &mut w);
+                w_into(&m, &q, &z, &mut w, true);
                 for i in 0..n {
                     let full = dot2_plus(&m[i * n..(i + 1) * n], &z, q[i]);
                     // Equal as numbers (the sign of a zero may differ).
