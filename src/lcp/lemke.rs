@@ -803,47 +803,19 @@ impl Eliminate<'_> {
 
     /// The tableaux of one and two frictional contacts (n = 4, 8: rows of
     /// 6 and 10 entries) by a loop of constant length, fully unrolled; the
-    /// others by [`Eliminate::body`]. The same operations in the same order.
+    /// others by the general loop. The same operations in the same order.
     #[inline(always)]
     fn dispatch(self) -> bool {
         match self.cols {
-            6 => self.fixed::<6>(),
-            10 => self.fixed::<10>(),
-            _ => self.body(),
+            6 => self.body::<6>(),
+            10 => self.body::<10>(),
+            _ => self.body::<0>(),
         }
     }
 
-    /// [`Eliminate::body`] for rows of `C` entries, dense (`C` below
-    /// [`SPARSE_ROW_FROM`]).
+    /// The elimination with rows of `C` entries (`C` = 0: `self.cols`).
     #[inline(always)]
-    fn fixed<const C: usize>(self) -> bool {
-        let Some(prow) = self.prow.first_chunk::<C>() else {
-            return self.body();
-        };
-        let (r, s) = (self.r, self.s);
-        let mut finite = true;
-        for (i, row) in self.t.chunks_exact_mut(C).enumerate() {
-            if i == r {
-                continue;
-            }
-            let f = row[s];
-            if f == 0.0 {
-                continue;
-            }
-            row[s] = 0.0;
-            let mut ok = true;
-            for (x, &pr) in row.iter_mut().zip(prow) {
-                let v = *x - f * pr;
-                *x = v;
-                ok &= v.is_finite();
-            }
-            finite &= ok;
-        }
-        finite
-    }
-
-    #[inline(always)]
-    fn body(self) -> bool {
+    fn body<const C: usize>(self) -> bool {
         let Eliminate {
             t,
             cols,
@@ -852,6 +824,10 @@ impl Eliminate<'_> {
             prow,
             nz,
         } = self;
+        let cols = if C == 0 { cols } else { C };
+        let Some(prow) = prow.get(..cols) else {
+            return false;
+        };
         let sparse = cols >= SPARSE_ROW_FROM && 4 * nz.len() < cols;
         let mut finite = true;
         for (i, row) in t.chunks_exact_mut(cols).enumerate() {
