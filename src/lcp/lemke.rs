@@ -283,7 +283,7 @@ pub fn lemke_with(ws: &mut Workspace, m: &[f64], q: &[f64], opts: &LemkeOptions)
         w.copy_from_slice(q);
         f64::INFINITY
     } else {
-        super::w_into(m, q, &z, &mut w);
+        super::w_into(m, q, &z, &mut w, false);
         residual_with_w(q, &z, &w)
     };
     LemkeResult {
@@ -792,17 +792,30 @@ impl Eliminate<'_> {
                 return unsafe { self.run_avx2() };
             }
         }
-        self.body()
+        self.dispatch()
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn run_avx2(self) -> bool {
-        self.body()
+        self.dispatch()
     }
 
+    /// The tableaux of one and two frictional contacts (n = 4, 8: rows of
+    /// 6 and 10 entries) by a loop of constant length, fully unrolled; the
+    /// others by the general loop. The same operations in the same order.
     #[inline(always)]
-    fn body(self) -> bool {
+    fn dispatch(self) -> bool {
+        match self.cols {
+            6 => self.body::<6>(),
+            10 => self.body::<10>(),
+            _ => self.body::<0>(),
+        }
+    }
+
+    /// The elimination with rows of `C` entries (`C` = 0: `self.cols`).
+    #[inline(always)]
+    fn body<const C: usize>(self) -> bool {
         let Eliminate {
             t,
             cols,
@@ -811,6 +824,10 @@ impl Eliminate<'_> {
             prow,
             nz,
         } = self;
+        let cols = if C == 0 { cols } else { C };
+        let Some(prow) = prow.get(..cols) else {
+            return false;
+        };
         let sparse = cols >= SPARSE_ROW_FROM && 4 * nz.len() < cols;
         let mut finite = true;
         for (i, row) in t.chunks_exact_mut(cols).enumerate() {

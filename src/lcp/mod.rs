@@ -253,7 +253,7 @@ pub fn compute_w(m: &[f64], q: &[f64], z: &[f64]) -> Result<Vec<f64>, LcpError> 
 /// from the acceptance test of [`solve`].
 pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
     let mut w = vec![0.0; q.len()];
-    w_into(m, q, z, &mut w);
+    w_into(m, q, z, &mut w, false);
     w
 }
 
@@ -262,10 +262,44 @@ pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
 ///
 /// The CPU's fused multiply–add is detected once per call rather than once
 /// per row (the rows of a small LCP are a few entries long); every entry is
-/// [`dot2_plus`] of its row, bit for bit.
-pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
+/// [`dot2_plus`] of its row. When the caller knows `M` to be finite
+/// (`m_finite`), up to [`SUPPORT_MAX_N`] unknowns the sums run over the
+/// support of `z` only (its non-zero entries, listed once per call): a
+/// term `M_ij · 0` of a finite `M_ij` adds exact zeros to both the sum and
+/// its compensation, so the result is the same number (at most the sign of
+/// a zero `w_i` differs), for the cost of the support's columns only — a
+/// candidate of Lemke's method has at most n of its 2n + 1 variables
+/// basic, and on the contact LCPs about a third of its `z` is non-zero.
+/// (A non-finite `M_ij` times 0 is NaN, which the full sum keeps.)
+pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64], m_finite: bool) {
     let n = q.len();
     if n == 0 {
+        return;
+    }
+    if m_finite && n <= SUPPORT_MAX_N && z.len() == n {
+        let mut idx = [0u16; SUPPORT_MAX_N];
+        let mut k = 0;
+        for (j, &v) in z.iter().enumerate() {
+            idx[k] = j as u16;
+            k += usize::from(v != 0.0);
+        }
+        let support = &idx[..k];
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU supports FMA, checked just above.
+                unsafe { w_support_fma(m, q, z, support, w) };
+                return;
+            }
+        }
+        for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
+            let v = dot2_support(row, z, support, qi, two_prod);
+            *wi = if v.is_finite() {
+                v
+            } else {
+                dot2_plus(row, z, qi)
+            };
+        }
         return;
     }
     #[cfg(target_arch = "x86_64")]
@@ -279,6 +313,52 @@ pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
     for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
         *wi = dot2_plus(row, z, qi);
     }
+}
+
+/// Largest n for which [`w_into`] sums over the support of `z` (its index
+/// list lives on the stack).
+const SUPPORT_MAX_N: usize = 64;
+
+/// [`w_into`] over the support, compiled with FMA (the products' errors are
+/// `fma(a, b, −ab)`, as in [`dot2_fma`]).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+unsafe fn w_support_fma(m: &[f64], q: &[f64], z: &[f64], support: &[u16], w: &mut [f64]) {
+    let n = q.len();
+    for ((row, &qi), wi) in m.chunks_exact(n).zip(q.iter()).zip(w.iter_mut()) {
+        let v = dot2_support(row, z, support, qi, |a, b| {
+            let h = a * b;
+            (h, a.mul_add(b, -h))
+        });
+        *wi = if v.is_finite() {
+            v
+        } else {
+            dot2_plus(row, z, qi)
+        };
+    }
+}
+
+/// [`dot2_body`] with one lane and unit scalings, over the terms `support`
+/// only: `Σ_{j ∈ support} x_j y_j + c`, the same operations in the same
+/// order as the full sum without its zero terms. Non-finite when the
+/// unscaled sum overflows (the caller then takes [`dot2_plus`]).
+#[inline(always)]
+fn dot2_support(
+    x: &[f64],
+    y: &[f64],
+    support: &[u16],
+    c: f64,
+    prod: impl Fn(f64, f64) -> (f64, f64),
+) -> f64 {
+    let (mut p, mut s) = (c, 0.0_f64);
+    for &j in support {
+        let j = usize::from(j);
+        let (h, r) = prod(x[j], y[j]);
+        let (np, t) = two_sum(p, h);
+        p = np;
+        s += t + r;
+    }
+    p + s
 }
 
 /// [`w_into`] compiled with FMA: each row by [`dot2_fma`] (what
@@ -537,4 +617,51 @@ fn scaled_norm(s: f64, len: usize, f: impl Fn(usize) -> f64) -> f64 {
         })
         .sum::<f64>()
         .sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic stream in [−1, 1) (SplitMix64).
+    fn stream(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed;
+        move || {
+            s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            let mut x = s;
+            x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            x ^= x >> 31;
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        }
+    }
+
+    #[test]
+    fn w_over_the_support_of_z_is_the_compensated_sum_of_the_whole_rows() {
+        let mut u = stream(7);
+        for n in (1..=70).chain([SUPPORT_MAX_N, SUPPORT_MAX_N + 1]) {
+            for zeros in [0.0, 0.5, 0.9, 1.0] {
+                // Entries of very different magnitudes, so that the
+                // compensation matters, and z with a share of exact zeros.
+                let m: Vec<f64> = (0..n * n).map(|_| u() * 10f64.powf(8.0 * u())).collect();
+                let q: Vec<f64> = (0..n).map(|_| u() * 1e8).collect();
+                let z: Vec<f64> = (0..n)
+                    .map(|_| {
+                        if 0.5 * (u() + 1.0) < zeros {
+                            0.0
+                        } else {
+                            u().abs() * 1e8
+                        }
+                    })
+                    .collect();
+                let mut w = vec![f64::NAN; n];
+                w_into(&m, &q, &z, &mut w, true);
+                for i in 0..n {
+                    let full = dot2_plus(&m[i * n..(i + 1) * n], &z, q[i]);
+                    // Equal as numbers (the sign of a zero may differ).
+                    assert!(w[i] == full, "n = {n}, row {i}: {} against {full}", w[i]);
+                }
+            }
+        }
+    }
 }

@@ -2155,3 +2155,60 @@ fn a_bay_jam_dump_is_solved_by_the_revised_path_like_the_dense_path() {
     counters.record(&dense);
     assert_eq!(counters.revised, 1);
 }
+
+#[test]
+fn a_candidate_is_kept_unpolished_only_when_its_residual_is_below_the_switch() {
+    // With `unpolished_below = 1e-13` the driver keeps a solved Lemke
+    // candidate without the polish only when its compensated residual on
+    // the original data is at most 1e-13; every other accepted candidate
+    // went through the polish. Over the path
+    // families, 1×1, q ≥ 0 and the committed corpus.
+    let mut rng = SplitMix64::new(0x5EED_F10E_0040);
+    let mut ws = Workspace::default();
+    let opts = SolveOptions {
+        unpolished_below: 1e-13,
+        ..SolveOptions::default()
+    };
+    let mut problems: Vec<(String, Lcp)> = corpus();
+    for family in [
+        Family::PMatrix,
+        Family::Psd,
+        Family::Degenerate,
+        Family::StewartTrinkle,
+    ] {
+        for k in 0..100 {
+            let n = 1 + (rng.next_u64() % 40) as usize;
+            problems.push((format!("{family:?} {k}"), family_lcp(&mut rng, family, n)));
+        }
+    }
+    for (m, q) in [(2.0, -1.0), (0.5, -3.0), (2.0, 1.0)] {
+        problems.push((
+            format!("1x1 {m} {q}"),
+            Lcp::new(1, vec![m], vec![q]).expect("sizes"),
+        ));
+    }
+    let (mut unpolished, mut polished) = (0, 0);
+    for (label, lcp) in &problems {
+        let s = solve_with(&mut ws, lcp, &opts);
+        let r = residual(&lcp.m, &lcp.q, &s.z);
+        assert_eq!(r, s.residual, "{label}");
+        for a in s.attempts.iter().filter(|a| a.accepted && a.pivots > 0) {
+            if a.polished {
+                polished += 1;
+            } else {
+                unpolished += 1;
+                assert!(
+                    a.termination == Termination::Solved && a.residual <= 1e-13,
+                    "{label}: kept unpolished at {:e} ({:?})",
+                    a.residual,
+                    a.termination
+                );
+            }
+        }
+        if s.status.is_solved() {
+            assert!(r <= opts.tolerance, "{label}: residual {r:e}");
+        }
+    }
+    eprintln!("unpolished {unpolished}, polished {polished}");
+    assert!(unpolished > 0, "the unpolished exit is exercised");
+}
