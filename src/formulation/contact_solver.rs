@@ -811,3 +811,18 @@ impl ContactSolver {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::relative_difference;
+
+    #[test]
+    fn relative_difference_is_scaled_by_the_largest_entry() {
+        assert_eq!(relative_difference(&[0.0, 0.0], &[0.0, 0.0]), 0.0);
+        assert_eq!(relative_difference(&[1.0, 2.0], &[1.0, 2.0]), 0.0);
+        assert_eq!(relative_difference(&[4.0, 0.0], &[0.0, 4.0]), 1.0);
+        let d = relative_difference(&[2.0, 1.0], &[2.0, 1.0 + 2e-12]);
+        assert!(d > 0.0 && d < 2e-12, "{d:e}");
+        assert_eq!(relative_difference(&[1.0], &[1.0, 0.0]), 1.0);
+    }
+}
