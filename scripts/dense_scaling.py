@@ -125,7 +125,8 @@ def main():
     ap.add_argument("--out", default="target/dense/scaling", help="run folders")
     ap.add_argument("--csv", default=None, help="folder of runs.csv and exponents.csv (default --out)")
     ap.add_argument("--bin", default="target/release/floebench")
-    ap.add_argument("--nice", type=int, default=10)
+    ap.add_argument("--nice", type=int, default=10,
+                    help="niceness of the runs (absolute: this script's own counts; default 10)")
     a = ap.parse_args()
 
     sizes = [int(s) for s in a.sizes.split(",") if s]
@@ -147,7 +148,7 @@ def main():
         case_copy(case, copy, a.span, warm)
         for form in forms:
             out = os.path.join(a.out, tag, form)
-            cmd = ["nice", "-n", str(a.nice), a.bin, "run", copy, "-f", form,
+            cmd = ["nice", "-n", str(max(0, a.nice - os.nice(0))), a.bin, "run", copy, "-f", form,
                    "--from", state, "--at", repr(a.start), "-o", out, "--quiet"]
             if a.warm_check:
                 cmd.append("--warm-check")
