@@ -21,8 +21,10 @@ log(c2/c1)/log(N2/N1) of the CPU per simulated second c).
 
 Example (the README's dense scaling table):
 
-    python3 scripts/dense_scaling.py --sizes 200,2000 --span 20 \
-        --out target/dense/scaling --csv reports/dense
+    python3 scripts/dense_scaling.py --sizes 200 --span 20 --start 5000 \
+        --out target/dense/scaling --csv target/dense/scaling/csv200
+
+(the README's "Dense scaling and the warm start" gives every command).
 
 Needs only Python 3 and a built `target/release/floebench`.
 """
