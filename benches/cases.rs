@@ -10,16 +10,19 @@
 //!   floes at concentration 0.7 with the same floe sizes and forcing;
 //! - `dense` (only when the filter names it): the jammed phase of the bay
 //!   jam family `cases/fields/bay_jam_{200,2000,20000}.toml`, each started
-//!   (as `floebench run --from`) from the state at t = 5,000 s of a `rapier`
-//!   run of the case (the pack has reached the coast and jammed: its kinetic
-//!   energy is three orders of magnitude below the drift's) and run for
-//!   [`DENSE_SPAN`] s. Throughput is in simulated seconds, so criterion's
-//!   `elem/s` is simulated seconds per CPU second. The states are read from
-//!   `target/dense/bay_jam_<N>/trajectory.csv`; the 200-floe one is made
-//!   when missing (about 30 s), the others by
-//!   `cargo run --release -- run cases/fields/bay_jam_<N>.toml -f rapier -o target/dense/bay_jam_<N> --quiet`
-//!   (2,000 floes: minutes; 20,000: hours), and skipped with that message
-//!   until they exist.
+//!   (as `floebench run --from`) from the state of a `rapier` run of the
+//!   case at the time its pack has jammed ([`dense_start`]: its kinetic
+//!   energy three orders of magnitude below the drift's peak; 5,000 s for
+//!   200 floes, 8,000 s for 2,000, whose pack still drifts at 5,000 s) and
+//!   run for [`DENSE_SPAN`] s. Throughput is in simulated seconds, so
+//!   criterion's `elem/s` is simulated seconds per CPU second. The states
+//!   are read from `target/dense/bay_jam_<N>/trajectory.csv`; the 200-floe
+//!   one is made when missing (about 30 s), the 2,000-floe one by
+//!   `cargo run --release -- run cases/fields/bay_jam_2000.toml -f rapier -o target/dense/bay_jam_2000 --quiet`
+//!   (465 s of CPU), and skipped with that message until it exists. The
+//!   20,000-floe member is skipped: its jamming time is not known (by the
+//!   2,000-floe run, its pack would still drift at the case's 10,000 s;
+//!   README, "Dense scaling").
 //!
 //! The measurement is the thread's CPU time. Every formulation except
 //! `free-drift` runs.
@@ -53,9 +56,17 @@ const SCALING_SPAN: f64 = 600.0;
 /// slowest formulation on 200 floes takes seconds per sample.
 const DENSE_SPAN: f64 = 20.0;
 
-/// The output time of the rapier run whose state starts the dense
-/// benchmarks, s.
-const DENSE_START: f64 = 5000.0;
+/// The output time of the rapier run of `bay_jam_<n>` whose state starts
+/// its dense benchmarks, s: the first output at which its pack's kinetic
+/// energy is three orders of magnitude below the drift's peak (measured:
+/// README, "Dense scaling"); `None` where it is not known.
+fn dense_start(n: usize) -> Option<f64> {
+    match n {
+        200 => Some(5000.0),
+        2000 => Some(8000.0),
+        _ => None,
+    }
+}
 
 fn cases_dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("cases")
@@ -138,10 +149,13 @@ fn scaling(c: &mut Criterion<ThreadCpu>) {
 }
 
 /// The jammed state of `bay_jam_<n>` (see the module doc): the case
-/// restarted from its rapier run's state at [`DENSE_START`], for
+/// restarted from its rapier run's state at [`dense_start`], for
 /// [`DENSE_SPAN`] s.
 fn jammed(n: usize) -> Result<Scenario, String> {
     use floebench::run::output;
+    let start = dense_start(n).ok_or(
+        "skipped: the time at which this pack has jammed is not known (README, \"Dense scaling\")",
+    )?;
     let path = cases_dir().join("fields").join(format!("bay_jam_{n}.toml"));
     let mut scn = load_case(&path).map_err(|e| e.to_string())?;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -165,7 +179,7 @@ fn jammed(n: usize) -> Result<Scenario, String> {
         let r = Runner::new(RunOptions::default()).run(&scn, f.name(), f.formulation.as_mut());
         output::write_run(&dir, &r).map_err(|e| e.to_string())?;
     }
-    let (t, bodies) = output::read_state(&file, Some(DENSE_START))?;
+    let (t, bodies) = output::read_state(&file, Some(start))?;
     floebench::state::restart(&mut scn, &bodies, floebench::model::Restart { file, t })?;
     scn.duration = DENSE_SPAN;
     scn.output_interval = DENSE_SPAN;

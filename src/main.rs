@@ -65,6 +65,11 @@ enum Command {
         /// Also write the trajectory as CF NetCDF (trajectory.nc: time × floe).
         #[arg(long)]
         netcdf: bool,
+        /// Diagnostic: solve every LCP that the warm start solves cold too
+        /// and count the solves whose two solutions differ (warm_check_*
+        /// counters; needs `warm_start = true`; the CPU is then no timing).
+        #[arg(long)]
+        warm_check: bool,
         /// No progress bar.
         #[arg(short, long)]
         quiet: bool,
@@ -320,20 +325,24 @@ fn main() -> ExitCode {
             from,
             at,
             netcdf,
+            warm_check,
             quiet,
-        } => run(
-            &case,
-            &formulation,
-            RunArgs {
-                out,
-                integrator,
-                dump_lcp,
-                allow_contacts,
-                from: from.map(|f| (f, at)),
-                netcdf,
-                quiet,
-            },
-        ),
+        } => {
+            floebench::formulation::contact_solver::set_warm_check(warm_check);
+            run(
+                &case,
+                &formulation,
+                RunArgs {
+                    out,
+                    integrator,
+                    dump_lcp,
+                    allow_contacts,
+                    from: from.map(|f| (f, at)),
+                    netcdf,
+                    quiet,
+                },
+            )
+        }
         Command::Compare {
             cases,
             formulations,

@@ -47,11 +47,22 @@
 //! relative. The cause: a basis solve rounds its solution differently from
 //! Lemke's tableau, and a friction LCP with several solutions may be given
 //! another one.
+//!
+//! **Warm-start check** (a diagnostic, off by default: [`set_warm_check`],
+//! `floebench run --warm-check`). Each LCP the warm start solves is solved
+//! cold too, by the same driver on the same data; the warm solution is the
+//! one used, so the run is the warm run. The two solutions `z_w`, `z_c` are
+//! compared by `max_i |z_w,i − z_c,i| / max(‖z_w‖∞, ‖z_c‖∞)`: above
+//! [`WARM_CHECK_DIFFERENT`] they are counted as different solutions, below
+//! it (and non-zero) as rounding. The cold solves are not timed in the
+//! profile, but they are in the run's CPU: a run with the check is not a
+//! timing.
 
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::ContactLcp;
 use crate::contact::ContactKey;
 use crate::lcp::SolveStatus;
+use crate::lcp::Strategy;
 use crate::lcp::{
     solve, solve_warm, BasisGuess, LcpDump, LcpSolution, SolveCounters, SolveOptions,
 };
@@ -60,6 +71,7 @@ use crate::record::profile::{bucket_of, BUCKET_BOUNDS};
 use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, Settings, SolveProfile, Unit};
 use std::collections::HashMap;
 use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
 /// LCP solution has residual ≤ 1e-10 relative to `‖q‖`.
@@ -199,6 +211,98 @@ pub const CONE_MAX_PUSHING_NORMAL_SPEED: Counter = Counter::max(
     Unit::MetrePerSecond,
     "largest normal speed (with the Newton offset) of a pushing contact: μ|u_T| while sliding",
 );
+
+/// Sustained-contact LCPs solved by the warm start and compared with their
+/// cold solution (warm-start check).
+pub const WARM_CHECK_SUSTAINED: Counter = Counter::sum(
+    "warm_check_sustained",
+    "sustained-contact LCPs solved by the warm start and solved cold too (warm-start check)",
+);
+/// Of [`WARM_CHECK_SUSTAINED`], those whose cold solution is another one.
+pub const WARM_CHECK_SUSTAINED_DIFFERENT: Counter = Counter::sum(
+    "warm_check_sustained_different",
+    "of them, the cold solution differs beyond 1e-6 of the largest impulse (another solution)",
+);
+/// Of [`WARM_CHECK_SUSTAINED`], those whose cold solution differs only by rounding.
+pub const WARM_CHECK_SUSTAINED_ROUNDING: Counter = Counter::sum(
+    "warm_check_sustained_rounding",
+    "of them, the cold solution differs, by at most 1e-6 of the largest impulse (rounding)",
+);
+/// Impact (compression) LCPs solved by the warm start and compared.
+pub const WARM_CHECK_IMPACT: Counter = Counter::sum(
+    "warm_check_impact",
+    "impact LCPs solved by the warm start and solved cold too (warm-start check)",
+);
+/// Of [`WARM_CHECK_IMPACT`], those whose cold solution is another one.
+pub const WARM_CHECK_IMPACT_DIFFERENT: Counter = Counter::sum(
+    "warm_check_impact_different",
+    "of them, the cold solution differs beyond 1e-6 of the largest impulse (another solution)",
+);
+/// Of [`WARM_CHECK_IMPACT`], those whose cold solution differs only by rounding.
+pub const WARM_CHECK_IMPACT_ROUNDING: Counter = Counter::sum(
+    "warm_check_impact_rounding",
+    "of them, the cold solution differs, by at most 1e-6 of the largest impulse (rounding)",
+);
+/// Compared LCPs that the cold driver failed to solve.
+pub const WARM_CHECK_COLD_FAILED: Counter = Counter::sum(
+    "warm_check_cold_failed",
+    "warm-solved LCPs that the cold driver failed to solve (warm-start check)",
+);
+/// Largest relative difference of a warm and a cold solution.
+pub const WARM_CHECK_MAX_DIFFERENCE: Counter = Counter::max(
+    "warm_check_max_difference",
+    Unit::Dimensionless,
+    "largest max|z_warm − z_cold| / max(‖z_warm‖∞, ‖z_cold‖∞) over the compared LCPs",
+);
+
+/// The counters of the warm-start check.
+const WARM_CHECK_COUNTERS: &[&Counter] = &[
+    &WARM_CHECK_SUSTAINED,
+    &WARM_CHECK_SUSTAINED_DIFFERENT,
+    &WARM_CHECK_SUSTAINED_ROUNDING,
+    &WARM_CHECK_IMPACT,
+    &WARM_CHECK_IMPACT_DIFFERENT,
+    &WARM_CHECK_IMPACT_ROUNDING,
+    &WARM_CHECK_COLD_FAILED,
+    &WARM_CHECK_MAX_DIFFERENCE,
+];
+
+/// The relative difference above which the warm-start check counts a warm
+/// and a cold solution as two solutions (-): an accepted solution has a
+/// residual ≤ 1e-10 of `‖q‖`, so two roundings of one solution differ by
+/// orders of magnitude less, and two solutions of a friction LCP by a
+/// fraction of the impulses.
+pub const WARM_CHECK_DIFFERENT: f64 = 1e-6;
+
+/// Whether solvers made from now on run the warm-start check
+/// ([`set_warm_check`]); off by default.
+static WARM_CHECK: AtomicBool = AtomicBool::new(false);
+
+/// Turns the warm-start check on or off for the [`ContactSolver`]s made
+/// from now on in this process (`floebench run --warm-check`): each LCP
+/// the warm start solves is also solved cold and the two are compared (see
+/// the module doc). A diagnostic: it doubles the cost of those solves.
+pub fn set_warm_check(on: bool) {
+    WARM_CHECK.store(on, Ordering::Relaxed);
+}
+
+/// `max_i |a_i − b_i| / max(‖a‖∞, ‖b‖∞)`, 0 when both are zero (and 1 for
+/// vectors of different lengths).
+fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
+    if a.len() != b.len() {
+        return 1.0;
+    }
+    let scale = a.iter().chain(b).fold(0.0f64, |s, v| s.max(v.abs()));
+    let diff = a
+        .iter()
+        .zip(b)
+        .fold(0.0f64, |s, (x, y)| s.max((x - y).abs()));
+    if diff == 0.0 {
+        0.0
+    } else {
+        diff / scale
+    }
+}
 
 /// The counters of the `lcp` solver.
 const LCP_COUNTERS: &[&Counter] = &[
@@ -375,6 +479,8 @@ pub struct ContactSolver {
     timer: Sampler,
     /// Warm-start caches (sustained, impact); `None`: warm start off.
     warm: Option<[WarmCache; 2]>,
+    /// Whether each warm-solved LCP is solved cold too ([`set_warm_check`]).
+    warm_check: bool,
 }
 
 impl ContactSolver {
@@ -403,6 +509,10 @@ impl ContactSolver {
         if kind == SolverKind::Cone {
             counters.declare(CONE_COUNTERS);
         }
+        let warm_check = warm_start && WARM_CHECK.load(Ordering::Relaxed);
+        if warm_check {
+            counters.declare(WARM_CHECK_COUNTERS);
+        }
         ContactSolver {
             kind,
             opts: SolveOptions::default(),
@@ -416,6 +526,7 @@ impl ContactSolver {
             profile: SolveProfile::default(),
             timer: Sampler::new(BUCKET_BOUNDS.len() + 1),
             warm: warm_start.then(Default::default),
+            warm_check,
         }
     }
 
@@ -540,6 +651,9 @@ impl ContactSolver {
         });
         let sol = self.lemke(lcp, guess.as_ref());
         self.record_solve(lcp, &sol, t);
+        if self.warm_check && sol.accepted_by == Some(Strategy::WarmStart) {
+            self.check_warm(lcp, &sol, usage);
+        }
         if sol.status.is_solved() {
             if let Some(c) = self.warm.as_mut() {
                 c[usage as usize].store(lcp, &sol.z);
@@ -559,6 +673,38 @@ impl ContactSolver {
         }
         self.counters.add(&LCP_UNRESOLVED, 1);
         vec![0.0; lcp.lcp.n]
+    }
+
+    /// The warm-start check of one warm-solved LCP: solves it cold (not
+    /// recorded, not timed, not dumped) and counts how the two solutions
+    /// differ.
+    fn check_warm(&mut self, lcp: &ContactLcp, warm: &LcpSolution, usage: Use) {
+        let cold = solve(&lcp.lcp, &self.opts);
+        let (compared, different, rounding) = match usage {
+            Use::Sustained => (
+                &WARM_CHECK_SUSTAINED,
+                &WARM_CHECK_SUSTAINED_DIFFERENT,
+                &WARM_CHECK_SUSTAINED_ROUNDING,
+            ),
+            Use::Impact => (
+                &WARM_CHECK_IMPACT,
+                &WARM_CHECK_IMPACT_DIFFERENT,
+                &WARM_CHECK_IMPACT_ROUNDING,
+            ),
+        };
+        let c = &mut self.counters;
+        c.add(compared, 1);
+        if !cold.status.is_solved() {
+            c.add(&WARM_CHECK_COLD_FAILED, 1);
+            return;
+        }
+        let d = relative_difference(&warm.z, &cold.z);
+        c.max(&WARM_CHECK_MAX_DIFFERENCE, d);
+        if d > WARM_CHECK_DIFFERENT {
+            c.add(different, 1);
+        } else if d > 0.0 {
+            c.add(rounding, 1);
+        }
     }
 
     /// One problem by the cone program, with the LCP chain as fallback.
@@ -663,5 +809,20 @@ impl ContactSolver {
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::relative_difference;
+
+    #[test]
+    fn relative_difference_is_scaled_by_the_largest_entry() {
+        assert_eq!(relative_difference(&[0.0, 0.0], &[0.0, 0.0]), 0.0);
+        assert_eq!(relative_difference(&[1.0, 2.0], &[1.0, 2.0]), 0.0);
+        assert_eq!(relative_difference(&[4.0, 0.0], &[0.0, 4.0]), 1.0);
+        let d = relative_difference(&[2.0, 1.0], &[2.0, 1.0 + 2e-12]);
+        assert!(d > 0.0 && d < 2e-12, "{d:e}");
+        assert_eq!(relative_difference(&[1.0], &[1.0, 0.0]), 1.0);
     }
 }

@@ -1996,6 +1996,70 @@ fn warm_start_setting_turns_the_warm_start_on_in_both_lcp_formulations() {
 }
 
 #[test]
+fn run_warm_check_solves_every_warm_hit_cold_too_and_counts_the_differences() {
+    // `floebench run --warm-check` on the sliding floe with the warm start
+    // on: every LCP the warm start solved is solved cold too, so the
+    // compared solves (sustained + impact) are exactly the warm hits, and
+    // the cold driver solves them all. The square lies flush on the wall:
+    // two contact points with friction, four constraints on three degrees
+    // of freedom, a singular Delassus matrix, so its LCP has many solutions
+    // and warm and cold pick different ones (event-driven 4 of 18, moreau
+    // 309 of 999 when written). Without the flag no warm_check_* counter is
+    // written and the run is the same warm run, to the last digit.
+    use crate::common::{case_text, floebench, stdout_of_success, with_formulation_table};
+    let dir = tempdir();
+    for name in ["event-driven", "moreau"] {
+        let text = with_formulation_table(&case_text("sliding_floe"), name, "warm_start = true");
+        let case = dir.path().join(format!("{name}.toml"));
+        std::fs::write(&case, text).unwrap();
+        let summary = |check: bool| {
+            let out = dir.path().join(format!("{name}_{check}"));
+            let mut cmd = floebench();
+            cmd.arg("run")
+                .arg(&case)
+                .args(["-f", name, "--quiet", "-o"]);
+            cmd.arg(&out);
+            if check {
+                cmd.arg("--warm-check");
+            }
+            stdout_of_success(&mut cmd);
+            let s: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap())
+                    .unwrap();
+            (
+                s,
+                std::fs::read_to_string(out.join("trajectory.csv")).unwrap(),
+            )
+        };
+        let value = |s: &serde_json::Value, k: &str| s["counters"][k]["value"].as_f64();
+        let (checked, checked_trajectory) = summary(true);
+        let count = |k: &str| value(&checked, k).unwrap_or(f64::NAN);
+        let hits = count("lcp_warm_hits");
+        assert!(hits > 0.0, "{name}: {hits} warm hits");
+        let compared = count("warm_check_sustained") + count("warm_check_impact");
+        assert_eq!(compared, hits, "{name}: every warm hit compared");
+        assert_eq!(count("warm_check_cold_failed"), 0.0, "{name}");
+        let different =
+            count("warm_check_sustained_different") + count("warm_check_impact_different");
+        let rounding = count("warm_check_sustained_rounding") + count("warm_check_impact_rounding");
+        assert!(
+            different > 0.0,
+            "{name}: the flush square's LCP has many solutions"
+        );
+        assert!(different + rounding <= compared, "{name}");
+        let d = count("warm_check_max_difference");
+        assert!(d > 1e-6 && d <= 1.0, "{name}: {d:e}");
+        let (plain, plain_trajectory) = summary(false);
+        assert_eq!(value(&plain, "warm_check_sustained"), None, "{name}");
+        assert_eq!(value(&plain, "lcp_warm_hits"), Some(hits), "{name}");
+        assert!(
+            plain_trajectory == checked_trajectory,
+            "{name}: the check changes the run"
+        );
+    }
+}
+
+#[test]
 fn a_dump_at_the_edge_of_the_f64_range_is_solved_and_judged_scaled() {
     // Found by the long fuzz run (seed 17, input 10800): a coast dump with
     // one q entry mutated to 1e308. The driver solves it; a check that
