@@ -63,6 +63,7 @@ pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
         thickness: floe.thickness,
         density: floe.density,
         young: s.young,
+        poisson: s.poisson,
         seed: s.seed,
     }
 }

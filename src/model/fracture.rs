@@ -146,6 +146,17 @@ pub const DAMPING: Limit = Limit::range(
     "",
     "0 is no dashpot; 10 is far past critical damping of a bond",
 );
+/// `poisson`: the Poisson ratio of the lattice model (torsion springs below
+/// 1/3; docs/physics.md §7.2).
+pub const POISSON: Limit = Limit::range(
+    "poisson",
+    "[fracture]",
+    crate::fracture::lattice::POISSON_MIN,
+    crate::fracture::lattice::POISSON_MAX,
+    "",
+    "a 2D lattice of central and torsion springs reaches (-1, 1/3]; sea ice is about 0.3",
+)
+.exclusive_min();
 /// `spacing`: the lattice spacing of the lattice model, m.
 pub const SPACING: Limit = Limit::range(
     "spacing",
@@ -315,6 +326,9 @@ pub struct FractureSettings {
     pub young: f64,
     /// Lattice model: dashpot ratio `β` (default [`DEFAULT_DAMPING`]).
     pub damping: f64,
+    /// Lattice model: Poisson ratio (default 1/3: central springs only, no
+    /// torsion springs, the lattice of the first lattice cases).
+    pub poisson: f64,
     /// Lattice model: the lattice spacing, m (default `None`:
     /// [`DEFAULT_SPACING_FRACTION`] of each floe's `√A`).
     pub spacing: Option<f64>,
@@ -344,6 +358,7 @@ impl Default for FractureSettings {
             concentration: 1.0,
             young: DEFAULT_YOUNG,
             damping: DEFAULT_DAMPING,
+            poisson: crate::fracture::lattice::POISSON_MAX,
             spacing: None,
             rule: LatticeRule::Toughness,
             critical_strain: f64::NAN,
@@ -382,7 +397,7 @@ impl FractureSettings {
         if let Some(trigger) = r.choice::<Trigger>("trigger")? {
             s.trigger = trigger;
         }
-        let numbers: [(&Limit, &mut f64); 11] = [
+        let numbers: [(&Limit, &mut f64); 12] = [
             (&TOUGHNESS, &mut s.toughness),
             (&MIN_AREA, &mut s.min_area),
             (&WINDOW, &mut s.window),
@@ -394,6 +409,7 @@ impl FractureSettings {
             (&CONCENTRATION, &mut s.concentration),
             (&YOUNG, &mut s.young),
             (&DAMPING, &mut s.damping),
+            (&POISSON, &mut s.poisson),
         ];
         for (limit, slot) in numbers {
             if let Some(v) = r.bounded(limit)? {

@@ -578,6 +578,7 @@ pub const CASE_LIMITS: &[Limit] = &[
     super::fracture::CONCENTRATION,
     super::fracture::YOUNG,
     super::fracture::DAMPING,
+    super::fracture::POISSON,
     super::fracture::SPACING,
     super::fracture::CRITICAL_STRAIN,
     super::fracture::SEED,

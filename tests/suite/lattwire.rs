@@ -41,13 +41,21 @@ fn lattice_keys_are_read() {
     let base = std::fs::read_to_string(case_path("fracture_ram")).unwrap();
     let base = &base[..base.find("[fracture]").unwrap()];
     let ok = format!(
-        "{base}[fracture]\nmodel = \"lattice\"\nrule = \"strain\"\ncritical_strain = 1e-4\ntrigger = \"always\"\nseed = 7\nspacing = 2.0\nyoung = 1e9\ndamping = 0.3\n"
+        "{base}[fracture]\nmodel = \"lattice\"\nrule = \"strain\"\ncritical_strain = 1e-4\ntrigger = \"always\"\nseed = 7\nspacing = 2.0\nyoung = 1e9\ndamping = 0.3\npoisson = 0.3\n"
     );
     let s = parse_case(&ok, Path::new("ok.toml")).unwrap().fracture;
     assert_eq!(
         (s.critical_strain, s.seed, s.spacing, s.young, s.damping),
         (1e-4, 7, Some(2.0), 1e9, 0.3)
     );
+    assert_eq!(s.poisson, 0.3);
+    assert_eq!(lattice_spec(&s, &diamond()).poisson, 0.3);
+    // A Poisson ratio past the reach of central and torsion springs is refused by key.
+    let bad = ok.replace("poisson = 0.3", "poisson = 0.4");
+    let err = parse_case(&bad, Path::new("bad.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("poisson"), "{err}");
 }
 
 #[test]
