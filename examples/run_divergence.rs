@@ -31,16 +31,7 @@ fn rows_of(dir: &Path, duration: f64, interval: f64) -> Result<Vec<TrajectoryRow
     for k in 0..=count {
         let (t, bodies) = read_state(&file, Some(k as f64 * interval))?;
         for (floe, b) in bodies.iter().enumerate() {
-            rows.push(TrajectoryRow {
-                t,
-                floe,
-                x: b.position.x,
-                y: b.position.y,
-                theta: b.angle,
-                vx: b.velocity.x,
-                vy: b.velocity.y,
-                omega: b.angular_velocity,
-            });
+            rows.push(TrajectoryRow::of(t, floe, b));
         }
     }
     Ok(rows)

@@ -47,6 +47,22 @@ pub struct TrajectoryRow {
     pub omega: f64,
 }
 
+impl TrajectoryRow {
+    /// The row of floe `floe` in state `b` at time `t` (s).
+    pub fn of(t: f64, floe: usize, b: &crate::state::BodyState) -> TrajectoryRow {
+        TrajectoryRow {
+            t,
+            floe,
+            x: b.position.x,
+            y: b.position.y,
+            theta: b.angle,
+            vx: b.velocity.x,
+            vy: b.velocity.y,
+            omega: b.angular_velocity,
+        }
+    }
+}
+
 /// One sample of the energy ledger.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct EnergySample {
@@ -501,16 +517,7 @@ fn record(
     energy: &mut Vec<EnergySample>,
 ) {
     for (b, f) in sys.bodies.iter().zip(&scn.floes) {
-        trajectory.push(TrajectoryRow {
-            t: sys.t,
-            floe: f.id,
-            x: b.position.x,
-            y: b.position.y,
-            theta: b.angle,
-            vx: b.velocity.x,
-            vy: b.velocity.y,
-            omega: b.angular_velocity,
-        });
+        trajectory.push(TrajectoryRow::of(sys.t, f.id, b));
     }
     energy.push(sample(scn, sys, e0));
 }
