@@ -387,3 +387,13 @@ pub fn drift_velocity(scn: &Scenario) -> Vec2 {
         + env.air.velocity.at(&Vec2::zeros(), 0.0)
             * (env.air.drag_factor() / env.water.drag_factor()).sqrt()
 }
+
+/// The square of side `side` (m) with a corner at the origin, counter-clockwise.
+pub fn square(side: f64) -> Vec<Vec2> {
+    vec![
+        Vec2::new(0.0, 0.0),
+        Vec2::new(side, 0.0),
+        Vec2::new(side, side),
+        Vec2::new(0.0, side),
+    ]
+}

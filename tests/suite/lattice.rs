@@ -2,6 +2,7 @@
 //! triangulation, the lumped masses, the calibrated elasticity, the
 //! Brazilian test.
 
+use crate::common::square;
 use floebench::fracture::lattice::delaunay::triangulate;
 use floebench::fracture::lattice::{moduli, Lattice, LatticeSpec};
 use floebench::geometry::{area_properties, cross, Vec2};
@@ -18,15 +19,6 @@ fn disc(r: f64, sides: usize) -> Vec<Vec2> {
             Vec2::new(r * t.cos(), r * t.sin())
         })
         .collect()
-}
-
-fn square(side: f64) -> Vec<Vec2> {
-    vec![
-        Vec2::new(0.0, 0.0),
-        Vec2::new(side, 0.0),
-        Vec2::new(side, side),
-        Vec2::new(0.0, side),
-    ]
 }
 
 fn spec(spacing: f64, seed: u64) -> LatticeSpec {

@@ -2,21 +2,13 @@
 //! conserve, the integrator's energy error, a gentle strike that leaves the
 //! floe whole, a strong one against a wall that breaks it.
 
+use crate::common::square;
 use floebench::fracture::chain::{BondRule, ChainOptions, Stop};
 use floebench::fracture::lattice::percussion::{
     critical_ram_speed, Impact, Outcome, Percussion, RigidMotion,
 };
 use floebench::fracture::lattice::{Lattice, LatticeSpec};
 use floebench::geometry::Vec2;
-
-fn square(side: f64) -> Vec<Vec2> {
-    vec![
-        Vec2::new(0.0, 0.0),
-        Vec2::new(side, 0.0),
-        Vec2::new(side, side),
-        Vec2::new(0.0, side),
-    ]
-}
 
 /// A 10 m square floe 1 m thick, of ice, at `spacing`.
 fn floe(spacing: f64) -> Lattice {
