@@ -327,22 +327,20 @@ fn main() -> ExitCode {
             netcdf,
             warm_check,
             quiet,
-        } => {
-            floebench::formulation::contact_solver::set_warm_check(warm_check);
-            run(
-                &case,
-                &formulation,
-                RunArgs {
-                    out,
-                    integrator,
-                    dump_lcp,
-                    allow_contacts,
-                    from: from.map(|f| (f, at)),
-                    netcdf,
-                    quiet,
-                },
-            )
-        }
+        } => run(
+            &case,
+            &formulation,
+            RunArgs {
+                out,
+                integrator,
+                dump_lcp,
+                allow_contacts,
+                from: from.map(|f| (f, at)),
+                netcdf,
+                warm_check,
+                quiet,
+            },
+        ),
         Command::Compare {
             cases,
             formulations,
@@ -614,6 +612,8 @@ struct RunArgs {
     from: Option<(PathBuf, Option<f64>)>,
     /// Also write trajectory.nc.
     netcdf: bool,
+    /// Solve each warm-solved LCP cold too and count the differences.
+    warm_check: bool,
     quiet: bool,
 }
 
@@ -625,6 +625,7 @@ fn run(case: &Path, name: &str, args: RunArgs) -> ExitCode {
         allow_contacts,
         from,
         netcdf,
+        warm_check,
         quiet,
     } = args;
     let entry = match formulation::entry(name) {
@@ -692,6 +693,7 @@ fn run(case: &Path, name: &str, args: RunArgs) -> ExitCode {
     let opts = FormulationOptions {
         integrator,
         dump_lcp,
+        warm_check,
     };
     let mut form = match formulation::build(entry.name, &scn, &opts) {
         Ok(f) => f,

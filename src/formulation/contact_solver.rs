@@ -48,7 +48,7 @@
 //! Lemke's tableau, and a friction LCP with several solutions may be given
 //! another one.
 //!
-//! **Warm-start check** (a diagnostic, off by default: [`set_warm_check`],
+//! **Warm-start check** (a diagnostic, off by default: [`ContactSolver::with_warm_check`],
 //! `floebench run --warm-check`). Each LCP the warm start solves is solved
 //! cold too, by the same driver on the same data; the warm solution is the
 //! one used, so the run is the warm run. The two solutions `z_w`, `z_c` are
@@ -71,7 +71,6 @@ use crate::record::profile::{bucket_of, BUCKET_BOUNDS};
 use crate::record::{ContactLog, Counter, Counters, ImpulseRecord, Settings, SolveProfile, Unit};
 use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicBool, Ordering};
 
 /// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
 /// LCP solution has residual ≤ 1e-10 relative to `‖q‖`.
@@ -274,18 +273,6 @@ const WARM_CHECK_COUNTERS: &[&Counter] = &[
 /// fraction of the impulses.
 pub const WARM_CHECK_DIFFERENT: f64 = 1e-6;
 
-/// Whether solvers made from now on run the warm-start check
-/// ([`set_warm_check`]); off by default.
-static WARM_CHECK: AtomicBool = AtomicBool::new(false);
-
-/// Turns the warm-start check on or off for the [`ContactSolver`]s made
-/// from now on in this process (`floebench run --warm-check`): each LCP
-/// the warm start solves is also solved cold and the two are compared (see
-/// the module doc). A diagnostic: it doubles the cost of those solves.
-pub fn set_warm_check(on: bool) {
-    WARM_CHECK.store(on, Ordering::Relaxed);
-}
-
 /// `max_i |a_i − b_i| / max(‖a‖∞, ‖b‖∞)`, 0 when both are zero (and 1 for
 /// vectors of different lengths).
 fn relative_difference(a: &[f64], b: &[f64]) -> f64 {
@@ -479,7 +466,8 @@ pub struct ContactSolver {
     timer: Sampler,
     /// Warm-start caches (sustained, impact); `None`: warm start off.
     warm: Option<[WarmCache; 2]>,
-    /// Whether each warm-solved LCP is solved cold too ([`set_warm_check`]).
+    /// Whether each warm-solved LCP is solved cold too
+    /// ([`ContactSolver::with_warm_check`]).
     warm_check: bool,
 }
 
@@ -509,10 +497,6 @@ impl ContactSolver {
         if kind == SolverKind::Cone {
             counters.declare(CONE_COUNTERS);
         }
-        let warm_check = warm_start && WARM_CHECK.load(Ordering::Relaxed);
-        if warm_check {
-            counters.declare(WARM_CHECK_COUNTERS);
-        }
         ContactSolver {
             kind,
             opts: SolveOptions::default(),
@@ -526,8 +510,20 @@ impl ContactSolver {
             profile: SolveProfile::default(),
             timer: Sampler::new(BUCKET_BOUNDS.len() + 1),
             warm: warm_start.then(Default::default),
-            warm_check,
+            warm_check: false,
         }
+    }
+
+    /// This solver with the warm-start check on or off (`floebench run
+    /// --warm-check`): each LCP the warm start solves is also solved cold
+    /// and the two are compared (see the module doc). Only with the warm
+    /// start on; a diagnostic: it doubles the cost of those solves.
+    pub fn with_warm_check(mut self, on: bool) -> ContactSolver {
+        self.warm_check = on && self.warm.is_some();
+        if self.warm_check {
+            self.counters.declare(WARM_CHECK_COUNTERS);
+        }
+        self
     }
 
     /// Whether the LCPs are warm-started.

@@ -725,7 +725,8 @@ impl EventDriven {
                 settings.solver,
                 opts.dump_lcp.clone(),
                 settings.warm_start,
-            ),
+            )
+            .with_warm_check(opts.warm_check),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
             counters: Counters::new(COUNTERS),

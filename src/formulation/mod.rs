@@ -274,6 +274,10 @@ pub struct FormulationOptions {
     /// Write every LCP solved into this folder as `<seq>.json` (event-driven,
     /// Moreau–Jean with the LCP solver or a cone fallback).
     pub dump_lcp: Option<std::path::PathBuf>,
+    /// Solve each LCP that the warm start solved cold too and count the
+    /// differences (`floebench run --warm-check`; a diagnostic, off by
+    /// default: see [`contact_solver`]).
+    pub warm_check: bool,
 }
 
 /// A check a formulation does not claim to pass, with the measured reason.

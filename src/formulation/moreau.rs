@@ -404,7 +404,8 @@ impl Moreau {
                 solver.unwrap_or(s.solver),
                 opts.dump_lcp.clone(),
                 s.warm_start,
-            ),
+            )
+            .with_warm_check(opts.warm_check),
             counters: Counters::new(COUNTERS),
             records: Vec::new(),
             max_penetration: 0.0,

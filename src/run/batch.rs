@@ -241,6 +241,7 @@ pub fn run_jobs_aligned(
     let fopts = FormulationOptions {
         integrator: opts.integrator,
         dump_lcp: None,
+        warm_check: false,
     };
     // Every formulation must accept every case before anything runs.
     for job in &jobs {
