@@ -97,6 +97,7 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
         push("fractures", s.fractures as f64, "count");
         push("floes_final", s.floes_at_end as f64, "count");
         push("fracture_energy", e.fracture, "J");
+        push("fracture_kinetic_gain", e.fracture_kinetic_gain, "J");
         let alive = run.floes.iter().filter(|f| f.t_end.is_none());
         let smallest = alive.map(|f| f.area).fold(f64::INFINITY, f64::min);
         if smallest.is_finite() {

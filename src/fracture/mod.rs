@@ -408,7 +408,7 @@ pub fn apply_split(
         return None;
     }
     let conservation = conservation_error(&parent, &sys.bodies[k], &pieces, true);
-    let at = replace(scn, sys, d, pieces.into(), conservation, spent, spent);
+    let at = replace(scn, sys, d, pieces.into(), conservation, spent, 0.0);
     Some((at[0], at[1]))
 }
 
@@ -440,16 +440,19 @@ pub fn apply_lattice(
         .sum::<f64>()
         - parent.kinetic_energy(&b.velocity, b.angular_velocity);
     let spent = l.loss.min(budget - gain).max(0.0);
-    replace(scn, sys, d, pieces, conservation, spent, spent + gain);
+    // ΔK ≥ 0 in exact arithmetic (§9.8); a rounding below zero is booked as is.
+    replace(scn, sys, d, pieces, conservation, spent, gain);
     Some(spent + gain)
 }
 
 /// Replaces floe `d.floe` by `pieces` (at least two) at `sys.t`: the first
 /// takes the parent's index, the others are appended in order (so every
 /// other floe keeps its index), each with the next id; the parent ends in
-/// `scn.history`, with the fracture's row (`energy` = `fracture`, J);
-/// `removed` (J) leaves the ledger's `dissipated` column and `fracture`
-/// joins its `fracture` column. Returns the pieces' indices.
+/// `scn.history`, with the fracture's row (`energy` = `fracture`,
+/// `kinetic_gain` = `gain`, J); `fracture + gain` (J) leaves the ledger's
+/// `dissipated` column and `fracture` joins its `fracture` column (the
+/// pieces' kinetic energy above the parent's, `gain`, is in the state).
+/// Returns the pieces' indices.
 fn replace(
     scn: &mut Scenario,
     sys: &mut System,
@@ -457,7 +460,7 @@ fn replace(
     pieces: Vec<Piece>,
     conservation: f64,
     fracture: f64,
-    removed: f64,
+    gain: f64,
 ) -> Vec<usize> {
     let k = d.floe;
     let parent = scn.floes[k].clone();
@@ -474,6 +477,7 @@ fn replace(
         measure: d.measure,
         threshold: d.threshold,
         energy: fracture,
+        kinetic_gain: gain,
         conservation,
     });
     let theta = parent.theta_birth + sys.bodies[k].angle;
@@ -492,7 +496,7 @@ fn replace(
             at.push(scn.floes.len() - 1);
         }
     }
-    sys.ledger.dissipated -= removed;
+    sys.ledger.dissipated -= fracture + gain;
     sys.ledger.fracture += fracture;
     at
 }

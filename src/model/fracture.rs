@@ -516,6 +516,12 @@ pub struct FractureRecord {
     /// Energy the fracture took out of the contact dissipation into the
     /// ledger's `fracture` column, J.
     pub energy: f64,
+    /// The kinetic energy the pieces have above the parent's, J: their
+    /// relative motion, which the lattice model gives them (docs/physics.md
+    /// §9.8) and takes from the ledger's `dissipated` column; ≥ 0 (the
+    /// parent's rigid motion has the least kinetic energy of any motion
+    /// with its linear and angular momentum), 0 for the chord cut.
+    pub kinetic_gain: f64,
     /// The largest relative change the split made to what it conserves:
     /// area, mass, kinetic energy (each relative to the parent's), linear
     /// momentum (relative to `M (|v| + |ω| r)`) and angular momentum about

@@ -187,6 +187,11 @@ pub struct EnergyTotals {
     pub dissipated: f64,
     /// Spent on cracks by fractures, J.
     pub fracture: f64,
+    /// Of `dissipated`, the part fractures returned to the floes as their
+    /// pieces' kinetic energy above their parents' (the lattice model's
+    /// relative motion of the pieces, docs/physics.md §9.8), J: the sum of
+    /// `fractures.csv`'s `kinetic_gain`; `dissipated` is net of it.
+    pub fracture_kinetic_gain: f64,
     /// Final balance residual, J.
     pub residual: f64,
     /// Largest |residual| over the samples, J.
@@ -452,6 +457,7 @@ impl Runner {
             work_coriolis: last.work_coriolis,
             dissipated: last.dissipated,
             fracture: last.fracture,
+            fracture_kinetic_gain: scn.history.fractures.iter().map(|f| f.kinetic_gain).sum(),
             residual: last.residual,
             max_abs_residual: energy.iter().map(|s| s.residual.abs()).fold(0.0, f64::max),
             exchanged: e0

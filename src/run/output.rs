@@ -84,11 +84,15 @@ pub fn energy_csv(result: &RunResult) -> String {
 }
 
 /// The first line of `fractures.csv`.
-pub const FRACTURES_HEADER: &str = "t,parent,children,model,measure,threshold";
+pub const FRACTURES_HEADER: &str =
+    "t,parent,children,model,measure,threshold,energy,kinetic_gain";
 
-/// The fractures as CSV: `t,parent,children,model,measure,threshold` (s,
-/// id, ids joined by `;`, name, then the criterion's unit: J for `energy`,
-/// Pa for `stress`).
+/// The fractures as CSV:
+/// `t,parent,children,model,measure,threshold,energy,kinetic_gain` (s, id,
+/// ids joined by `;`, name, then the criterion's unit: J for `energy` and
+/// `lattice`, the yield function for `stress`; then the energy booked in
+/// the ledger's `fracture` column and the pieces' kinetic energy above the
+/// parent's, J).
 pub fn fractures_csv(result: &RunResult) -> String {
     let mut s = String::from(FRACTURES_HEADER);
     s.push('\n');
@@ -96,13 +100,15 @@ pub fn fractures_csv(result: &RunResult) -> String {
         let children: Vec<String> = f.children.iter().map(|c| c.to_string()).collect();
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{}",
             f.t,
             f.parent,
             children.join(";"),
             f.model,
             f.measure,
-            f.threshold
+            f.threshold,
+            f.energy,
+            f.kinetic_gain
         );
     }
     s

@@ -57,7 +57,10 @@ fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
         assert!(f["mass"].as_f64().unwrap() > 0.0 && f["polygon"].as_array().unwrap().len() >= 3);
     }
     let fractures = std::fs::read_to_string(out.join("fractures.csv")).unwrap();
-    assert_eq!(fractures, "t,parent,children,model,measure,threshold\n");
+    assert_eq!(
+        fractures,
+        "t,parent,children,model,measure,threshold,energy,kinetic_gain\n"
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["end"]["reason"], "completed");

@@ -9,10 +9,11 @@ use floebench::fracture::lattice::percussion::Impact;
 use floebench::fracture::lattice::Lattice;
 use floebench::fracture::split::conservation_error;
 use floebench::fracture::strike::{chain_options, lattice_spec, pieces, strike};
+use floebench::fracture::{Fracturer, Load};
 use floebench::geometry::{area_properties, check_convex_ccw, cross, sat_separation, Vec2};
 use floebench::model::fracture::{FractureModel, FractureSettings};
 use floebench::model::{Floe, FloeOrigin};
-use floebench::state::BodyState;
+use floebench::state::{BodyState, System};
 use std::path::Path;
 
 /// A 50 m² diamond (a 7.07 m square turned by 45°), h = 1 m.
@@ -201,6 +202,70 @@ fn a_fast_ram_breaks_a_floe_and_a_slow_one_does_not_in_every_formulation() {
                 "{name}: {fr:?}"
             );
             assert!(fr.measure >= fr.threshold, "{name}: {fr:?}");
+            // The pieces fly apart: their relative motion is counted.
+            assert!(
+                fr.kinetic_gain > 0.0 && fr.energy >= 0.0,
+                "{name}: {fr:?}"
+            );
         }
+        // The summary's total is the rows' sum, and the ledger, net of it,
+        // balances.
+        let e = &r.summary.energy;
+        let gain: f64 = r.fractures.iter().map(|f| f.kinetic_gain).sum();
+        assert_eq!(e.fracture_kinetic_gain, gain, "{name}");
+        assert!(
+            e.max_abs_residual <= 1e-9 * e.exchanged,
+            "{name}: residual {} of {}",
+            e.max_abs_residual,
+            e.exchanged
+        );
     }
+}
+
+#[test]
+fn a_lattice_split_books_the_pieces_kinetic_energy_gain_apart_from_the_crack() {
+    // The 2 m/s diamond of lattice_ram loaded by its rigid impact on the
+    // coast, (1 + e) M v at its corner: its lattice breaks it, and the
+    // kinetic energy the pieces gain is the record's `kinetic_gain`, taken
+    // from `dissipated` with the crack energy, which alone goes to `fracture`.
+    let mut scn = scenario(&std::fs::read_to_string(case_path("lattice_ram")).unwrap());
+    let mut sys = System::initial(&scn);
+    let k = 3;
+    let f = scn.floes[k].clone();
+    let v = sys.bodies[k].velocity;
+    let corner = sys.bodies[k].position + Vec2::new(5.0, 0.0);
+    let loads = [Load {
+        floe: k,
+        other: scn.floes.len(),
+        point: corner,
+        impulse: -v * ((1.0 + scn.contact.restitution) * f.mass),
+    }];
+    // The formulation's post-impact motion: bounced at e v.
+    sys.bodies[k].velocity = -v * scn.contact.restitution;
+    let mut fr = Fracturer::default();
+    let decisions = fr.decide(&scn, &sys, &loads);
+    assert_eq!(decisions.len(), 1);
+    let k0 = sys.kinetic_energy(&scn);
+    let ledger0 = sys.ledger;
+    // The impact's own loss: ½ M v² (1 − e²).
+    let lost = 0.5 * f.mass * v.norm_squared() * (1.0 - scn.contact.restitution.powi(2));
+    assert_eq!(fr.apply(&mut scn, &mut sys, &decisions, lost), 1);
+    let rec = &scn.history.fractures[0];
+    let k1 = sys.kinetic_energy(&scn);
+    assert!(rec.kinetic_gain > 0.0, "{rec:?}");
+    assert!(
+        (k1 - k0 - rec.kinetic_gain).abs() <= 1e-12 * k0,
+        "kinetic energy {k0} -> {k1}, gain {}",
+        rec.kinetic_gain
+    );
+    let dd = sys.ledger.dissipated - ledger0.dissipated;
+    let df = sys.ledger.fracture - ledger0.fracture;
+    assert_eq!(df, rec.energy);
+    assert!(
+        (dd + rec.energy + rec.kinetic_gain).abs() <= 1e-12 * lost,
+        "dissipated moved by {dd}; crack {} gain {}",
+        rec.energy,
+        rec.kinetic_gain
+    );
+    assert!(rec.energy > 0.0 && rec.energy + rec.kinetic_gain <= lost * (1.0 + 1e-12));
 }
