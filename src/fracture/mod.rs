@@ -295,10 +295,10 @@ impl Fracturer {
         out
     }
 
-    /// The lattice model's decision for floe `floe` under `pairs`: the
-    /// percussion of its most loaded pair's equivalent impact
-    /// ([`strike`], docs/physics.md §9.8), when the trigger lets it run
-    /// and it leaves at least two pieces.
+    /// The lattice model's decision for floe `floe` under `pairs`: one
+    /// percussion with every pair's equivalent impact as a striker at once
+    /// ([`strike::equivalent_impacts`], docs/physics.md §9.8), when the
+    /// trigger lets it run and it leaves at least two pieces.
     fn percussion(
         &mut self,
         scn: &Scenario,
@@ -312,6 +312,7 @@ impl Fracturer {
             .iter()
             .max_by(|a, b| a.impulse.norm().total_cmp(&b.impulse.norm()))?;
         let (impact, _) = strike::equivalent_impact(scn, sys, floe, most)?;
+        let impacts = strike::equivalent_impacts(scn, sys, floe, pairs)?;
         let lattice = match self.lattices.entry(f.id) {
             std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::btree_map::Entry::Vacant(e) => {
@@ -319,9 +320,9 @@ impl Fracturer {
             }
         };
         let always = s.trigger == crate::model::fracture::Trigger::Always;
-        let out = strike::strike(
+        let out = strike::strike_all(
             lattice,
-            impact,
+            &impacts,
             strike::chain_options(s),
             always,
             s.min_area,

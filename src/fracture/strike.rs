@@ -123,6 +123,100 @@ pub fn equivalent_impact(
     ))
 }
 
+/// The equivalent rigid impacts of all the pairs `pairs` loading floe
+/// `floe` in one solve, in the floe's body frame (docs/physics.md §9.8):
+/// the approach speeds `u` that, with every pair active at once, give the
+/// solve's impulses under the rigid law, `(1 + e) u = G P`, `G` the
+/// Delassus operator of the floe and its strikers along the pairs' normals
+/// (`G_kl = n_k · n_l / M + (r_k × n_k)(r_l × n_l)/I + δ_kl / m*_k`, each
+/// striker on its own, of its effective mass `m*_k`, `∞` for an obstacle).
+/// One pair gives [`equivalent_impact`]'s. When two or more obstacles load
+/// the floe their speeds are replaced by those of one common frame `W`
+/// fitted to them by least squares (`u_k = n_k · W`): the obstacles are one
+/// fixed world, and rigid walls approaching the floe at speeds no common
+/// frame has would crush it without limit. Pairs without an impulse are
+/// left out; `None` if none is left.
+pub fn equivalent_impacts(
+    scn: &Scenario,
+    sys: &System,
+    floe: usize,
+    pairs: &[PairLoad],
+) -> Option<Vec<Impact>> {
+    let pairs: Vec<&PairLoad> = pairs
+        .iter()
+        .filter(|p| {
+            let n = p.impulse.norm();
+            n.is_finite() && n > 0.0
+        })
+        .collect();
+    if let [one] = pairs[..] {
+        return equivalent_impact(scn, sys, floe, one).map(|(i, _)| vec![i]);
+    }
+    if pairs.is_empty() {
+        return None;
+    }
+    let f = &scn.floes[floe];
+    let b = &sys.bodies[floe];
+    let e = 1.0 + scn.contact.restitution;
+    let normal: Vec<Vec2> = pairs.iter().map(|p| p.impulse / p.impulse.norm()).collect();
+    let arm: Vec<f64> = pairs
+        .iter()
+        .zip(&normal)
+        .map(|(p, n)| cross(&(p.point - b.position), n))
+        .collect();
+    let striker: Vec<f64> = pairs
+        .iter()
+        .zip(&normal)
+        .map(|(p, n)| effective_mass(scn, sys, p.other, &p.point, n))
+        .collect();
+    let mut speed: Vec<f64> = (0..pairs.len())
+        .map(|k| {
+            let own: f64 = (0..pairs.len())
+                .map(|l| {
+                    pairs[l].impulse.norm()
+                        * (normal[k].dot(&normal[l]) / f.mass + arm[k] * arm[l] / f.inertia)
+                })
+                .sum();
+            (own + pairs[k].impulse.norm() / striker[k]) / e
+        })
+        .collect();
+    let walls: Vec<usize> = (0..pairs.len())
+        .filter(|&k| striker[k].is_infinite())
+        .collect();
+    if walls.len() >= 2 {
+        let mut a = nalgebra::Matrix2::zeros();
+        let mut rhs = Vec2::zeros();
+        for &k in &walls {
+            a += normal[k] * normal[k].transpose();
+            rhs += normal[k] * speed[k];
+        }
+        let w = match a.try_inverse().filter(|_| a.determinant() > 1e-9 * a.trace().powi(2)) {
+            Some(inv) => inv * rhs,
+            // Parallel walls: W along their common line.
+            None => {
+                let n0 = normal[walls[0]];
+                n0 * (walls.iter().map(|&k| speed[k] * normal[k].dot(&n0)).sum::<f64>()
+                    / walls.len() as f64)
+            }
+        };
+        for &k in &walls {
+            speed[k] = normal[k].dot(&w);
+        }
+    }
+    let impacts: Vec<Impact> = (0..pairs.len())
+        .map(|k| Impact {
+            point: rotate(&(pairs[k].point - b.position), -b.angle),
+            normal: rotate(&normal[k], -b.angle),
+            mass: striker[k],
+            speed: speed[k],
+        })
+        .collect();
+    impacts
+        .iter()
+        .all(|i| i.speed.is_finite())
+        .then_some(impacts)
+}
+
 /// What a percussion made of a floe, in its body frame: the pieces (at
 /// least two; rest positions, final velocities of the lattice run) and the
 /// lattice's totals.
@@ -166,7 +260,21 @@ pub fn strike(
     min_area: f64,
     area_density: f64,
 ) -> Result<Strike, String> {
-    let mut p = Percussion::new(lattice, RigidMotion::default(), impact, options)?;
+    strike_all(lattice, &[impact], options, always, min_area, area_density)
+}
+
+/// As [`strike`], for several impacts at once: one percussion with a
+/// striker per impact ([`Percussion::with_strikers`]), its bound the
+/// several strikers' ([`super::lattice::percussion::impact_energy_bound`]).
+pub fn strike_all(
+    lattice: &Lattice,
+    impacts: &[Impact],
+    options: ChainOptions,
+    always: bool,
+    min_area: f64,
+    area_density: f64,
+) -> Result<Strike, String> {
+    let mut p = Percussion::with_strikers(lattice, RigidMotion::default(), impacts, options)?;
     let bound = p.impact_energy;
     let weakest = p.weakest_bond_energy();
     if !always && bound < weakest {

@@ -5,10 +5,12 @@
 
 use crate::common::{case_path, run, scenario};
 use floebench::formulation::parse_case;
-use floebench::fracture::lattice::percussion::Impact;
+use floebench::fracture::lattice::percussion::{
+    impact_energy_bound, Impact, Percussion, RigidMotion,
+};
 use floebench::fracture::lattice::Lattice;
 use floebench::fracture::split::conservation_error;
-use floebench::fracture::strike::{chain_options, lattice_spec, pieces, strike};
+use floebench::fracture::strike::{chain_options, lattice_spec, pieces, strike, strike_all};
 use floebench::fracture::{Fracturer, Load};
 use floebench::geometry::{area_properties, check_convex_ccw, cross, sat_separation, Vec2};
 use floebench::model::fracture::{FractureModel, FractureSettings};
@@ -268,4 +270,189 @@ fn a_lattice_split_books_the_pieces_kinetic_energy_gain_apart_from_the_crack() {
         rec.kinetic_gain
     );
     assert!(rec.energy > 0.0 && rec.energy + rec.kinetic_gain <= lost * (1.0 + 1e-12));
+}
+
+#[test]
+fn the_bound_of_several_strikers_is_the_least_energy_over_the_frames_that_stop_the_walls() {
+    let m = 1000.0;
+    let i = 5.0e4;
+    let rest = RigidMotion::default();
+    let at = |normal: Vec2, mass: f64, speed: f64| Impact {
+        point: Vec2::zeros(),
+        normal,
+        mass,
+        speed,
+    };
+    let x = Vec2::new(1.0, 0.0);
+    let rel = |a: f64, b: f64| (a - b).abs() / b;
+    // One finite striker: ½ μ_G u², μ_G = m* M / (m* + M); one wall: ½ M u².
+    let one = impact_energy_bound(m, i, rest, &[at(x, 3000.0, 2.0)], &[2.0]);
+    assert!(rel(one, 0.5 * 750.0 * 4.0) < 1e-12, "{one}");
+    let wall = impact_energy_bound(m, i, rest, &[at(x, f64::INFINITY, 2.0)], &[2.0]);
+    assert!(rel(wall, 0.5 * m * 4.0) < 1e-12, "{wall}");
+    // Squeezed by two equal strikers from opposite sides: the frame stays,
+    // both strikers' energy can go into the floe, m* u² (4× one's at m* = M).
+    let two = impact_energy_bound(
+        m,
+        i,
+        rest,
+        &[at(x, m, 2.0), at(-x, m, 2.0)],
+        &[2.0, 2.0],
+    );
+    assert!(rel(two, m * 4.0) < 1e-12, "{two}");
+    // A striker across a wall's normal: W = (u, w) with w minimising.
+    let y = Vec2::new(0.0, 1.0);
+    let cross_ = impact_energy_bound(
+        m,
+        i,
+        rest,
+        &[at(x, f64::INFINITY, 1.0), at(y, m, 2.0)],
+        &[1.0, 2.0],
+    );
+    assert!(rel(cross_, 0.5 * m * 1.0 + 0.5 * 500.0 * 4.0) < 1e-12, "{cross_}");
+    // Two walls closing on the floe: no frame stops both.
+    let crush = impact_energy_bound(
+        m,
+        i,
+        rest,
+        &[at(x, f64::INFINITY, 1.0), at(-x, f64::INFINITY, 1.0)],
+        &[1.0, 1.0],
+    );
+    assert!(crush.is_infinite());
+    // Parallel walls moving together (the floe drifts between them): finite.
+    let drift = impact_energy_bound(
+        m,
+        i,
+        rest,
+        &[at(x, f64::INFINITY, 1.0), at(-x, f64::INFINITY, -1.0)],
+        &[1.0, -1.0],
+    );
+    assert!(rel(drift, 0.5 * m) < 1e-12, "{drift}");
+}
+
+/// The diamond's two side corners struck at once towards each other by
+/// strikers of the floe's mass at `speed` (both: `true`), or only the right
+/// one.
+fn squeeze(f: &Floe, speed: f64, both: bool) -> Vec<Impact> {
+    let right = Impact {
+        point: Vec2::new(5.0, 0.0),
+        normal: Vec2::new(-1.0, 0.0),
+        mass: f.mass,
+        speed,
+    };
+    let left = Impact {
+        point: Vec2::new(-5.0, 0.0),
+        normal: Vec2::new(1.0, 0.0),
+        ..right
+    };
+    if both {
+        vec![right, left]
+    } else {
+        vec![right]
+    }
+}
+
+#[test]
+fn the_trigger_bound_of_several_strikers_skips_only_impacts_that_break_no_bond() {
+    // As the one-striker sweep: squeezed from both sides, and struck on a
+    // corner and a face at once by a wall and a floe, from far below the
+    // weakest bond's energy to far above, run whatever the bound.
+    let f = diamond();
+    let s = settings(1.0);
+    let l = Lattice::build(&f.shape, lattice_spec(&s, &f)).unwrap();
+    let (mut below, mut broke_above) = (0, 0);
+    for k in 0..12 {
+        let speed = 1e-3 * 2f64.powi(k) * 0.5;
+        let mixed = vec![
+            Impact {
+                point: Vec2::new(5.0, 0.0),
+                normal: Vec2::new(-1.0, 0.0),
+                mass: f64::INFINITY,
+                speed,
+            },
+            Impact {
+                point: Vec2::new(-2.5, -2.5),
+                normal: Vec2::new(1.0, 1.0).normalize(),
+                mass: 0.3 * f.mass,
+                speed: 2.0 * speed,
+            },
+        ];
+        for impacts in [squeeze(&f, speed, true), mixed] {
+            let o = strike_all(&l, &impacts, chain_options(&s), true, s.min_area, 917.0).unwrap();
+            if o.bound < o.weakest {
+                below += 1;
+                assert_eq!(o.broken, 0, "{speed}: bound {} weakest {}", o.bound, o.weakest);
+            } else if o.broken > 0 {
+                broke_above += 1;
+            }
+        }
+    }
+    assert!(
+        below >= 4 && broke_above >= 4,
+        "{below} below, {broke_above} broke above"
+    );
+}
+
+#[test]
+fn a_floe_squeezed_from_two_sides_conserves_momentum_and_breaks_where_one_strike_does_not() {
+    // The percussion: the strikers' momentum loss is the floe's gain, to
+    // 1e-12, and a squeeze puts 4× the energy of one strike into the floe.
+    let f = diamond();
+    let s = settings(0.5);
+    let l = Lattice::build(&f.shape, lattice_spec(&s, &f)).unwrap();
+    let impacts = squeeze(&f, 0.7, true);
+    let mut p =
+        Percussion::with_strikers(&l, RigidMotion::default(), &impacts, chain_options(&s)).unwrap();
+    let o = p.run();
+    let given: Vec2 = impacts
+        .iter()
+        .zip(&o.striker_velocities)
+        .map(|(i, [u0, u1])| -i.normal * (i.mass * (u1 - u0)))
+        .sum();
+    let scale = f.mass * 0.7;
+    assert!((o.impulse - given).norm() / scale < 1e-12, "{:?} {given:?}", o.impulse);
+    let (p0, l0) = o.initial_momentum;
+    assert!((o.momentum() - p0 - o.impulse).norm() / scale < 1e-12);
+    assert!(
+        (o.angular_momentum() - l0 - o.impulse_moment).abs() / (scale * f.radius) < 1e-12
+    );
+    let one = strike_all(&l, &squeeze(&f, 0.7, false), chain_options(&s), false, 1.0, 917.0)
+        .unwrap();
+    assert!((o.impact_energy / one.bound - 4.0).abs() < 1e-12);
+
+    // In a run: floe 1 (the 50 m² diamond at rest) is hit on its corners
+    // by a 6 m square from each side at 1 m/s in one impact group. Struck
+    // by one of them alone it stays whole; squeezed by both it breaks.
+    let case = |both: bool| {
+        let right = if both {
+            "[[floe]]\npolygon = [[20.5, 2.0], [26.5, 2.0], [26.5, 8.0], [20.5, 8.0]]\nthickness = 1.0\nvelocity = [-1.0, 0.0]\n"
+        } else {
+            ""
+        };
+        scenario(&format!(
+            "[case]\nversion = 1\nname = \"squeeze\"\ndescription = \"x\"\nduration = 2.0\noutput_interval = 1.0\n\
+             [contact]\nrestitution = 0.5\nfriction = 0.0\n\
+             [[floe]]\npolygon = [[3.5, 2.0], [9.5, 2.0], [9.5, 8.0], [3.5, 8.0]]\nthickness = 1.0\nvelocity = [1.0, 0.0]\n\
+             [[floe]]\npolygon = [[10.0, 5.0], [15.0, 0.0], [20.0, 5.0], [15.0, 10.0]]\nthickness = 1.0\n\
+             {right}\
+             [fracture]\nmodel = \"lattice\"\nspacing = 0.5\ntoughness = 2.5\nmin_area = 1.0\n"
+        ))
+    };
+    for both in [false, true] {
+        let scn = case(both);
+        let r = run(&scn, "event-driven");
+        let broke = r.fractures.iter().any(|f| f.parent == 1);
+        assert_eq!(broke, both, "both sides {both}: {:?}", r.fractures);
+        // Momentum: the initial floes' against the floes alive at the end.
+        let mass = |id: usize| r.floes.iter().find(|f| f.id == id).unwrap().mass;
+        let t_end = r.trajectory.last().unwrap().t;
+        let (mut p_end, mut scale) = (Vec2::zeros(), 0.0);
+        for row in r.trajectory.iter().filter(|row| row.t == t_end) {
+            let v = Vec2::new(row.vx, row.vy);
+            p_end += v * mass(row.floe);
+            scale += v.norm() * mass(row.floe);
+        }
+        let p0: Vec2 = scn.floes.iter().map(|f| f.velocity * f.mass).sum();
+        assert!((p_end - p0).norm() <= 1e-12 * scale, "{p_end:?} {p0:?}");
+    }
 }

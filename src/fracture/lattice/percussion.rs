@@ -188,23 +188,16 @@ pub struct Percussion<'a> {
     intact: Vec<bool>,
     /// The triangles on each side of each spring (`usize::MAX` for none).
     sides: Vec<[usize; 2]>,
-    /// The outline nodes and their contact links with the striker.
-    contacts: Vec<(usize, Link)>,
+    /// The strikers (one per impact), each with its contact links.
+    strikers: Vec<Striker>,
     force: Vec<Vec2>,
-    /// The striker's position along the normal (its face is the line
-    /// `n · (x − point) = striker`), m.
-    pub striker: f64,
-    /// The striker's velocity along the normal, m/s.
-    pub striker_velocity: f64,
-    striker_force: f64,
     contact_moment: f64,
-    impact: Impact,
-    /// Impulse (N·s) the striker gave the floe so far.
+    /// Impulse (N·s) the strikers gave the floe so far.
     pub impulse: Vec2,
     /// Moment of that impulse about the frame's origin, N·m·s.
     pub impulse_moment: f64,
-    /// Work (J) done on the floe by a striker of infinite mass (which
-    /// keeps its velocity; 0 for a striker at rest and for a finite mass,
+    /// Work (J) done on the floe by the strikers of infinite mass (which
+    /// keep their velocity; 0 for a striker at rest and for a finite mass,
     /// whose kinetic energy is counted instead).
     pub work: f64,
     /// Time since the impact, s.
@@ -217,9 +210,117 @@ pub struct Percussion<'a> {
     pub broken: Vec<BrokenSpring>,
     /// Transit time of a P wave across the floe, s.
     pub transit: f64,
-    /// The impact energy `½ μ u_N²`, J.
+    /// The impact energy bound `B` (`½ μ u_N²` for one striker,
+    /// [`impact_energy_bound`] for several), J.
     pub impact_energy: f64,
     options: ChainOptions,
+}
+
+/// One striker of a percussion: a rigid half-plane along its impact's
+/// normal, in unilateral contact with every outline node.
+#[derive(Debug, Clone)]
+struct Striker {
+    impact: Impact,
+    /// The outline nodes and their contact links with this striker.
+    contacts: Vec<(usize, Link)>,
+    /// Its position along the normal (its face is the line
+    /// `n · (x − point) = position`), m.
+    position: f64,
+    /// Its velocity along the normal, m/s.
+    velocity: f64,
+    /// The force of its contacts (along `−n` on the nodes), N.
+    force: f64,
+}
+
+impl Striker {
+    /// Its kinetic energy along the normal (0 for an infinite mass), J.
+    fn energy(&self) -> f64 {
+        if self.impact.mass.is_finite() {
+            0.5 * self.impact.mass * self.velocity * self.velocity
+        } else {
+            0.0
+        }
+    }
+}
+
+/// The bound `B` (J) on the energy a percussion of a floe (mass `mass`, kg;
+/// polar inertia `inertia` about its centre of mass, kg·m²; rigid motion
+/// `motion`) by several strikers can put into its deformation, dashpots
+/// and broken bonds (docs/physics.md §9.8): each striker `k` moves along
+/// its normal `n_k` at `s_k` (`velocity[k]`, m/s, in the lattice's frame).
+/// In an inertial frame moving at `W` in which every infinite striker is
+/// at rest along its normal (`n_k · W = s_k`), no striker does work (a
+/// half-plane pushes along its normal only), so the energy there,
+/// `½ M |V − W|² + ½ I ω² + Σ_finite ½ m_k (s_k − n_k · W)²` at the start,
+/// bounds `V + D + F` for ever. `B` is its least value over the admissible
+/// `W`; `∞` when the infinite strikers admit no common frame (rigid walls
+/// closing on the floe crush it without limit). One finite striker and a
+/// floe at rest give `½ μ_G u²`, `μ_G = m M/(m + M)`; one infinite, `½ M u²`.
+pub fn impact_energy_bound(
+    mass: f64,
+    inertia: f64,
+    motion: RigidMotion,
+    impacts: &[Impact],
+    velocity: &[f64],
+) -> f64 {
+    let v = motion.velocity;
+    let energy = |w: &Vec2| {
+        let mut e = 0.5 * mass * (v - w).norm_squared()
+            + 0.5 * inertia * motion.angular_velocity * motion.angular_velocity;
+        for (i, s) in impacts.iter().zip(velocity) {
+            if i.mass.is_finite() {
+                let d = s - i.normal.dot(w);
+                e += 0.5 * i.mass * d * d;
+            }
+        }
+        e
+    };
+    let walls: Vec<(Vec2, f64)> = impacts
+        .iter()
+        .zip(velocity)
+        .filter(|(i, _)| i.mass.is_infinite())
+        .map(|(i, &s)| (i.normal, s))
+        .collect();
+    // The quadratic's matrix M 1 + Σ m n nᵀ and right-hand side M V + Σ m s n.
+    let (mut a, mut b) = (nalgebra::Matrix2::identity() * mass, v * mass);
+    for (i, &s) in impacts.iter().zip(velocity) {
+        if i.mass.is_finite() {
+            a += i.normal * i.normal.transpose() * i.mass;
+            b += i.normal * (i.mass * s);
+        }
+    }
+    let w = match walls.first() {
+        None => match a.try_inverse() {
+            Some(inv) => inv * b,
+            None => return f64::INFINITY,
+        },
+        Some(&(n0, s0)) => {
+            let other = walls.iter().find(|(n, _)| cross(&n0, n).abs() > 1e-9);
+            match other {
+                // Two walls that are not parallel fix W.
+                Some(&(n1, s1)) => {
+                    let det = cross(&n0, &n1);
+                    Vec2::new(s0 * n1.y - s1 * n0.y, n0.x * s1 - n1.x * s0) / det
+                }
+                // Parallel walls fix W along n0; the rest minimises.
+                None => {
+                    let t = perp(&n0);
+                    let base = n0 * s0;
+                    let along = (t.transpose() * a * t)[0];
+                    let rhs = t.dot(&(b - a * base));
+                    base + t * (rhs / along)
+                }
+            }
+        }
+    };
+    let scale = walls.iter().map(|(_, s)| s.abs()).fold(0.0, f64::max);
+    if walls
+        .iter()
+        .any(|(n, s)| (n.dot(&w) - s).abs() > 1e-9 * scale.max(f64::MIN_POSITIVE))
+    {
+        return f64::INFINITY;
+    }
+    energy(&w)
 }
 
 /// What a percussion gives.
@@ -252,9 +353,12 @@ pub struct Outcome {
     pub fragments: Vec<Fragment>,
     /// The broken springs, in order.
     pub broken: Vec<BrokenSpring>,
-    /// The striker's velocity along the normal at the impact and at the
-    /// end, m/s.
+    /// The (first) striker's velocity along the normal at the impact and
+    /// at the end, m/s.
     pub striker_velocity: [f64; 2],
+    /// Every striker's velocity along its normal at the impact and at the
+    /// end, m/s, in the order of the impacts.
+    pub striker_velocities: Vec<[f64; 2]>,
     /// The impulse the striker gave the floe, N·s.
     pub impulse: Vec2,
     /// Its moment about the frame's origin, N·m·s.
@@ -298,19 +402,37 @@ impl<'a> Percussion<'a> {
         impact: Impact,
         options: ChainOptions,
     ) -> Result<Percussion<'a>, String> {
+        Percussion::with_strikers(lattice, motion, &[impact], options)
+    }
+
+    /// A percussion of `lattice` (its floe moving rigidly at `motion`)
+    /// struck at once by every impact of `impacts` (at least one), each a
+    /// striker of its own (docs/physics.md §9.8), with the chain's
+    /// `options`. Fails on an invalid option or impact.
+    pub fn with_strikers(
+        lattice: &'a Lattice,
+        motion: RigidMotion,
+        impacts: &[Impact],
+        options: ChainOptions,
+    ) -> Result<Percussion<'a>, String> {
         options.validate()?;
-        let n = impact.normal.norm();
-        if (n - 1.0).abs().is_nan() || (n - 1.0).abs() >= 1e-9 {
-            return Err(format!("the impact normal must be a unit vector, got {n}"));
+        if impacts.is_empty() {
+            return Err("a percussion needs at least one impact".into());
         }
-        if impact.mass.is_nan() || impact.mass <= 0.0 {
-            return Err(format!(
-                "the striker's mass must be positive, got {}",
-                impact.mass
-            ));
-        }
-        if !(impact.speed.is_finite() && impact.point.iter().all(|c| c.is_finite())) {
-            return Err("the impact speed and point must be finite".into());
+        for impact in impacts {
+            let n = impact.normal.norm();
+            if (n - 1.0).abs().is_nan() || (n - 1.0).abs() >= 1e-9 {
+                return Err(format!("the impact normal must be a unit vector, got {n}"));
+            }
+            if impact.mass.is_nan() || impact.mass <= 0.0 {
+                return Err(format!(
+                    "the striker's mass must be positive, got {}",
+                    impact.mass
+                ));
+            }
+            if !(impact.speed.is_finite() && impact.point.iter().all(|c| c.is_finite())) {
+                return Err("the impact speed and point must be finite".into());
+            }
         }
         let spec = lattice.spec;
         let m = &lattice.mass;
@@ -361,7 +483,8 @@ impl<'a> Percussion<'a> {
             .collect();
         let mean_k =
             lattice.springs.iter().map(|s| s.stiffness).sum::<f64>() / lattice.springs.len() as f64;
-        let contacts: Vec<(usize, Link)> = (0..x.len())
+        let contacts_of = |impact: &Impact| -> Vec<(usize, Link)> {
+            (0..x.len())
             .filter(|&i| lattice.on_boundary[i])
             .map(|i| {
                 let mu = if impact.mass.is_finite() {
@@ -380,17 +503,45 @@ impl<'a> Percussion<'a> {
                     },
                 )
             })
-            .collect();
-        let striker = contacts
+            .collect()
+        };
+        let strikers: Vec<Striker> = impacts
             .iter()
-            .map(|&(i, _)| impact.normal.dot(&(x[i] - impact.point)))
-            .fold(f64::INFINITY, f64::min);
-        let at_point = motion.velocity + perp(&(impact.point - g)) * motion.angular_velocity;
-        let striker_velocity = impact.normal.dot(&at_point) + impact.speed;
-        let mu = if impact.mass.is_finite() {
-            impact.mass * total / (impact.mass + total)
-        } else {
-            total
+            .map(|impact| {
+                let contacts = contacts_of(impact);
+                let position = contacts
+                    .iter()
+                    .map(|&(i, _)| impact.normal.dot(&(x[i] - impact.point)))
+                    .fold(f64::INFINITY, f64::min);
+                let at_point =
+                    motion.velocity + perp(&(impact.point - g)) * motion.angular_velocity;
+                Striker {
+                    impact: *impact,
+                    contacts,
+                    position,
+                    velocity: impact.normal.dot(&at_point) + impact.speed,
+                    force: 0.0,
+                }
+            })
+            .collect();
+        let impact_energy = match impacts {
+            [impact] => {
+                let mu = if impact.mass.is_finite() {
+                    impact.mass * total / (impact.mass + total)
+                } else {
+                    total
+                };
+                0.5 * mu * impact.speed * impact.speed
+            }
+            _ => {
+                let inertia: f64 = x
+                    .iter()
+                    .zip(m)
+                    .map(|(p, &mi)| mi * (p - g).norm_squared())
+                    .sum();
+                let velocity: Vec<f64> = strikers.iter().map(|s| s.velocity).collect();
+                impact_energy_bound(total, inertia, motion, impacts, &velocity)
+            }
         };
         let radius = x.iter().map(|p| (p - g).norm()).fold(0.0, f64::max);
         let wave = (spec.young / (spec.density * (1.0 - spec.poisson * spec.poisson))).sqrt();
@@ -409,12 +560,8 @@ impl<'a> Percussion<'a> {
             links,
             intact: vec![true; lattice.triangles.len()],
             sides,
-            contacts,
-            striker,
-            striker_velocity,
-            striker_force: 0.0,
+            strikers,
             contact_moment: 0.0,
-            impact,
             impulse: Vec2::zeros(),
             impulse_moment: 0.0,
             work: 0.0,
@@ -423,7 +570,7 @@ impl<'a> Percussion<'a> {
             steps: 0,
             broken: Vec::new(),
             transit: 2.0 * radius / wave,
-            impact_energy: 0.5 * mu * impact.speed * impact.speed,
+            impact_energy,
             options,
         };
         p.dt = options.safety * p.stable_step();
@@ -435,7 +582,8 @@ impl<'a> Percussion<'a> {
     pub fn stable_step(&self) -> f64 {
         let m = &self.lattice.mass;
         let n = m.len();
-        let (mut ks, mut cs) = (vec![0.0; n + 1], vec![0.0; n + 1]);
+        let rows = n + self.strikers.len();
+        let (mut ks, mut cs) = (vec![0.0; rows], vec![0.0; rows]);
         let mut add = |i: usize, j: usize, mi: f64, mj: f64, l: &Link| {
             let w = 1.0 / mi + 1.0 / (mi * mj).sqrt();
             ks[i] += l.k * w;
@@ -448,9 +596,11 @@ impl<'a> Percussion<'a> {
             let [i, j] = s.nodes;
             add(i, j, m[i], m[j], l);
         }
-        // The striker is unknown n (infinite mass: its row is empty).
-        for (i, l) in &self.contacts {
-            add(*i, n, m[*i], self.impact.mass, l);
+        // Striker k is unknown n + k (infinite mass: its row is empty).
+        for (k, st) in self.strikers.iter().enumerate() {
+            for (i, l) in &st.contacts {
+                add(*i, n + k, m[*i], st.impact.mass, l);
+            }
         }
         // A torsion spring's linearised stiffness is c ∇θ ∇θᵀ: its (i, j)
         // block has norm c |∇_i θ| |∇_j θ|.
@@ -493,13 +643,22 @@ impl<'a> Percussion<'a> {
         )
     }
 
-    /// Gap (m) and its rate (m/s) between the striker and node `i`.
-    fn gap(&self, i: usize) -> (f64, f64) {
-        let n = self.impact.normal;
+    /// Gap (m) and its rate (m/s) between striker `k` and node `i`.
+    fn gap(&self, k: usize, i: usize) -> (f64, f64) {
+        let s = &self.strikers[k];
+        let n = s.impact.normal;
         (
-            n.dot(&(self.x[i] - self.impact.point)) - self.striker,
-            n.dot(&self.v[i]) - self.striker_velocity,
+            n.dot(&(self.x[i] - s.impact.point)) - s.position,
+            n.dot(&self.v[i]) - s.velocity,
         )
+    }
+
+    /// Whether an outline node touches a striker.
+    fn touching(&self) -> bool {
+        self.strikers
+            .iter()
+            .enumerate()
+            .any(|(k, s)| s.contacts.iter().any(|&(i, _)| self.gap(k, i).0 < 0.0))
     }
 
     /// The node forces and the striker's at the current state, N.
@@ -515,28 +674,36 @@ impl<'a> Percussion<'a> {
         let intact = &self.intact;
         self.lattice
             .torsion_forces(&self.x, |t| intact[t], &mut self.force);
-        self.striker_force = 0.0;
         self.contact_moment = 0.0;
-        for c in 0..self.contacts.len() {
-            let (i, link) = self.contacts[c];
-            let (g, dg) = self.gap(i);
-            let f = link.force(g, dg);
-            if f != 0.0 {
-                let push = -self.impact.normal * f;
-                self.force[i] += push;
-                self.striker_force += f;
-                self.contact_moment += cross(&self.x[i], &push);
+        for k in 0..self.strikers.len() {
+            let mut total = 0.0;
+            let normal = self.strikers[k].impact.normal;
+            for c in 0..self.strikers[k].contacts.len() {
+                let (i, link) = self.strikers[k].contacts[c];
+                let (g, dg) = self.gap(k, i);
+                let f = link.force(g, dg);
+                if f != 0.0 {
+                    let push = -normal * f;
+                    self.force[i] += push;
+                    total += f;
+                    self.contact_moment += cross(&self.x[i], &push);
+                }
             }
+            self.strikers[k].force = total;
         }
     }
 
     /// The impulse of the contact forces of the last [`Self::forces`]
     /// over `h` seconds, added to the running totals.
     fn book_contact(&mut self, h: f64) {
-        self.impulse -= self.impact.normal * (self.striker_force * h);
+        for s in &self.strikers {
+            self.impulse -= s.impact.normal * (s.force * h);
+        }
         self.impulse_moment += self.contact_moment * h;
-        if self.impact.mass.is_infinite() {
-            self.work -= self.striker_velocity * self.striker_force * h;
+        for s in &self.strikers {
+            if s.impact.mass.is_infinite() {
+                self.work -= s.velocity * s.force * h;
+            }
         }
     }
 
@@ -580,10 +747,12 @@ impl<'a> Percussion<'a> {
             .sum()
     }
 
-    /// Half a kick of the striker.
+    /// Half a kick of the strikers.
     fn kick_striker(&mut self, h: f64) {
-        if self.impact.mass.is_finite() {
-            self.striker_velocity += h * self.striker_force / self.impact.mass;
+        for s in &mut self.strikers {
+            if s.impact.mass.is_finite() {
+                s.velocity += h * s.force / s.impact.mass;
+            }
         }
     }
 
@@ -594,7 +763,9 @@ impl<'a> Percussion<'a> {
         kick(&mut self.v, &self.force, &self.lattice.mass, h);
         self.kick_striker(h);
         drift(&mut self.x, &self.v, self.dt);
-        self.striker += self.dt * self.striker_velocity;
+        for s in &mut self.strikers {
+            s.position += self.dt * s.velocity;
+        }
         self.t += self.dt;
         self.steps += 1;
         self.break_bonds();
@@ -604,21 +775,23 @@ impl<'a> Percussion<'a> {
         self.kick_striker(h);
     }
 
-    /// The energies now (the striker's kinetic energy when its mass is
+    /// The energies now (the strikers' kinetic energy when their mass is
     /// finite).
     pub fn energies(&self) -> Energies {
-        let striker = if self.impact.mass.is_finite() {
-            0.5 * self.impact.mass * self.striker_velocity * self.striker_velocity
-        } else {
-            0.0
-        };
+        let striker = self.striker_energy();
         let springs: f64 = (0..self.links.len())
             .map(|k| self.links[k].energy(self.spring_state(k).0))
             .sum();
         let contacts: f64 = self
-            .contacts
+            .strikers
             .iter()
-            .map(|&(i, l)| l.energy(self.gap(i).0))
+            .enumerate()
+            .map(|(k, s)| {
+                s.contacts
+                    .iter()
+                    .map(|&(i, l)| l.energy(self.gap(k, i).0))
+                    .sum::<f64>()
+            })
             .sum();
         let torsion: f64 = (0..self.intact.len())
             .filter(|&t| self.intact[t])
@@ -703,54 +876,53 @@ impl<'a> Percussion<'a> {
     /// striker and it is no faster along the normal than any piece within
     /// one lattice spacing of it, at that piece's node nearest it.
     fn contact_over(&self, pieces: &[Fragment]) -> bool {
-        if self.contacts.iter().any(|&(i, _)| self.gap(i).0 < 0.0) {
+        if self.touching() {
             return false;
         }
-        let n = self.impact.normal;
         let reach = self.lattice.spec.spacing;
-        pieces.iter().all(|p| {
-            let near = p
-                .nodes
-                .iter()
-                .copied()
-                .min_by(|&a, &b| self.gap(a).0.total_cmp(&self.gap(b).0));
-            near.is_none_or(|i| {
-                let r = self.x[i] - p.centre;
-                let u = n.dot(&(p.velocity + perp(&r) * p.angular_velocity));
-                self.gap(i).0 > reach || self.striker_velocity <= u
+        self.strikers.iter().enumerate().all(|(k, s)| {
+            let n = s.impact.normal;
+            pieces.iter().all(|p| {
+                let near = p
+                    .nodes
+                    .iter()
+                    .copied()
+                    .min_by(|&a, &b| self.gap(k, a).0.total_cmp(&self.gap(k, b).0));
+                near.is_none_or(|i| {
+                    let r = self.x[i] - p.centre;
+                    let u = n.dot(&(p.velocity + perp(&r) * p.angular_velocity));
+                    self.gap(k, i).0 > reach || s.velocity <= u
+                })
             })
         })
+    }
+
+    /// The strikers' kinetic energy along their normals, J.
+    fn striker_energy(&self) -> f64 {
+        self.strikers.iter().map(Striker::energy).sum()
     }
 
     /// Runs to the stopping rule (module doc).
     pub fn run(&mut self) -> Outcome {
         let initial = self.energies().total();
         let momentum = self.momentum();
-        let u0 = self.striker_velocity;
+        let u0: Vec<f64> = self.strikers.iter().map(|s| s.velocity).collect();
         let undamped = self.links.iter().all(|l| l.c == 0.0);
         let mut settling = Settling::new();
         let mut max_drift: f64 = 0.0;
         let options = self.options;
-        let mass = self.impact.mass;
-        let striker_energy = move |u: f64| {
-            if mass.is_finite() {
-                0.5 * mass * u * u
-            } else {
-                0.0
-            }
-        };
         let reason = loop {
             self.step();
             let e = self.energies();
             if undamped {
                 max_drift = max_drift.max((e.total() - initial - self.work).abs());
             }
-            let closed = self.contacts.iter().any(|&(i, _)| self.gap(i).0 < 0.0);
+            let closed = self.touching();
             let pieces = if closed { Vec::new() } else { self.fragments() };
             let over = !closed && self.contact_over(&pieces);
             let internal = || {
                 let rigid: f64 = pieces.iter().map(Fragment::rigid_energy).sum();
-                e.kinetic + e.elastic + e.torsion - rigid - striker_energy(self.striker_velocity)
+                e.kinetic + e.elastic + e.torsion - rigid - self.striker_energy()
             };
             if let Some(stop) = settling.stop(
                 self.t,
@@ -778,11 +950,16 @@ impl<'a> Percussion<'a> {
             energies: self.energies(),
             energy_drift: max_drift,
             broken: self.broken.clone(),
-            striker_velocity: [u0, self.striker_velocity],
+            striker_velocity: [u0[0], self.strikers[0].velocity],
+            striker_velocities: u0
+                .iter()
+                .zip(&self.strikers)
+                .map(|(&a, s)| [a, s.velocity])
+                .collect(),
             impulse: self.impulse,
             impulse_moment: self.impulse_moment,
             initial_momentum: momentum,
-            fracture_energy: initial + self.work - rigid - striker_energy(self.striker_velocity),
+            fracture_energy: initial + self.work - rigid - self.striker_energy(),
             hull_area_error: (hulls - self.lattice.area) / self.lattice.area,
             fragments,
         }
