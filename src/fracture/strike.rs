@@ -36,7 +36,9 @@
 //! (the percussion by an effective mass).
 
 use super::chain::{BondRule, ChainOptions};
-use super::lattice::percussion::{Fragment, Impact, Percussion, RigidMotion};
+use super::lattice::percussion::{
+    strain_of_toughness, Fragment, Impact, Percussion, RigidMotion,
+};
 use super::lattice::{Lattice, LatticeSpec};
 use super::split::{self, Piece};
 use super::PairLoad;
@@ -54,18 +56,54 @@ const MAX_SPACING_FRACTION: f64 = 0.25;
 /// [`MAX_SPACING_FRACTION`] of it), its thickness and density, `young` and
 /// `seed`. The one place a [`LatticeSpec`] of a run is made.
 pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
-    let size = floe.area.sqrt();
     LatticeSpec {
-        spacing: s
-            .spacing
-            .unwrap_or(DEFAULT_SPACING_FRACTION * size)
-            .min(MAX_SPACING_FRACTION * size),
+        spacing: lattice_spacing(s, floe.area),
         thickness: floe.thickness,
         density: floe.density,
         young: s.young,
         poisson: s.poisson,
         seed: s.seed,
     }
+}
+
+/// The lattice spacing (m) of a floe of area `area` (m²) in the case's
+/// `[fracture]` table: `spacing`, or [`DEFAULT_SPACING_FRACTION`] of `√A`,
+/// at most [`MAX_SPACING_FRACTION`] of it.
+pub fn lattice_spacing(s: &FractureSettings, area: f64) -> f64 {
+    let size = area.sqrt();
+    s.spacing
+        .unwrap_or(DEFAULT_SPACING_FRACTION * size)
+        .min(MAX_SPACING_FRACTION * size)
+}
+
+/// The largest centrifugal strain of a spinning floe over its bonds'
+/// nominal breaking strain that the lattice model neglects (docs/physics.md
+/// §9.8): the lattice starts unstressed in the floe's body frame, so a
+/// floe's own spin must not pre-stretch its bonds by more than 1 % of what
+/// breaks them (the critical speed then moves by about 1 % or less, far
+/// below the 15–20 % scatter of the lattice's disorder, §7.3).
+pub const SPIN_PRESTRESS_LIMIT: f64 = 0.01;
+
+/// The centrifugal pre-strain of a floe spinning at `omega` (rad/s) over its
+/// bonds' nominal breaking strain, for a floe of density `density`
+/// (kg/m³), circumradius `radius` (m) about its centre of mass and lattice
+/// spacing `spacing` (m) (docs/physics.md §9.8): the peak stress of a
+/// spinning disc of radius `R`, `(3 + ν)/8 ρ ω² R²` (plane stress, at its
+/// centre), over `E`, against the rule's strain `ε_c` (`critical_strain`,
+/// or `√(4 G/(3 E s))` for a toughness, the equilateral lattice's). The
+/// disc of radius `R` holds the floe.
+pub fn spin_prestress(
+    s: &FractureSettings,
+    density: f64,
+    radius: f64,
+    omega: f64,
+    spacing: f64,
+) -> f64 {
+    let critical = match s.rule {
+        LatticeRule::Strain => s.critical_strain,
+        LatticeRule::Toughness => strain_of_toughness(s.toughness, s.young, spacing),
+    };
+    (3.0 + s.poisson) / 8.0 * density * (omega * radius).powi(2) / (s.young * critical)
 }
 
 /// The percussion options of the case: its dashpot ratio and bond rule.

@@ -4,6 +4,7 @@
 //! a fast ram breaks where a slow one does not, in every formulation.
 
 use crate::common::{case_path, run, scenario};
+use floebench::analysis::check::check_run;
 use floebench::formulation::parse_case;
 use floebench::fracture::lattice::percussion::{
     impact_energy_bound, Impact, Percussion, RigidMotion,
@@ -455,4 +456,37 @@ fn a_floe_squeezed_from_two_sides_conserves_momentum_and_breaks_where_one_strike
         let p0: Vec2 = scn.floes.iter().map(|f| f.velocity * f.mass).sum();
         assert!((p_end - p0).norm() <= 1e-12 * scale, "{p_end:?} {p0:?}");
     }
+}
+
+#[test]
+fn a_spin_that_prestresses_the_lattice_fails_the_spin_check() {
+    // lattice_ram's floes spin little after their impacts (a pre-strain of
+    // at most 2e-3 of their bonds' breaking strain); the 0.3 m/s diamond
+    // given 1 rad/s (a rim speed of 5 m/s) is pre-strained by
+    // (3 + 1/3)/8 · 917 · 5² / (E ε_c) = 0.039 of it, above the 1 % the
+    // lattice model neglects.
+    let text = std::fs::read_to_string(case_path("lattice_ram")).unwrap();
+    let ratio = |text: &str| {
+        let scn = scenario(text);
+        let r = run(&scn, "event-driven");
+        let rows = check_run(&scn, &r);
+        let row = rows
+            .iter()
+            .find(|o| o.check == "lattice_spin_prestress")
+            .expect("the lattice model's spin check");
+        (row.measured, row.pass)
+    };
+    let (calm, pass) = ratio(&text);
+    assert!(pass && calm > 0.0 && calm < 2e-3, "{calm}");
+    let spun = text.replacen(
+        "velocity = [0.3, 0.0]",
+        "velocity = [0.3, 0.0]\nangular_velocity = 1.0",
+        1,
+    );
+    let (fast, pass) = ratio(&spun);
+    let s = scenario(&text).fracture;
+    let eps = (4.0 * s.toughness / (3.0 * s.young * 0.5)).sqrt();
+    let expected = (3.0 + 1.0 / 3.0) / 8.0 * 917.0 * 25.0 / (s.young * eps);
+    // At least the initial spin's (the impact may spin it further).
+    assert!(!pass && fast >= expected * (1.0 - 1e-9), "{fast} {expected}");
 }

@@ -24,6 +24,7 @@ use crate::formulation::event_driven::{
     floe_length_scale, EventDrivenSettings, DEFAULT_PENETRATION_FRACTION,
 };
 use crate::fracture::split::cut;
+use crate::fracture::strike::{lattice_spacing, spin_prestress, SPIN_PRESTRESS_LIMIT};
 use crate::geometry::{cross, Vec2};
 use crate::model::fracture::FractureModel;
 use crate::model::Scenario;
@@ -115,6 +116,7 @@ pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     }
     fracture_conservation(&mut r);
     ram_critical_speed(&mut r);
+    lattice_spin(&mut r);
     ledger(&mut r);
     r.out
 }
@@ -801,6 +803,48 @@ fn ram_critical_speed(r: &mut Rows) {
         ),
     )
     .scale = Some(vc);
+}
+
+/// `lattice_spin_prestress`: the lattice model starts each percussion
+/// unstressed, neglecting the floe's own spin (docs/physics.md §9.8); the
+/// largest centrifugal pre-strain of any floe alive at an output, over its
+/// bonds' breaking strain.
+fn lattice_spin(r: &mut Rows) {
+    let s = &r.scn.fracture;
+    if s.model != FractureModel::Lattice {
+        return;
+    }
+    let (mut worst, mut at) = (0.0, (0, 0.0));
+    for row in &r.run.trajectory {
+        let Some(f) = r.run.floes.iter().find(|f| f.id == row.floe) else {
+            continue;
+        };
+        let radius = f
+            .polygon
+            .iter()
+            .map(|p| p[0].hypot(p[1]))
+            .fold(0.0, f64::max);
+        let density = f.mass / (f.area * f.thickness);
+        let ratio = spin_prestress(
+            s,
+            density,
+            radius,
+            row.omega,
+            lattice_spacing(s, f.area),
+        );
+        if ratio > worst {
+            (worst, at) = (ratio, (row.floe, row.t));
+        }
+    }
+    r.push(
+        "lattice_spin_prestress",
+        "a floe's spin pre-stretches its lattice by little against its bonds' breaking strain",
+        worst,
+        None,
+        SPIN_PRESTRESS_LIMIT,
+        "1",
+        format!("largest for floe {} at t = {} s", at.0, at.1),
+    );
 }
 
 fn ledger(r: &mut Rows) {
