@@ -36,9 +36,7 @@
 //! (the percussion by an effective mass).
 
 use super::chain::{BondRule, ChainOptions};
-use super::lattice::percussion::{
-    strain_of_toughness, Fragment, Impact, Percussion, RigidMotion,
-};
+use super::lattice::percussion::{strain_of_toughness, Fragment, Impact, Percussion, RigidMotion};
 use super::lattice::{Lattice, LatticeSpec};
 use super::split::{self, Piece};
 use super::PairLoad;
@@ -228,12 +226,18 @@ pub fn equivalent_impacts(
             a += normal[k] * normal[k].transpose();
             rhs += normal[k] * speed[k];
         }
-        let w = match a.try_inverse().filter(|_| a.determinant() > 1e-9 * a.trace().powi(2)) {
+        let w = match a
+            .try_inverse()
+            .filter(|_| a.determinant() > 1e-9 * a.trace().powi(2))
+        {
             Some(inv) => inv * rhs,
             // Parallel walls: W along their common line.
             None => {
                 let n0 = normal[walls[0]];
-                n0 * (walls.iter().map(|&k| speed[k] * normal[k].dot(&n0)).sum::<f64>()
+                n0 * (walls
+                    .iter()
+                    .map(|&k| speed[k] * normal[k].dot(&n0))
+                    .sum::<f64>()
                     / walls.len() as f64)
             }
         };

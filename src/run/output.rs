@@ -84,8 +84,7 @@ pub fn energy_csv(result: &RunResult) -> String {
 }
 
 /// The first line of `fractures.csv`.
-pub const FRACTURES_HEADER: &str =
-    "t,parent,children,model,measure,threshold,energy,kinetic_gain";
+pub const FRACTURES_HEADER: &str = "t,parent,children,model,measure,threshold,energy,kinetic_gain";
 
 /// The fractures as CSV:
 /// `t,parent,children,model,measure,threshold,energy,kinetic_gain` (s, id,

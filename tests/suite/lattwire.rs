@@ -206,10 +206,7 @@ fn a_fast_ram_breaks_a_floe_and_a_slow_one_does_not_in_every_formulation() {
             );
             assert!(fr.measure >= fr.threshold, "{name}: {fr:?}");
             // The pieces fly apart: their relative motion is counted.
-            assert!(
-                fr.kinetic_gain > 0.0 && fr.energy >= 0.0,
-                "{name}: {fr:?}"
-            );
+            assert!(fr.kinetic_gain > 0.0 && fr.energy >= 0.0, "{name}: {fr:?}");
         }
         // The summary's total is the rows' sum, and the ledger, net of it,
         // balances.
@@ -293,13 +290,7 @@ fn the_bound_of_several_strikers_is_the_least_energy_over_the_frames_that_stop_t
     assert!(rel(wall, 0.5 * m * 4.0) < 1e-12, "{wall}");
     // Squeezed by two equal strikers from opposite sides: the frame stays,
     // both strikers' energy can go into the floe, m* u² (4× one's at m* = M).
-    let two = impact_energy_bound(
-        m,
-        i,
-        rest,
-        &[at(x, m, 2.0), at(-x, m, 2.0)],
-        &[2.0, 2.0],
-    );
+    let two = impact_energy_bound(m, i, rest, &[at(x, m, 2.0), at(-x, m, 2.0)], &[2.0, 2.0]);
     assert!(rel(two, m * 4.0) < 1e-12, "{two}");
     // A striker across a wall's normal: W = (u, w) with w minimising.
     let y = Vec2::new(0.0, 1.0);
@@ -310,7 +301,10 @@ fn the_bound_of_several_strikers_is_the_least_energy_over_the_frames_that_stop_t
         &[at(x, f64::INFINITY, 1.0), at(y, m, 2.0)],
         &[1.0, 2.0],
     );
-    assert!(rel(cross_, 0.5 * m * 1.0 + 0.5 * 500.0 * 4.0) < 1e-12, "{cross_}");
+    assert!(
+        rel(cross_, 0.5 * m * 1.0 + 0.5 * 500.0 * 4.0) < 1e-12,
+        "{cross_}"
+    );
     // Two walls closing on the floe: no frame stops both.
     let crush = impact_energy_bound(
         m,
@@ -382,7 +376,11 @@ fn the_trigger_bound_of_several_strikers_skips_only_impacts_that_break_no_bond()
             let o = strike_all(&l, &impacts, chain_options(&s), true, s.min_area, 917.0).unwrap();
             if o.bound < o.weakest {
                 below += 1;
-                assert_eq!(o.broken, 0, "{speed}: bound {} weakest {}", o.bound, o.weakest);
+                assert_eq!(
+                    o.broken, 0,
+                    "{speed}: bound {} weakest {}",
+                    o.bound, o.weakest
+                );
             } else if o.broken > 0 {
                 broke_above += 1;
             }
@@ -411,14 +409,23 @@ fn a_floe_squeezed_from_two_sides_conserves_momentum_and_breaks_where_one_strike
         .map(|(i, [u0, u1])| -i.normal * (i.mass * (u1 - u0)))
         .sum();
     let scale = f.mass * 0.7;
-    assert!((o.impulse - given).norm() / scale < 1e-12, "{:?} {given:?}", o.impulse);
+    assert!(
+        (o.impulse - given).norm() / scale < 1e-12,
+        "{:?} {given:?}",
+        o.impulse
+    );
     let (p0, l0) = o.initial_momentum;
     assert!((o.momentum() - p0 - o.impulse).norm() / scale < 1e-12);
-    assert!(
-        (o.angular_momentum() - l0 - o.impulse_moment).abs() / (scale * f.radius) < 1e-12
-    );
-    let one = strike_all(&l, &squeeze(&f, 0.7, false), chain_options(&s), false, 1.0, 917.0)
-        .unwrap();
+    assert!((o.angular_momentum() - l0 - o.impulse_moment).abs() / (scale * f.radius) < 1e-12);
+    let one = strike_all(
+        &l,
+        &squeeze(&f, 0.7, false),
+        chain_options(&s),
+        false,
+        1.0,
+        917.0,
+    )
+    .unwrap();
     assert!((o.impact_energy / one.bound - 4.0).abs() < 1e-12);
 
     // In a run: floe 1 (the 50 m² diamond at rest) is hit on its corners
@@ -488,5 +495,8 @@ fn a_spin_that_prestresses_the_lattice_fails_the_spin_check() {
     let eps = (4.0 * s.toughness / (3.0 * s.young * 0.5)).sqrt();
     let expected = (3.0 + 1.0 / 3.0) / 8.0 * 917.0 * 25.0 / (s.young * eps);
     // At least the initial spin's (the impact may spin it further).
-    assert!(!pass && fast >= expected * (1.0 - 1e-9), "{fast} {expected}");
+    assert!(
+        !pass && fast >= expected * (1.0 - 1e-9),
+        "{fast} {expected}"
+    );
 }

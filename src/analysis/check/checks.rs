@@ -825,13 +825,7 @@ fn lattice_spin(r: &mut Rows) {
             .map(|p| p[0].hypot(p[1]))
             .fold(0.0, f64::max);
         let density = f.mass / (f.area * f.thickness);
-        let ratio = spin_prestress(
-            s,
-            density,
-            radius,
-            row.omega,
-            lattice_spacing(s, f.area),
-        );
+        let ratio = spin_prestress(s, density, radius, row.omega, lattice_spacing(s, f.area));
         if ratio > worst {
             (worst, at) = (ratio, (row.floe, row.t));
         }

@@ -485,25 +485,25 @@ impl<'a> Percussion<'a> {
             lattice.springs.iter().map(|s| s.stiffness).sum::<f64>() / lattice.springs.len() as f64;
         let contacts_of = |impact: &Impact| -> Vec<(usize, Link)> {
             (0..x.len())
-            .filter(|&i| lattice.on_boundary[i])
-            .map(|i| {
-                let mu = if impact.mass.is_finite() {
-                    m[i] * impact.mass / (m[i] + impact.mass)
-                } else {
-                    m[i]
-                };
-                (
-                    i,
-                    Link {
-                        k: mean_k,
-                        c: options.damping * (mean_k * mu).sqrt(),
-                        rest: 0.0,
-                        bonded: false,
-                        critical: f64::INFINITY,
-                    },
-                )
-            })
-            .collect()
+                .filter(|&i| lattice.on_boundary[i])
+                .map(|i| {
+                    let mu = if impact.mass.is_finite() {
+                        m[i] * impact.mass / (m[i] + impact.mass)
+                    } else {
+                        m[i]
+                    };
+                    (
+                        i,
+                        Link {
+                            k: mean_k,
+                            c: options.damping * (mean_k * mu).sqrt(),
+                            rest: 0.0,
+                            bonded: false,
+                            critical: f64::INFINITY,
+                        },
+                    )
+                })
+                .collect()
         };
         let strikers: Vec<Striker> = impacts
             .iter()
