@@ -11,7 +11,9 @@ use floebench::fracture::lattice::percussion::{
 };
 use floebench::fracture::lattice::Lattice;
 use floebench::fracture::split::conservation_error;
-use floebench::fracture::strike::{chain_options, lattice_spec, pieces, strike, strike_all};
+use floebench::fracture::strike::{
+    chain_options, lattice_spec, pieces, strike, strike_all, Strike,
+};
 use floebench::fracture::{Fracturer, Load};
 use floebench::geometry::{area_properties, check_convex_ccw, cross, sat_separation, Vec2};
 use floebench::model::fracture::{FractureModel, FractureSettings};
@@ -62,6 +64,21 @@ fn lattice_keys_are_read() {
     assert!(err.contains("poisson"), "{err}");
 }
 
+/// Counts a strike run whatever its bound: one below the bound (`below`)
+/// must break no bond; `broke_above` counts those above it that broke one.
+fn tally(o: &Strike, what: &str, below: &mut usize, broke_above: &mut usize) {
+    if o.bound < o.weakest {
+        *below += 1;
+        assert_eq!(
+            o.broken, 0,
+            "{what}: bound {} weakest {}",
+            o.bound, o.weakest
+        );
+    } else if o.broken > 0 {
+        *broke_above += 1;
+    }
+}
+
 #[test]
 fn the_trigger_bound_skips_only_impacts_that_break_no_bond() {
     // A sweep of impacts run whatever the bound (`trigger = "always"`): on
@@ -89,16 +106,8 @@ fn the_trigger_bound_skips_only_impacts_that_break_no_bond() {
                     speed,
                 };
                 let o = strike(&l, impact, chain_options(&s), true, s.min_area, 917.0).unwrap();
-                if o.bound < o.weakest {
-                    below += 1;
-                    assert_eq!(
-                        o.broken, 0,
-                        "{point:?} {mass} {speed}: bound {} weakest {}",
-                        o.bound, o.weakest
-                    );
-                } else if o.broken > 0 {
-                    broke_above += 1;
-                }
+                let what = format!("{point:?} {mass} {speed}");
+                tally(&o, &what, &mut below, &mut broke_above);
             }
         }
     }
@@ -374,16 +383,7 @@ fn the_trigger_bound_of_several_strikers_skips_only_impacts_that_break_no_bond()
         ];
         for impacts in [squeeze(&f, speed, true), mixed] {
             let o = strike_all(&l, &impacts, chain_options(&s), true, s.min_area, 917.0).unwrap();
-            if o.bound < o.weakest {
-                below += 1;
-                assert_eq!(
-                    o.broken, 0,
-                    "{speed}: bound {} weakest {}",
-                    o.bound, o.weakest
-                );
-            } else if o.broken > 0 {
-                broke_above += 1;
-            }
+            tally(&o, &format!("{speed}"), &mut below, &mut broke_above);
         }
     }
     assert!(
