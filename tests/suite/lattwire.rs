@@ -12,9 +12,10 @@ use floebench::fracture::lattice::percussion::{
 use floebench::fracture::lattice::Lattice;
 use floebench::fracture::split::conservation_error;
 use floebench::fracture::strike::{
-    chain_options, lattice_spec, pieces, strike, strike_all, Strike,
+    chain_options, equivalent_impact, equivalent_impacts, lattice_spec, pieces, strike, strike_all,
+    Strike,
 };
-use floebench::fracture::{Fracturer, Load};
+use floebench::fracture::{Fracturer, Load, PairLoad};
 use floebench::geometry::{area_properties, check_convex_ccw, cross, sat_separation, Vec2};
 use floebench::model::fracture::{FractureModel, FractureSettings};
 use floebench::model::{Floe, FloeOrigin};
@@ -446,6 +447,33 @@ fn a_floe_squeezed_from_two_sides_conserves_momentum_and_breaks_where_one_strike
              [fracture]\nmodel = \"lattice\"\nspacing = 0.5\ntoughness = 2.5\nmin_area = 1.0\n"
         ))
     };
+    // The joint equivalent impact: the squares' impulses (1 + e) m v of a
+    // symmetric squeeze of the resting diamond give back the approach speed
+    // v = 1 m/s of each; one pair alone reads 1 + m/M m/s (the other side's
+    // hold taken for the diamond's inertia).
+    let scn = case(true);
+    let sys = System::initial(&scn);
+    let m = scn.floes[0].mass;
+    let p = Vec2::new((1.0 + scn.contact.restitution) * m, 0.0);
+    let pairs = [
+        PairLoad {
+            other: 0,
+            impulse: p,
+            point: Vec2::new(10.0, 5.0),
+        },
+        PairLoad {
+            other: 2,
+            impulse: -p,
+            point: Vec2::new(20.0, 5.0),
+        },
+    ];
+    let joint = equivalent_impacts(&scn, &sys, 1, &pairs).unwrap();
+    for i in &joint {
+        assert!((i.speed - 1.0).abs() < 1e-12, "{joint:?}");
+        assert_eq!(i.mass, m);
+    }
+    let (alone, _) = equivalent_impact(&scn, &sys, 1, &pairs[0]).unwrap();
+    assert!((alone.speed - (1.0 + m / scn.floes[1].mass)).abs() < 1e-12);
     for both in [false, true] {
         let scn = case(both);
         let r = run(&scn, "event-driven");
