@@ -15,10 +15,17 @@
 //! at rest in its body frame (its rigid motion, spin included, is the
 //! formulation's, not the lattice's).
 //!
+//! Several pairs loading a floe in one solve are one percussion with a
+//! striker each ([`equivalent_impacts`]: their approach speeds from the
+//! floe's Delassus operator, all pairs active at once).
+//!
 //! **Trigger bound.** The percussion starts with the floe at rest and the
 //! striker approaching at `u_N`; no energy is ever in the lattice's
 //! deformation, dashpots and broken bonds beyond `½ μ_G u_N²`, `μ_G = m* M /
-//! (m* + M)` (`M` for an obstacle): §9.8 proves it. A bond breaks only when
+//! (m* + M)` (`M` for an obstacle): §9.8 proves it.
+//! With several strikers the bound is the least energy over the inertial
+//! frames that stop every infinite striker
+//! ([`super::lattice::percussion::impact_energy_bound`]). A bond breaks only when
 //! it holds its breaking energy `½ κ δ_c²`, so an impact whose bound is below
 //! the floe's weakest bond cannot break it and is skipped (`trigger =
 //! "bound"`).
