@@ -17,7 +17,10 @@
 //! link, rest length 0) of the lattice's mean spring stiffness `κ̄` and its
 //! dashpot `β √(κ̄ m_i*)` (`m_i*` the reduced mass of the node and the
 //! striker): a penalty, not an exact contact. A half-plane is what a coast
-//! is, and a face of another floe near the contact point.
+//! is, and a face of another floe near the contact point. Several strikers
+//! can act at once ([`Percussion::with_strikers`], a floe squeezed between
+//! two bodies), each its own half-plane, mass and contact links; the
+//! impact energy bound is then [`impact_energy_bound`] (docs/physics.md §9.8).
 //!
 //! A bond breaks, for good, when its elongation passes `δ_c`
 //! ([`crate::fracture::chain::BondRule::critical`]): with a toughness `G` the energy `½ κ δ²` it
