@@ -37,6 +37,7 @@ fn percussion(c: &mut Criterion) {
                     young: 8.95e9,
                     poisson,
                     seed: 1,
+                    ..LatticeSpec::default()
                 },
             )
             .expect("lattice");

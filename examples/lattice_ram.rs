@@ -2,18 +2,27 @@
 //! as the lattice spacing shrinks: a square floe 1 m thick rammed face-on
 //! (mid-face) into a fixed coast, for each spacing and seed the critical
 //! speed by bisection ([`critical_ram_speed`]); the bond rule a critical
-//! strain (`--strain E`) or a toughness (`--toughness G`). Writes one CSV
-//! row per spacing and seed to `--csv PATH` (or stdout), and on stderr the
-//! mean over the seeds per spacing, the differences between successive
-//! spacings and their rate (the slope of `log |v̄(s) − v̄(s/2)|` against
-//! `log s`, least squares).
+//! strain (`--strain E`) or a toughness (`--toughness G`); the mesh the
+//! seeded random one (`--mesh random`, the default) or the regular
+//! triangular one (`--mesh triangular`, rotated by `--angle DEG` degrees),
+//! whose variants 1, 2, … in place of seeds are offsets of the lattice
+//! from the centroid, variant `k` at `frac(k (α₁, α₂))` in lattice
+//! coordinates (`α₁ = 0.7549`, `α₂ = 0.5698`, a low-discrepancy sequence;
+//! an offset of 0 would put nodes at exactly half a spacing from the faces
+//! of a square, where their inclusion is decided by rounding). Writes one CSV row per spacing
+//! and seed to `--csv PATH` (or stdout), and on stderr the mean and
+//! standard deviation over the seeds per spacing, the differences between
+//! successive spacings, their rate (the slope of `log |v̄(s) − v̄(s/2)|`
+//! against `log s`, least squares) and the limit it extrapolates to (the
+//! finest mean plus the geometric sum of the differences still to come).
 //!
 //! `cargo run --release --example lattice_ram -- --strain 1e-4 [--poisson 0.3]
-//! [--seeds 3] [--size 10] [--tol 1e-3] [--csv ram.csv] 1 0.5 0.25`
+//! [--mesh triangular [--angle 30]] [--seeds 3] [--size 10] [--tol 1e-3]
+//! [--csv ram.csv] 1 0.5 0.25`
 
 use floebench::fracture::chain::{BondRule, ChainOptions};
 use floebench::fracture::lattice::percussion::critical_ram_speed;
-use floebench::fracture::lattice::{Lattice, LatticeSpec};
+use floebench::fracture::lattice::{Lattice, LatticeSpec, Mesh};
 use floebench::geometry::Vec2;
 use std::io::Write;
 
@@ -21,6 +30,8 @@ use std::io::Write;
 struct Args {
     bond: BondRule,
     poisson: f64,
+    triangular: bool,
+    angle: f64,
     seeds: u64,
     size: f64,
     tol: f64,
@@ -39,6 +50,8 @@ fn parse() -> Result<Args, String> {
     let mut a = Args {
         bond: BondRule::Unbreakable,
         poisson: 1.0 / 3.0,
+        triangular: false,
+        angle: 0.0,
         seeds: 3,
         size: 10.0,
         tol: 1e-3,
@@ -51,6 +64,14 @@ fn parse() -> Result<Args, String> {
             "--strain" => a.bond = BondRule::Strain(number(flag, it.next())?),
             "--toughness" => a.bond = BondRule::Toughness(number(flag, it.next())?),
             "--poisson" => a.poisson = number(flag, it.next())?,
+            "--mesh" => {
+                a.triangular = match it.next().map(String::as_str) {
+                    Some("random") => false,
+                    Some("triangular") => true,
+                    m => return Err(format!("--mesh: random or triangular, got {m:?}")),
+                }
+            }
+            "--angle" => a.angle = number(flag, it.next())?.to_radians(),
             "--seeds" => a.seeds = number(flag, it.next())? as u64,
             "--size" => a.size = number(flag, it.next())?,
             "--tol" => a.tol = number(flag, it.next())?,
@@ -85,7 +106,11 @@ fn main() -> Result<(), String> {
         None => Box::new(std::io::stdout()),
     };
     let io = |e: std::io::Error| e.to_string();
-    writeln!(out, "size,spacing,seed,nodes,poisson,rule,value,v_c").map_err(io)?;
+    writeln!(
+        out,
+        "size,spacing,mesh,seed,angle_deg,offset_1,offset_2,nodes,poisson,rule,value,v_c"
+    )
+    .map_err(io)?;
     let (rule, value) = match a.bond {
         BondRule::Strain(e) => ("strain", e),
         BondRule::Toughness(g) => ("toughness", g),
@@ -94,13 +119,24 @@ fn main() -> Result<(), String> {
     };
     let mut means = Vec::new();
     for &spacing in &a.spacings {
-        let mut sum = 0.0;
+        let mut speeds = Vec::new();
         for seed in 1..=a.seeds {
+            let k = seed as f64;
+            let offset = [(k * 0.7548776662).fract(), (k * 0.5698402910).fract()];
+            let mesh = if a.triangular {
+                Mesh::Triangular {
+                    angle: a.angle,
+                    offset,
+                }
+            } else {
+                Mesh::Random
+            };
             let spec = LatticeSpec {
                 spacing,
                 thickness: 1.0,
                 poisson: a.poisson,
                 seed,
+                mesh,
                 ..LatticeSpec::default()
             };
             let lattice = Lattice::build(&square, spec)?;
@@ -115,20 +151,29 @@ fn main() -> Result<(), String> {
                 1e3,
             )?;
             let n = lattice.nodes.len();
+            let (name, off) = if a.triangular {
+                ("triangular", offset)
+            } else {
+                ("random", [0.0; 2])
+            };
             writeln!(
                 out,
-                "{l},{spacing},{seed},{n},{},{rule},{value},{v}",
+                "{l},{spacing},{name},{seed},{},{},{},{n},{},{rule},{value},{v}",
+                a.angle.to_degrees(),
+                off[0],
+                off[1],
                 a.poisson
             )
             .map_err(io)?;
             out.flush().map_err(io)?;
-            sum += v;
+            speeds.push(v);
         }
-        means.push(sum / a.seeds as f64);
-        eprintln!(
-            "spacing {spacing}: mean v_c {:.4} m/s",
-            sum / a.seeds as f64
-        );
+        let n = speeds.len() as f64;
+        let mean = speeds.iter().sum::<f64>() / n;
+        let sd = (speeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0))
+            .sqrt();
+        means.push(mean);
+        eprintln!("spacing {spacing}: mean v_c {mean:.4} m/s, standard deviation {sd:.4}");
     }
     // |v̄(s_i) − v̄(s_{i+1})| against s_i, and the slope of their logs.
     let diffs: Vec<(f64, f64)> = means
@@ -146,10 +191,19 @@ fn main() -> Result<(), String> {
         );
         let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
         let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-        eprintln!(
-            "rate of the differences (slope of log|dv| on log s): {:.3}",
-            sxy / sxx
-        );
+        let rate = sxy / sxx;
+        eprintln!("rate of the differences (slope of log|dv| on log s): {rate:.3}");
+        // Differences shrinking by r = 2^-rate per halving sum, after the
+        // last one, to d r / (1 − r) (signed): the extrapolated limit.
+        let r = 0.5f64.powf(rate);
+        if rate > 0.0 && a.spacings.windows(2).all(|w| w[1] == 0.5 * w[0]) {
+            let last = means[means.len() - 1];
+            let d = last - means[means.len() - 2];
+            eprintln!(
+                "extrapolated limit (geometric, ratio {r:.3} per halving): {:.4} m/s",
+                last + d * r / (1.0 - r)
+            );
+        }
     }
     Ok(())
 }

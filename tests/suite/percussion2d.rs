@@ -21,6 +21,7 @@ fn floe(spacing: f64) -> Lattice {
             young: 8.95e9,
             poisson: 1.0 / 3.0,
             seed: 1,
+            ..LatticeSpec::default()
         },
     )
     .expect("lattice")
