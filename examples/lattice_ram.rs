@@ -1,7 +1,11 @@
 //! The critical ramming speed of the lattice model (docs/physics.md §7.3)
 //! as the lattice spacing shrinks: a square floe 1 m thick rammed face-on
 //! (mid-face) into a fixed coast, for each spacing and seed the critical
-//! speed by bisection ([`critical_ram_speed`]); the bond rule a critical
+//! speed by bisection ([`critical_ram_speed_by`]), a break being two
+//! pieces of 3 nodes or more (the default, `--min-nodes N` for N), two
+//! pieces of at least a fraction `F` of the floe's mass each
+//! (`--mass-fraction F`), or the first broken bond (`--first-bond`, the
+//! onset of damage); the bond rule a critical
 //! strain (`--strain E`) or a toughness (`--toughness G`); the mesh the
 //! seeded random one (`--mesh random`, the default) or the regular
 //! triangular one (`--mesh triangular`, rotated by `--angle DEG` degrees),
@@ -17,11 +21,12 @@
 //! finest mean plus the geometric sum of the differences still to come).
 //!
 //! `cargo run --release --example lattice_ram -- --strain 1e-4 [--poisson 0.3]
-//! [--mesh triangular [--angle 30]] [--seeds 3] [--size 10] [--tol 1e-3]
+//! [--mesh triangular [--angle 30]] [--first-bond | --mass-fraction 0.05 |
+//! --min-nodes 3] [--seeds 3] [--size 10] [--tol 1e-3]
 //! [--csv ram.csv] 1 0.5 0.25`
 
 use floebench::fracture::chain::{BondRule, ChainOptions};
-use floebench::fracture::lattice::percussion::critical_ram_speed;
+use floebench::fracture::lattice::percussion::{critical_ram_speed_by, Break};
 use floebench::fracture::lattice::{Lattice, LatticeSpec, Mesh};
 use floebench::geometry::Vec2;
 use std::io::Write;
@@ -32,6 +37,7 @@ struct Args {
     poisson: f64,
     triangular: bool,
     angle: f64,
+    criterion: Break,
     seeds: u64,
     size: f64,
     tol: f64,
@@ -52,6 +58,7 @@ fn parse() -> Result<Args, String> {
         poisson: 1.0 / 3.0,
         triangular: false,
         angle: 0.0,
+        criterion: Break::Pieces(3),
         seeds: 3,
         size: 10.0,
         tol: 1e-3,
@@ -71,6 +78,9 @@ fn parse() -> Result<Args, String> {
                     m => return Err(format!("--mesh: random or triangular, got {m:?}")),
                 }
             }
+            "--first-bond" => a.criterion = Break::FirstBond,
+            "--mass-fraction" => a.criterion = Break::MassFraction(number(flag, it.next())?),
+            "--min-nodes" => a.criterion = Break::Pieces(number(flag, it.next())? as usize),
             "--angle" => a.angle = number(flag, it.next())?.to_radians(),
             "--seeds" => a.seeds = number(flag, it.next())? as u64,
             "--size" => a.size = number(flag, it.next())?,
@@ -108,7 +118,7 @@ fn main() -> Result<(), String> {
     let io = |e: std::io::Error| e.to_string();
     writeln!(
         out,
-        "size,spacing,mesh,seed,angle_deg,offset_1,offset_2,nodes,poisson,rule,value,v_c"
+        "size,spacing,mesh,seed,angle_deg,offset_1,offset_2,nodes,poisson,rule,value,criterion,v_c"
     )
     .map_err(io)?;
     let (rule, value) = match a.bond {
@@ -116,6 +126,11 @@ fn main() -> Result<(), String> {
         BondRule::Toughness(g) => ("toughness", g),
         BondRule::Force(f) => ("force", f),
         BondRule::Unbreakable => ("none", 0.0),
+    };
+    let criterion = match a.criterion {
+        Break::Pieces(n) => format!("pieces>={n}"),
+        Break::MassFraction(q) => format!("mass>={q}"),
+        Break::FirstBond => "first-bond".into(),
     };
     let mut means = Vec::new();
     for &spacing in &a.spacings {
@@ -140,13 +155,12 @@ fn main() -> Result<(), String> {
                 ..LatticeSpec::default()
             };
             let lattice = Lattice::build(&square, spec)?;
-            // Pieces of at least 3 nodes: a broken-off node is debris.
-            let v = critical_ram_speed(
+            let v = critical_ram_speed_by(
                 &lattice,
                 Vec2::new(0.0, 0.5 * l),
                 Vec2::new(1.0, 0.0),
                 options,
-                3,
+                a.criterion,
                 a.tol,
                 1e3,
             )?;
@@ -158,7 +172,7 @@ fn main() -> Result<(), String> {
             };
             writeln!(
                 out,
-                "{l},{spacing},{name},{seed},{},{},{},{n},{},{rule},{value},{v}",
+                "{l},{spacing},{name},{seed},{},{},{},{n},{},{rule},{value},{criterion},{v}",
                 a.angle.to_degrees(),
                 off[0],
                 off[1],
@@ -170,8 +184,8 @@ fn main() -> Result<(), String> {
         }
         let n = speeds.len() as f64;
         let mean = speeds.iter().sum::<f64>() / n;
-        let sd = (speeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0))
-            .sqrt();
+        let sd =
+            (speeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
         means.push(mean);
         eprintln!("spacing {spacing}: mean v_c {mean:.4} m/s, standard deviation {sd:.4}");
     }

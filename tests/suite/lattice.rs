@@ -98,12 +98,12 @@ fn a_floe_lattice_has_the_rigid_floes_mass_centre_and_polar_inertia() {
             offset: [0.37, 0.61],
         },
     ];
-    for (poly, mesh) in floes.iter().flat_map(|p| meshes.iter().map(move |m| (p, *m))) {
+    for (poly, mesh) in floes
+        .iter()
+        .flat_map(|p| meshes.iter().map(move |m| (p, *m)))
+    {
         for s in [2.0, 0.7] {
-            let sp = LatticeSpec {
-                mesh,
-                ..spec(s, 3)
-            };
+            let sp = LatticeSpec { mesh, ..spec(s, 3) };
             let l = Lattice::build(poly, sp).expect("a lattice");
             let p = area_properties(poly);
             let sigma = sp.density * sp.thickness;
