@@ -26,10 +26,7 @@ fn percussion(c: &mut Criterion) {
         Vec2::new(10.0, 10.0),
         Vec2::new(0.0, 10.0),
     ];
-    let triangular = Mesh::Triangular {
-        angle: 0.0,
-        offset: [0.7548776662, 0.5698402910],
-    };
+    let triangular = Mesh::triangular_variant(0.0, 1);
     for (name, poisson, mesh) in [
         ("percussion_2d", 1.0 / 3.0, Mesh::Random),
         ("percussion_2d_torsion", 0.3, Mesh::Random),

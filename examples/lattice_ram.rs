@@ -10,10 +10,7 @@
 //! seeded random one (`--mesh random`, the default) or the regular
 //! triangular one (`--mesh triangular`, rotated by `--angle DEG` degrees),
 //! whose variants 1, 2, … in place of seeds are offsets of the lattice
-//! from the centroid, variant `k` at `frac(k (α₁, α₂))` in lattice
-//! coordinates (`α₁ = 0.7549`, `α₂ = 0.5698`, a low-discrepancy sequence;
-//! an offset of 0 would put nodes at exactly half a spacing from the faces
-//! of a square, where their inclusion is decided by rounding). Writes one CSV row per spacing
+//! from the centroid ([`Mesh::triangular_variant`]). Writes one CSV row per spacing
 //! and seed to `--csv PATH` (or stdout), and on stderr the mean and
 //! standard deviation over the seeds per spacing, the differences between
 //! successive spacings, their rate (the slope of `log |v̄(s) − v̄(s/2)|`
@@ -26,7 +23,7 @@
 //! [--csv ram.csv] 1 0.5 0.25`
 
 use floebench::fracture::chain::{BondRule, ChainOptions};
-use floebench::fracture::lattice::percussion::{critical_ram_speed_by, Break};
+use floebench::fracture::lattice::percussion::{critical_ram_speed_by, mean_and_deviation, Break};
 use floebench::fracture::lattice::{Lattice, LatticeSpec, Mesh};
 use floebench::geometry::Vec2;
 use std::io::Write;
@@ -136,13 +133,8 @@ fn main() -> Result<(), String> {
     for &spacing in &a.spacings {
         let mut speeds = Vec::new();
         for seed in 1..=a.seeds {
-            let k = seed as f64;
-            let offset = [(k * 0.7548776662).fract(), (k * 0.5698402910).fract()];
             let mesh = if a.triangular {
-                Mesh::Triangular {
-                    angle: a.angle,
-                    offset,
-                }
+                Mesh::triangular_variant(a.angle, seed)
             } else {
                 Mesh::Random
             };
@@ -165,10 +157,9 @@ fn main() -> Result<(), String> {
                 1e3,
             )?;
             let n = lattice.nodes.len();
-            let (name, off) = if a.triangular {
-                ("triangular", offset)
-            } else {
-                ("random", [0.0; 2])
+            let (name, off) = match mesh {
+                Mesh::Triangular { offset, .. } => ("triangular", offset),
+                Mesh::Random => ("random", [0.0; 2]),
             };
             writeln!(
                 out,
@@ -182,10 +173,7 @@ fn main() -> Result<(), String> {
             out.flush().map_err(io)?;
             speeds.push(v);
         }
-        let n = speeds.len() as f64;
-        let mean = speeds.iter().sum::<f64>() / n;
-        let sd =
-            (speeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0)).sqrt();
+        let (mean, sd) = mean_and_deviation(&speeds);
         means.push(mean);
         eprintln!("spacing {spacing}: mean v_c {mean:.4} m/s, standard deviation {sd:.4}");
     }

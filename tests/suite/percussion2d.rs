@@ -5,7 +5,7 @@
 use crate::common::square;
 use floebench::fracture::chain::{BondRule, ChainOptions, Stop};
 use floebench::fracture::lattice::percussion::{
-    critical_ram_speed_by, Break, Impact, Outcome, Percussion, RigidMotion,
+    critical_ram_speed_by, mean_and_deviation, Break, Impact, Outcome, Percussion, RigidMotion,
 };
 use floebench::fracture::lattice::{Lattice, LatticeSpec, Mesh};
 use floebench::geometry::Vec2;
@@ -437,29 +437,17 @@ fn the_critical_ramming_speed_grows_as_the_spacing_shrinks_with_a_toughness_and_
     assert!(e > 0.8 && e < 1.25, "{strain:?}");
 }
 
-/// The mean and standard deviation of `v`.
-fn mean_sd(v: &[f64]) -> (f64, f64) {
-    let n = v.len() as f64;
-    let mean = v.iter().sum::<f64>() / n;
-    let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n - 1.0);
-    (mean, var.sqrt())
-}
-
 #[test]
 fn on_the_triangular_mesh_the_onset_of_damage_converges_with_shrinking_differences() {
     // Four offsets of the triangular mesh (the example's variants 1-4).
     let offsets: Vec<(u64, Mesh)> = (1..=4)
-        .map(|k| {
-            let k = k as f64;
-            let offset = [(k * 0.7548776662f64).fract(), (k * 0.5698402910f64).fract()];
-            (1, Mesh::Triangular { angle: 0.0, offset })
-        })
+        .map(|k| (1, Mesh::triangular_variant(0.0, k)))
         .collect();
     let spacings = [0.5, 0.25, 0.125];
     let stats: Vec<(f64, f64)> = spacings
         .iter()
         .map(|&s| {
-            mean_sd(&critical_speeds(
+            mean_and_deviation(&critical_speeds(
                 s,
                 BondRule::Strain(1e-4),
                 &offsets,

@@ -114,6 +114,24 @@ impl Default for LatticeSpec {
     }
 }
 
+impl Mesh {
+    /// The `k`-th of a sequence of triangular meshes at `angle` (rad) that
+    /// differ by their offset, in place of seeds: offset
+    /// `frac(k (α₁, α₂))` in lattice coordinates, `α₁ = 0.7548776662`,
+    /// `α₂ = 0.5698402910` (the plastic-number sequence of Roberts 2018,
+    /// which covers the unit square evenly). `k = 0` is no offset: on a
+    /// square whose faces are along the lattice it puts nodes at exactly
+    /// half a spacing from a face, where rounding decides whether they are
+    /// kept (docs/physics.md §7.2), so variants start at 1.
+    pub fn triangular_variant(angle: f64, k: u64) -> Mesh {
+        let k = k as f64;
+        Mesh::Triangular {
+            angle,
+            offset: [(k * 0.7548776662).fract(), (k * 0.5698402910).fract()],
+        }
+    }
+}
+
 impl LatticeSpec {
     /// The torsion springs' share of the Lamé coefficients, as the ratio
     /// `Δμ / μ_s` of what they add to `μ` (and take from `λ`) to the

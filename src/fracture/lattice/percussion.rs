@@ -950,3 +950,12 @@ pub fn critical_ram_speed_by(
     }
     Ok(hi)
 }
+
+/// The mean and the sample standard deviation (m/s) of critical speeds
+/// over seeds or mesh variants (the standard deviation 0 for one speed).
+pub fn mean_and_deviation(speeds: &[f64]) -> (f64, f64) {
+    let n = speeds.len() as f64;
+    let mean = speeds.iter().sum::<f64>() / n;
+    let var = speeds.iter().map(|v| (v - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+    (mean, var.sqrt())
+}
