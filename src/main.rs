@@ -493,6 +493,7 @@ fn main() -> ExitCode {
                 young,
                 poisson,
                 seed,
+                ..LatticeSpec::default()
             };
             let options = ChainOptions {
                 damping,

@@ -68,6 +68,7 @@ pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
         young: s.young,
         poisson: s.poisson,
         seed: s.seed,
+        mesh: super::lattice::Mesh::Random,
     }
 }
 

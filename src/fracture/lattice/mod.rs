@@ -1,5 +1,8 @@
 //! The 2D mass–spring lattice of a floe (docs/physics.md §7.2): a seeded
-//! Poisson-disc point set inside the (convex) outline, its Delaunay
+//! Poisson-disc point set inside the (convex) outline ([`Mesh::Random`], the
+//! default) or the nodes of an equilateral triangular lattice clipped to it
+//! ([`Mesh::Triangular`], no disorder), in both cases with the outline's
+//! vertices and points along its edges, their Delaunay
 //! triangulation ([`delaunay`], Bowyer–Watson), lumped node masses whose
 //! total mass, centre of mass and polar inertia are the rigid floe's, and
 //! central springs of stiffness `k / sin θ` per triangle edge (θ the angle
@@ -48,8 +51,39 @@ pub struct LatticeSpec {
     /// below it, torsion springs at the triangle corners lower it (ice:
     /// about 0.3).
     pub poisson: f64,
-    /// Seed of the Poisson-disc sampling.
+    /// Seed of the Poisson-disc sampling (unused by a triangular mesh).
     pub seed: u64,
+    /// How the nodes inside the outline are placed: a seeded Poisson-disc
+    /// set ([`Mesh::Random`], the default) or a regular triangular lattice
+    /// ([`Mesh::Triangular`]).
+    pub mesh: Mesh,
+}
+
+/// How the nodes inside a floe's outline are placed (docs/physics.md §7.2).
+/// Either way the outline carries its vertices and points at most one
+/// spacing apart along each edge, and the nodes inside are at least half a
+/// spacing from it.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Mesh {
+    /// A seeded Poisson-disc set (Bridson 2007): a disordered, isotropic
+    /// lattice; its seed is [`LatticeSpec::seed`].
+    #[default]
+    Random,
+    /// The nodes of an equilateral triangular lattice of side the spacing:
+    /// elastically isotropic and without disorder (every interior node is
+    /// a centre of symmetry, so a uniform strain is an equilibrium inside);
+    /// only its boundary cells, where it is clipped to the outline, are
+    /// irregular. Its two freedoms are its orientation and its offset.
+    Triangular {
+        /// The angle of its first lattice direction from the x axis, rad
+        /// (it repeats every π/3).
+        angle: f64,
+        /// The position of one of its nodes relative to the outline's
+        /// centroid, in lattice coordinates along its two directions at
+        /// `angle` and `angle + π/3` (fractions of the spacing; 0, 0 puts
+        /// a node at the centroid).
+        offset: [f64; 2],
+    },
 }
 
 /// The Poisson ratio of central springs alone (the Cauchy relation
@@ -65,7 +99,8 @@ impl Default for LatticeSpec {
     /// Ice at the lattice's usual resolution: spacing 1 m, thickness 1 m,
     /// density 917 kg/m³ (the project's), Young's modulus 8.95 GPa
     /// (Balasoiu's), Poisson ratio 1/3 (central springs alone: no torsion
-    /// springs, what the lattice was before they were built), seed 1.
+    /// springs, what the lattice was before they were built), seed 1, the
+    /// random mesh.
     fn default() -> Self {
         LatticeSpec {
             spacing: 1.0,
@@ -74,6 +109,25 @@ impl Default for LatticeSpec {
             young: 8.95e9,
             poisson: POISSON_MAX,
             seed: 1,
+            mesh: Mesh::Random,
+        }
+    }
+}
+
+impl Mesh {
+    /// The `k`-th of a sequence of triangular meshes at `angle` (rad) that
+    /// differ by their offset, in place of seeds: offset
+    /// `frac(k (α₁, α₂))` in lattice coordinates, `α₁ = 0.7548776662`,
+    /// `α₂ = 0.5698402910` (the plastic-number sequence of Roberts 2018,
+    /// which covers the unit square evenly). `k = 0` is no offset: on a
+    /// square whose faces are along the lattice it puts nodes at exactly
+    /// half a spacing from a face, where rounding decides whether they are
+    /// kept (docs/physics.md §7.2), so variants start at 1.
+    pub fn triangular_variant(angle: f64, k: u64) -> Mesh {
+        let k = k as f64;
+        Mesh::Triangular {
+            angle,
+            offset: [(k * 0.7548776662).fract(), (k * 0.5698402910).fract()],
         }
     }
 }
@@ -177,14 +231,7 @@ pub struct Lattice {
 /// `[spacing, 2 spacing)`. Returns the points and how many of the first
 /// are on the outline.
 pub fn poisson_disc(poly: &[Vec2], spacing: f64, seed: u64) -> (Vec<Vec2>, usize) {
-    let mut pts: Vec<Vec2> = Vec::new();
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-        let m = ((b - a).norm() / spacing).ceil().max(1.0) as usize;
-        for j in 0..m {
-            pts.push(a + (b - a) * (j as f64 / m as f64));
-        }
-    }
+    let mut pts = outline_points(poly, spacing);
     let nb = pts.len();
     let cell = spacing / std::f64::consts::SQRT_2;
     let key = |p: &Vec2| ((p.x / cell).floor() as i64, (p.y / cell).floor() as i64);
@@ -237,6 +284,55 @@ pub fn poisson_disc(poly: &[Vec2], spacing: f64, seed: u64) -> (Vec<Vec2>, usize
     (pts, nb)
 }
 
+/// The outline's nodes: the vertices of the polygon `poly` and, along
+/// each edge, equally spaced points at most `spacing` apart (both meshes).
+fn outline_points(poly: &[Vec2], spacing: f64) -> Vec<Vec2> {
+    let mut pts: Vec<Vec2> = Vec::new();
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let m = ((b - a).norm() / spacing).ceil().max(1.0) as usize;
+        for j in 0..m {
+            pts.push(a + (b - a) * (j as f64 / m as f64));
+        }
+    }
+    pts
+}
+
+/// The nodes of a triangular mesh of the convex counter-clockwise polygon
+/// `poly` ([`Mesh::Triangular`]): the outline's ([`outline_points`]), then
+/// the nodes `o + i a₁ + j a₂` of the equilateral lattice of side
+/// `spacing` (`a₁` at `angle`, `a₂` at `angle + π/3`, `o` the centroid
+/// plus `offset` in those coordinates) that lie at least `spacing/2`
+/// inside the outline, in the order of `j` then `i`. Returns the points and
+/// how many of the first are on the outline.
+pub fn triangular_points(
+    poly: &[Vec2],
+    spacing: f64,
+    angle: f64,
+    offset: [f64; 2],
+) -> (Vec<Vec2>, usize) {
+    let mut pts = outline_points(poly, spacing);
+    let nb = pts.len();
+    let a1 = Vec2::new(angle.cos(), angle.sin()) * spacing;
+    let third = angle + std::f64::consts::FRAC_PI_3;
+    let a2 = Vec2::new(third.cos(), third.sin()) * spacing;
+    let origin = area_properties(poly).centroid + a1 * offset[0] + a2 * offset[1];
+    // |i a₁ + j a₂|² = s² (i² + i j + j²) ≥ ¾ s² max(|i|, |j|)², so
+    // |i|, |j| ≤ 2R/(s√3) cover the disc of radius R about the origin that
+    // holds the outline.
+    let radius = poly.iter().map(|p| (p - origin).norm()).fold(0.0, f64::max);
+    let n = (2.0 * radius / (spacing * 3f64.sqrt())).ceil() as i64 + 1;
+    for j in -n..=n {
+        for i in -n..=n {
+            let p = origin + a1 * i as f64 + a2 * j as f64;
+            if point_polygon_signed_distance(&p, poly) <= -0.5 * spacing {
+                pts.push(p);
+            }
+        }
+    }
+    (pts, nb)
+}
+
 /// The angle-sine of the corner `c` of triangle `a b c`.
 fn sine_at(a: &Vec2, b: &Vec2, c: &Vec2) -> f64 {
     let (u, v) = (a - c, b - c);
@@ -271,7 +367,18 @@ impl Lattice {
                 spec.spacing, props.area
             ));
         }
-        let (nodes, nb) = poisson_disc(poly, spec.spacing, spec.seed);
+        let (nodes, nb) = match spec.mesh {
+            Mesh::Random => poisson_disc(poly, spec.spacing, spec.seed),
+            Mesh::Triangular { angle, offset } => {
+                if !(angle.is_finite() && offset.iter().all(|o| o.is_finite())) {
+                    return Err(format!(
+                        "the triangular mesh's angle and offset must be finite, got {angle} and \
+                         {offset:?}"
+                    ));
+                }
+                triangular_points(poly, spec.spacing, angle, offset)
+            }
+        };
         let triangles = delaunay::triangulate(&nodes);
         let tri_area = |t: &[usize; 3]| {
             0.5 * cross(&(nodes[t[1]] - nodes[t[0]]), &(nodes[t[2]] - nodes[t[0]]))
