@@ -92,6 +92,10 @@ pub(crate) struct Revised {
     lex_list: Vec<usize>,
     triplets: Vec<Triplet<usize, usize, f64>>,
     pivots: usize,
+    /// The starting complementary basis (`start[k]`: `z_k` basic, else
+    /// `w_k`), the reference of the lexicographic rule; all `false` after
+    /// [`Revised::setup`].
+    start: Vec<bool>,
 }
 
 impl std::fmt::Debug for Revised {
@@ -154,6 +158,56 @@ impl Revised {
         self.lex_pos.resize(n, NONE);
         self.lex_list.clear();
         self.pivots = 0;
+        self.start.clear();
+        self.start.resize(n, false);
+    }
+
+    /// Sets up the guessed complementary basis `B_s` of `start` (`start[k]`:
+    /// `z_k` basic in row k, else `w_k`) for the problem `(m, q)` scaled by
+    /// `2^-ea`, `2^-eb` (all finite, checked by the caller), with the
+    /// covering column `d = B_s 1` (`d_i = [i ∉ α] − Σ_{j ∈ α} M'_ij`), so
+    /// that the column of `z0` is `B_s⁻¹(−d) = −1`: Lemke's path on the
+    /// principal pivot transform of the LCP on `α` with the covering vector
+    /// 1 (docs/physics.md §3.3, "Warm Lemke"). The basis is factorised once
+    /// (the entry cost) and `b = B_s⁻¹ q'`. `false` if `B_s` is singular or
+    /// its basic values are not finite.
+    pub(crate) fn setup_from_basis(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        start: &[bool],
+        ea: i32,
+        eb: i32,
+    ) -> bool {
+        let n = q.len();
+        let mut d = std::mem::take(&mut self.d);
+        d.clear();
+        d.extend(start.iter().map(|&s| if s { 0.0 } else { 1.0 }));
+        self.setup(m, q, &d, ea, eb);
+        self.d = d;
+        for j in (0..n).filter(|&j| start[j]) {
+            for p in self.mp[j]..self.mp[j + 1] {
+                self.d[self.mi[p]] -= self.mv[p];
+            }
+        }
+        self.start.copy_from_slice(start);
+        for (k, &s) in start.iter().enumerate() {
+            if s {
+                self.basis[k] = n + k;
+                self.row_of[k] = NONE;
+                self.row_of[n + k] = k;
+            }
+        }
+        if !self.d.iter().all(|x| x.is_finite()) {
+            return false;
+        }
+        // B_s = I when the guess has no z basic: nothing to factorise.
+        !start.iter().any(|&s| s) || self.refactor()
+    }
+
+    /// The scaled covering column of the last set-up.
+    pub(crate) fn covering(&self) -> &[f64] {
+        &self.d
     }
 
     fn clear_etas(&mut self) {
@@ -320,8 +374,28 @@ impl Basis for Revised {
         finite
     }
 
-    fn binv(&self, i: usize, k: usize) -> f64 {
-        self.lex_rows[self.lex_pos[i] * self.n + k]
+    fn binv(&self, i: usize, v: usize) -> f64 {
+        let n = self.n;
+        let y = &self.lex_rows[self.lex_pos[i] * n..(self.lex_pos[i] + 1) * n];
+        if v < n {
+            y[v]
+        } else if v < 2 * n {
+            // Row i of B⁻¹ times the column −M'_{·j}.
+            let j = v - n;
+            -(self.mp[j]..self.mp[j + 1])
+                .map(|p| y[self.mi[p]] * self.mv[p])
+                .sum::<f64>()
+        } else {
+            -y.iter().zip(&self.d).map(|(a, b)| a * b).sum::<f64>()
+        }
+    }
+
+    fn reference(&self, k: usize) -> usize {
+        if self.start[k] {
+            self.n + k
+        } else {
+            k
+        }
     }
 
     fn pivot(&mut self, r: usize) -> bool {
