@@ -459,7 +459,11 @@ impl Workspace {
         self.revised = start.is_some() || n >= opts.revised_from;
         let mut cand = std::mem::take(&mut self.cand);
         let (termination, detail, pivots) = if let Some(start) = start {
-            if !self.rev.setup_from_basis(m, q, start, self.ea, self.eb) {
+            if self
+                .rev
+                .setup_from_basis(m, q, start, self.ea, self.eb)
+                .is_none()
+            {
                 self.cand = cand;
                 self.revised = false;
                 return early(
