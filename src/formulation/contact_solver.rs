@@ -49,8 +49,9 @@
 //! another one.
 //!
 //! **Warm-start check** (a diagnostic, off by default: [`ContactSolver::with_warm_check`],
-//! `floebench run --warm-check`). Each LCP the warm start solves is solved
-//! cold too, by the same driver on the same data; the warm solution is the
+//! `floebench run --warm-check`). Each LCP the warm start solves (by its
+//! principal pivoting or by its Lemke path) is solved cold too (the pivots
+//! of both summed: [`WARM_CHECK_WARM_PIVOTS`], [`WARM_CHECK_COLD_PIVOTS`]), by the same driver on the same data; the warm solution is the
 //! one used, so the run is the warm run. The two solutions `z_w`, `z_c` are
 //! compared by `max_i |z_w,i − z_c,i| / max(‖z_w‖∞, ‖z_c‖∞)`: above
 //! [`WARM_CHECK_DIFFERENT`] they are counted as different solutions, below
@@ -285,8 +286,21 @@ pub const WARM_CHECK_MAX_DIFFERENCE: Counter = Counter::max(
     "largest max|z_warm − z_cold| / max(‖z_warm‖∞, ‖z_cold‖∞) over the compared LCPs",
 );
 
+/// Pivots of the compared warm solves (0 for a principal-pivoting hit).
+pub const WARM_CHECK_WARM_PIVOTS: Counter = Counter::sum(
+    "warm_check_warm_pivots",
+    "Lemke pivots of the warm-solved LCPs compared (warm-start check)",
+);
+/// Pivots of the cold solves of the same LCPs.
+pub const WARM_CHECK_COLD_PIVOTS: Counter = Counter::sum(
+    "warm_check_cold_pivots",
+    "Lemke pivots of the cold solves of the same LCPs (warm-start check)",
+);
+
 /// The counters of the warm-start check.
 const WARM_CHECK_COUNTERS: &[&Counter] = &[
+    &WARM_CHECK_WARM_PIVOTS,
+    &WARM_CHECK_COLD_PIVOTS,
     &WARM_CHECK_SUSTAINED,
     &WARM_CHECK_SUSTAINED_DIFFERENT,
     &WARM_CHECK_SUSTAINED_ROUNDING,
@@ -307,7 +321,11 @@ pub const WARM_CHECK_DIFFERENT: f64 = 1e-6;
 /// The unknowns whose side differs between the guessed basis `basic` (`z_i`
 /// basic) and the support of the solution `z` (`z_i > 0`).
 fn support_changes(basic: &[bool], z: &[f64]) -> u64 {
-    basic.iter().zip(z).filter(|(b, v)| **b != (**v > 0.0)).count() as u64
+    basic
+        .iter()
+        .zip(z)
+        .filter(|(b, v)| **b != (**v > 0.0))
+        .count() as u64
 }
 
 /// `max_i |a_i − b_i| / max(‖a‖∞, ‖b‖∞)`, 0 when both are zero (and 1 for
@@ -593,7 +611,10 @@ impl ContactSolver {
             .text("solver", self.kind.name())
             .text("warm_start", if self.warm_start() { "on" } else { "off" });
         if self.warm_start() {
-            s.text("warm_lemke", if self.opts.warm_lemke { "on" } else { "off" })
+            s.text(
+                "warm_lemke",
+                if self.opts.warm_lemke { "on" } else { "off" },
+            )
         } else {
             s
         }
@@ -624,7 +645,11 @@ impl ContactSolver {
                 if sol.accepted_by == Some(Strategy::WarmStart) {
                     b.warm_hits += 1;
                 }
-                for a in sol.attempts.iter().filter(|a| a.strategy == Strategy::WarmLemke) {
+                for a in sol
+                    .attempts
+                    .iter()
+                    .filter(|a| a.strategy == Strategy::WarmLemke)
+                {
                     b.warm_lemke_pivots += a.pivots as u64;
                     if a.accepted {
                         b.warm_lemke_hits += 1;
@@ -729,7 +754,11 @@ impl ContactSolver {
         });
         let sol = self.lemke(lcp, guess.as_ref());
         self.record_solve(lcp, &sol, t);
-        if self.warm_check && sol.accepted_by == Some(Strategy::WarmStart) {
+        let warm_solved = matches!(
+            sol.accepted_by,
+            Some(Strategy::WarmStart | Strategy::WarmLemke)
+        );
+        if self.warm_check && warm_solved {
             self.check_warm(lcp, &sol, usage);
         }
         if sol.status.is_solved() {
@@ -772,6 +801,8 @@ impl ContactSolver {
         };
         let c = &mut self.counters;
         c.add(compared, 1);
+        c.add(&WARM_CHECK_WARM_PIVOTS, warm.pivots as u64);
+        c.add(&WARM_CHECK_COLD_PIVOTS, cold.pivots as u64);
         if !cold.status.is_solved() {
             c.add(&WARM_CHECK_COLD_FAILED, 1);
             return;

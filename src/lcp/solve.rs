@@ -477,7 +477,11 @@ impl SolveCounters {
         if s.attempts.iter().any(|a| a.accepted && a.revised) {
             self.revised += 1;
         }
-        for a in s.attempts.iter().filter(|a| a.strategy == Strategy::WarmLemke) {
+        for a in s
+            .attempts
+            .iter()
+            .filter(|a| a.strategy == Strategy::WarmLemke)
+        {
             self.warm_lemke_pivots += a.pivots as u64;
             if a.accepted {
                 self.warm_lemke_hits += 1;
@@ -502,10 +506,7 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
 
 /// The attempts of the plan, in order: `(strategy, rule, ε_rel)`; with
 /// `warm`, the warm Lemke path first.
-fn plan(
-    opts: &SolveOptions,
-    warm: bool,
-) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
+fn plan(opts: &SolveOptions, warm: bool) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
     warm.then_some((Strategy::WarmLemke, PivotRule::Lexicographic, 0.0))
         .into_iter()
         .chain(std::iter::once((
