@@ -645,11 +645,7 @@ impl ContactSolver {
                 if sol.accepted_by == Some(Strategy::WarmStart) {
                     b.warm_hits += 1;
                 }
-                for a in sol
-                    .attempts
-                    .iter()
-                    .filter(|a| a.strategy == Strategy::WarmLemke)
-                {
+                if let Some(a) = sol.warm_lemke_attempt() {
                     b.warm_lemke_pivots += a.pivots as u64;
                     if a.accepted {
                         b.warm_lemke_hits += 1;

@@ -374,6 +374,13 @@ pub struct SolveSummary {
 }
 
 impl LcpSolution {
+    /// The warm Lemke attempt ([`Strategy::WarmLemke`]), if one ran.
+    pub fn warm_lemke_attempt(&self) -> Option<&Attempt> {
+        self.attempts
+            .iter()
+            .find(|a| a.strategy == Strategy::WarmLemke)
+    }
+
     /// An empty result (no unknowns, failed) to be filled by
     /// [`solve_into`].
     pub fn empty() -> Self {
@@ -477,11 +484,7 @@ impl SolveCounters {
         if s.attempts.iter().any(|a| a.accepted && a.revised) {
             self.revised += 1;
         }
-        for a in s
-            .attempts
-            .iter()
-            .filter(|a| a.strategy == Strategy::WarmLemke)
-        {
+        if let Some(a) = s.warm_lemke_attempt() {
             self.warm_lemke_pivots += a.pivots as u64;
             if a.accepted {
                 self.warm_lemke_hits += 1;

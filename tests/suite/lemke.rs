@@ -1657,6 +1657,14 @@ enum Family {
     StewartTrinkle,
 }
 
+/// Every family of the path tests.
+const FAMILIES: [Family; 4] = [
+    Family::PMatrix,
+    Family::Psd,
+    Family::Degenerate,
+    Family::StewartTrinkle,
+];
+
 /// A feasible LCP of `family` with about `n` unknowns.
 fn family_lcp(rng: &mut SplitMix64, family: Family, n: usize) -> Lcp {
     match family {
@@ -1845,12 +1853,7 @@ fn check_every_path(
 fn every_path_solves_random_p_psd_degenerate_and_stewart_trinkle_lcps() {
     let mut rng = SplitMix64::new(0x5EED_F10E_0020);
     let mut ws = Workspace::default();
-    for family in [
-        Family::PMatrix,
-        Family::Psd,
-        Family::Degenerate,
-        Family::StewartTrinkle,
-    ] {
+    for family in FAMILIES {
         let mut tally = PathTally::default();
         for k in 0..150 {
             let n = 1 + (rng.next_u64() % 24) as usize;
@@ -2254,12 +2257,7 @@ fn a_candidate_is_kept_unpolished_only_when_its_residual_is_below_the_switch() {
         ..SolveOptions::default()
     };
     let mut problems: Vec<(String, Lcp)> = corpus();
-    for family in [
-        Family::PMatrix,
-        Family::Psd,
-        Family::Degenerate,
-        Family::StewartTrinkle,
-    ] {
+    for family in FAMILIES {
         for k in 0..100 {
             let n = 1 + (rng.next_u64() % 40) as usize;
             problems.push((format!("{family:?} {k}"), family_lcp(&mut rng, family, n)));
@@ -2312,13 +2310,6 @@ fn warm_lemke_only(ws: &mut Workspace, lcp: &Lcp, basic: Vec<bool>) -> LcpSoluti
         basic,
     };
     solve_warm_with(ws, lcp, &opts, &guess)
-}
-
-/// The warm Lemke attempt of `s`, if it ran.
-fn warm_attempt(s: &LcpSolution) -> Option<&floebench::lcp::Attempt> {
-    s.attempts
-        .iter()
-        .find(|a| a.strategy == Strategy::WarmLemke)
 }
 
 #[test]
@@ -2390,12 +2381,7 @@ fn warm_lemke_from_any_basis_never_accepts_a_wrong_answer() {
     // that is not accepted is followed by the cold attempts bit for bit.
     let mut rng = SplitMix64::new(0x5EED_3A4B_0002);
     let mut ws = Workspace::default();
-    for family in [
-        Family::PMatrix,
-        Family::Psd,
-        Family::Degenerate,
-        Family::StewartTrinkle,
-    ] {
+    for family in FAMILIES {
         let (mut hits, mut misses, mut pivots) = (0, 0, 0);
         for k in 0..80 {
             let n = 1 + (rng.next_u64() % 60) as usize;
@@ -2425,7 +2411,7 @@ fn warm_lemke_from_any_basis_never_accepts_a_wrong_answer() {
                         assert!((a - b).abs() <= 1e-8 * scale, "{label} {path}");
                     }
                 }
-                let Some(a) = warm_attempt(&s) else {
+                let Some(a) = s.warm_lemke_attempt() else {
                     // q >= 0: z = 0 before any attempt.
                     assert!(lcp.q.iter().all(|&v| v >= 0.0), "{label} {path}");
                     continue;
