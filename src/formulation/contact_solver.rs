@@ -49,8 +49,9 @@
 //! another one.
 //!
 //! **Warm-start check** (a diagnostic, off by default: [`ContactSolver::with_warm_check`],
-//! `floebench run --warm-check`). Each LCP the warm start solves is solved
-//! cold too, by the same driver on the same data; the warm solution is the
+//! `floebench run --warm-check`). Each LCP the warm start solves (by its
+//! principal pivoting or by its Lemke path) is solved cold too (the pivots
+//! of both summed: [`WARM_CHECK_WARM_PIVOTS`], [`WARM_CHECK_COLD_PIVOTS`]), by the same driver on the same data; the warm solution is the
 //! one used, so the run is the warm run. The two solutions `z_w`, `z_c` are
 //! compared by `max_i |z_w,i − z_c,i| / max(‖z_w‖∞, ‖z_c‖∞)`: above
 //! [`WARM_CHECK_DIFFERENT`] they are counted as different solutions, below
@@ -138,6 +139,37 @@ pub const LCP_WARM_MISSES: Counter = Counter::sum(
     "lcp_warm_misses",
     "warm starts tried and rejected (the LCP then solved cold)",
 );
+/// LCPs solved by the warm Lemke path from the previous basis of their
+/// contacts (after a rejected principal pivoting).
+pub const LCP_WARM_LEMKE_HITS: Counter = Counter::sum(
+    "lcp_warm_lemke_hits",
+    "LCPs solved by Lemke's path from the previous basis of their contacts (warm Lemke)",
+);
+/// Warm Lemke paths run and not accepted (the LCP then solved cold).
+pub const LCP_WARM_LEMKE_MISSES: Counter = Counter::sum(
+    "lcp_warm_lemke_misses",
+    "warm Lemke paths run and not accepted (the LCP then solved cold)",
+);
+/// Pivots of the warm Lemke paths.
+pub const LCP_WARM_LEMKE_PIVOTS: Counter = Counter::sum(
+    "lcp_warm_lemke_pivots",
+    "pivots of the warm Lemke paths (included in lemke_pivots)",
+);
+/// Indices whose side (z basic or w basic) differs between the guessed
+/// basis and the accepted solution's support.
+pub const LCP_WARM_SUPPORT_CHANGES: Counter = Counter::sum(
+    "lcp_warm_support_changes",
+    "unknowns whose side differs between the guessed basis and the accepted solution's support",
+);
+
+/// The counters of the warm start (declared only when it is on).
+const WARM_COUNTERS: &[&Counter] = &[
+    &LCP_WARM_LEMKE_HITS,
+    &LCP_WARM_LEMKE_MISSES,
+    &LCP_WARM_LEMKE_PIVOTS,
+    &LCP_WARM_SUPPORT_CHANGES,
+];
+
 /// LCPs accepted after principal pivoting completed a Lemke path.
 pub const LCP_COMPLETED_BY_PIVOTING: Counter = Counter::sum(
     "lcp_completed_by_pivoting",
@@ -254,8 +286,21 @@ pub const WARM_CHECK_MAX_DIFFERENCE: Counter = Counter::max(
     "largest max|z_warm − z_cold| / max(‖z_warm‖∞, ‖z_cold‖∞) over the compared LCPs",
 );
 
+/// Pivots of the compared warm solves (0 for a principal-pivoting hit).
+pub const WARM_CHECK_WARM_PIVOTS: Counter = Counter::sum(
+    "warm_check_warm_pivots",
+    "Lemke pivots of the warm-solved LCPs compared (warm-start check)",
+);
+/// Pivots of the cold solves of the same LCPs.
+pub const WARM_CHECK_COLD_PIVOTS: Counter = Counter::sum(
+    "warm_check_cold_pivots",
+    "Lemke pivots of the cold solves of the same LCPs (warm-start check)",
+);
+
 /// The counters of the warm-start check.
 const WARM_CHECK_COUNTERS: &[&Counter] = &[
+    &WARM_CHECK_WARM_PIVOTS,
+    &WARM_CHECK_COLD_PIVOTS,
     &WARM_CHECK_SUSTAINED,
     &WARM_CHECK_SUSTAINED_DIFFERENT,
     &WARM_CHECK_SUSTAINED_ROUNDING,
@@ -272,6 +317,16 @@ const WARM_CHECK_COUNTERS: &[&Counter] = &[
 /// orders of magnitude less, and two solutions of a friction LCP by a
 /// fraction of the impulses.
 pub const WARM_CHECK_DIFFERENT: f64 = 1e-6;
+
+/// The unknowns whose side differs between the guessed basis `basic` (`z_i`
+/// basic) and the support of the solution `z` (`z_i > 0`).
+fn support_changes(basic: &[bool], z: &[f64]) -> u64 {
+    basic
+        .iter()
+        .zip(z)
+        .filter(|(b, v)| **b != (**v > 0.0))
+        .count() as u64
+}
 
 /// `max_i |a_i − b_i| / max(‖a‖∞, ‖b‖∞)`, 0 when both are zero (and 1 for
 /// vectors of different lengths).
@@ -365,6 +420,12 @@ impl std::str::FromStr for SolverKind {
 
 /// Whether [`ContactSolver::new`] warm-starts the LCPs.
 pub const DEFAULT_WARM_START: bool = false;
+
+/// Whether a warm start runs Lemke's path from the guessed basis when its
+/// principal pivoting is rejected (the `warm_lemke` case key), before the
+/// cold attempts: on, as [`crate::lcp::SolveOptions::warm_lemke`]. Acts
+/// only when the warm start is on (off by default).
+pub const DEFAULT_WARM_LEMKE: bool = true;
 
 /// The basis and impulses of one contact in an accepted LCP solution:
 /// `(λ, β̃⁺, β̃⁻, α)`, the last three only with friction.
@@ -497,6 +558,9 @@ impl ContactSolver {
         if kind == SolverKind::Cone {
             counters.declare(CONE_COUNTERS);
         }
+        if warm_start {
+            counters.declare(WARM_COUNTERS);
+        }
         ContactSolver {
             kind,
             opts: SolveOptions::default(),
@@ -526,17 +590,34 @@ impl ContactSolver {
         self
     }
 
+    /// This solver with the warm Lemke path on or off
+    /// ([`crate::lcp::SolveOptions::warm_lemke`]: when the principal
+    /// pivoting of a warm start is rejected, Lemke's path from the guessed
+    /// basis before the cold attempts). Acts only with the warm start on.
+    pub fn with_warm_lemke(mut self, on: bool) -> ContactSolver {
+        self.opts.warm_lemke = on;
+        self
+    }
+
     /// Whether the LCPs are warm-started.
     pub fn warm_start(&self) -> bool {
         self.warm.is_some()
     }
 
-    /// `settings` with the solver's own: `solver` (its method) and
-    /// `warm_start` (`on`/`off`).
+    /// `settings` with the solver's own: `solver` (its method),
+    /// `warm_start` (`on`/`off`) and, with the warm start on, `warm_lemke`.
     pub fn settings(&self, settings: Settings) -> Settings {
-        settings
+        let s = settings
             .text("solver", self.kind.name())
-            .text("warm_start", if self.warm_start() { "on" } else { "off" })
+            .text("warm_start", if self.warm_start() { "on" } else { "off" });
+        if self.warm_start() {
+            s.text(
+                "warm_lemke",
+                if self.opts.warm_lemke { "on" } else { "off" },
+            )
+        } else {
+            s
+        }
     }
 
     /// The LCP solves so far by size (with the timer's cost).
@@ -559,6 +640,23 @@ impl ContactSolver {
         if let Some(b) = self.profile.buckets.get_mut(k) {
             b.solves += 1;
             b.pivots += sol.pivots as u64;
+            if let Some(g) = guess {
+                b.warm_tried += 1;
+                if sol.accepted_by == Some(Strategy::WarmStart) {
+                    b.warm_hits += 1;
+                }
+                if let Some(a) = sol.warm_lemke_attempt() {
+                    b.warm_lemke_pivots += a.pivots as u64;
+                    if a.accepted {
+                        b.warm_lemke_hits += 1;
+                    }
+                }
+                if sol.status.is_solved() {
+                    let changes = support_changes(&g.basic, &sol.z);
+                    b.warm_support_changes += changes;
+                    self.counters.add(&LCP_WARM_SUPPORT_CHANGES, changes);
+                }
+            }
             match sol.status {
                 SolveStatus::Solved => b.first_attempt += 1,
                 SolveStatus::SolvedByFallback => b.fallback += 1,
@@ -607,6 +705,11 @@ impl ContactSolver {
         c.add(&LCP_WARM_MISSES, l.warm_misses);
         c.add(&LCP_COMPLETED_BY_PIVOTING, l.completed_by_pivoting);
         c.add(&LCP_REVISED, l.revised);
+        if self.warm.is_some() {
+            c.add(&LCP_WARM_LEMKE_HITS, l.warm_lemke_hits);
+            c.add(&LCP_WARM_LEMKE_MISSES, l.warm_lemke_misses);
+            c.add(&LCP_WARM_LEMKE_PIVOTS, l.warm_lemke_pivots);
+        }
         c.set(&LCP_MAX_ACCEPTED_RESIDUAL, l.max_accepted_residual);
         c.set(&MAX_COULOMB_RATIO, self.max_coulomb_ratio);
         c
@@ -647,7 +750,11 @@ impl ContactSolver {
         });
         let sol = self.lemke(lcp, guess.as_ref());
         self.record_solve(lcp, &sol, t);
-        if self.warm_check && sol.accepted_by == Some(Strategy::WarmStart) {
+        let warm_solved = matches!(
+            sol.accepted_by,
+            Some(Strategy::WarmStart | Strategy::WarmLemke)
+        );
+        if self.warm_check && warm_solved {
             self.check_warm(lcp, &sol, usage);
         }
         if sol.status.is_solved() {
@@ -690,6 +797,8 @@ impl ContactSolver {
         };
         let c = &mut self.counters;
         c.add(compared, 1);
+        c.add(&WARM_CHECK_WARM_PIVOTS, warm.pivots as u64);
+        c.add(&WARM_CHECK_COLD_PIVOTS, cold.pivots as u64);
         if !cold.status.is_solved() {
             c.add(&WARM_CHECK_COLD_FAILED, 1);
             return;

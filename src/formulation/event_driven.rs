@@ -94,7 +94,7 @@
 //! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
 //!   Contacts* (Poisson's impact law).
 
-use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_START};
+use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START};
 use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
@@ -167,6 +167,12 @@ pub struct EventDrivenSettings {
     /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes
     /// results at the rounding level; see [`ContactSolver::with_warm_start`]).
     pub warm_start: bool,
+    /// `warm_lemke`: with the warm start on, when principal pivoting from
+    /// the guessed basis is rejected, run Lemke's path from that basis
+    /// before the cold attempts (default [`DEFAULT_WARM_LEMKE`]; see
+    /// [`ContactSolver::with_warm_lemke`]). Without the warm start it does
+    /// nothing.
+    pub warm_lemke: bool,
 }
 
 impl EventDrivenSettings {
@@ -177,6 +183,7 @@ impl EventDrivenSettings {
             penetration_tolerance: r.bounded(&PENETRATION_TOLERANCE)?,
             solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
             warm_start: r.boolean("warm_start")?.unwrap_or(DEFAULT_WARM_START),
+            warm_lemke: r.boolean("warm_lemke")?.unwrap_or(DEFAULT_WARM_LEMKE),
         };
         r.finish()?;
         Ok(s)
@@ -726,6 +733,7 @@ impl EventDriven {
                 opts.dump_lcp.clone(),
                 settings.warm_start,
             )
+            .with_warm_lemke(settings.warm_lemke)
             .with_warm_check(opts.warm_check),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),

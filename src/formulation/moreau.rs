@@ -119,7 +119,7 @@
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
-use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_START};
+use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START};
 use super::{
     check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
     NotClaimed,
@@ -238,6 +238,12 @@ pub struct MoreauSettings {
     /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes
     /// results at the rounding level; see [`ContactSolver::with_warm_start`]).
     pub warm_start: bool,
+    /// `warm_lemke`: with the warm start on, when principal pivoting from
+    /// the guessed basis is rejected, run Lemke's path from that basis
+    /// before the cold attempts (default [`DEFAULT_WARM_LEMKE`]; see
+    /// [`ContactSolver::with_warm_lemke`]). Without the warm start it does
+    /// nothing.
+    pub warm_lemke: bool,
 }
 
 impl Default for MoreauSettings {
@@ -248,6 +254,7 @@ impl Default for MoreauSettings {
             gamma: 0.5,
             solver: SolverKind::Lcp,
             warm_start: DEFAULT_WARM_START,
+            warm_lemke: DEFAULT_WARM_LEMKE,
         }
     }
 }
@@ -263,6 +270,7 @@ impl MoreauSettings {
             gamma: r.bounded(&GAMMA)?.unwrap_or(d.gamma),
             solver: r.choice("solver")?.unwrap_or(d.solver),
             warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
+            warm_lemke: r.boolean("warm_lemke")?.unwrap_or(d.warm_lemke),
         };
         r.finish()?;
         Ok(s)
@@ -405,6 +413,7 @@ impl Moreau {
                 opts.dump_lcp.clone(),
                 s.warm_start,
             )
+            .with_warm_lemke(s.warm_lemke)
             .with_warm_check(opts.warm_check),
             counters: Counters::new(COUNTERS),
             records: Vec::new(),

@@ -373,6 +373,42 @@ pub(crate) struct Scratch {
 impl Workspace {
     /// Sets up the tableau for `(m, q, d)` and runs the method.
     pub(crate) fn run(&mut self, m: &[f64], q: &[f64], opts: &LemkeOptions) -> Run {
+        self.run_from(m, q, opts, None)
+    }
+
+    /// Runs the method from the guessed complementary basis `start`
+    /// (`start[k]`: `z_k` basic, else `w_k`; length n) on the factorised
+    /// basis, with the covering column `d = B_s 1` of
+    /// [`Revised::setup_from_basis`] (`opts.covering` and
+    /// `opts.revised_from` are ignored). A singular guessed basis ends the
+    /// run before any pivot ([`Termination::NumericalFailure`], no tableau).
+    /// See docs/physics.md §3.3, "Warm Lemke".
+    pub(crate) fn run_warm(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        opts: &LemkeOptions,
+        start: &[bool],
+    ) -> Run {
+        if start.len() != q.len() {
+            return Run {
+                termination: Termination::InvalidInput,
+                detail: Some("guessed basis is not of length n"),
+                pivots: 0,
+                tableau: false,
+            };
+        }
+        self.run_from(m, q, opts, Some(start))
+    }
+
+    /// [`Workspace::run`] (`start = None`) or [`Workspace::run_warm`].
+    fn run_from(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        opts: &LemkeOptions,
+        start: Option<&[bool]>,
+    ) -> Run {
         let n = q.len();
         let early = |termination, detail| Run {
             termination,
@@ -414,10 +450,33 @@ impl Workspace {
         let max_pivots = opts
             .max_pivots
             .unwrap_or_else(|| DEFAULT_PIVOTS_PER_DIM.saturating_mul(n.saturating_add(1)));
-        self.scale(n, opts.covering.as_deref(), mmax, qmax);
-        self.revised = n >= opts.revised_from;
+        let covering = if start.is_some() {
+            None
+        } else {
+            opts.covering.as_deref()
+        };
+        self.scale(n, covering, mmax, qmax);
+        self.revised = start.is_some() || n >= opts.revised_from;
         let mut cand = std::mem::take(&mut self.cand);
-        let (termination, detail, pivots) = if self.revised {
+        let (termination, detail, pivots) = if let Some(start) = start {
+            if self
+                .rev
+                .setup_from_basis(m, q, start, self.ea, self.eb)
+                .is_none()
+            {
+                self.cand = cand;
+                self.revised = false;
+                return early(
+                    Termination::NumericalFailure,
+                    "guessed basis singular or its basic values not finite",
+                );
+            }
+            // The covering column d = B_s 1 (scaled), for the refinement.
+            self.d.clear();
+            self.d.extend_from_slice(self.rev.covering());
+            let out = path::run(&mut self.rev, &mut cand, opts, max_pivots);
+            (out.0, out.1, self.rev.pivots())
+        } else if self.revised {
             self.rev.setup(m, q, &self.d, self.ea, self.eb);
             let out = path::run(&mut self.rev, &mut cand, opts, max_pivots);
             (out.0, out.1, self.rev.pivots())
@@ -747,8 +806,8 @@ impl Basis for Workspace {
         true
     }
 
-    fn binv(&self, i: usize, k: usize) -> f64 {
-        self.t[i * self.cols + self.col_of[k]]
+    fn binv(&self, i: usize, v: usize) -> f64 {
+        self.t[i * self.cols + self.col_of[v]]
     }
 
     fn pivot(&mut self, r: usize) -> bool {

@@ -51,9 +51,18 @@ pub(crate) trait Basis {
     /// Prepares [`Basis::binv`] for the rows in `rows`; `false` if it could
     /// not (non-finite entries).
     fn prepare_rows(&mut self, rows: &[usize]) -> bool;
-    /// `(B⁻¹)_{ik}` for a row `i` given to [`Basis::prepare_rows`] and a
-    /// non-basic `w_k`.
-    fn binv(&self, i: usize, k: usize) -> f64;
+    /// `(B⁻¹ a_v)_i` for a row `i` given to [`Basis::prepare_rows`] and a
+    /// non-basic variable `v` (`a_v` its column of `[I | −M | −d]`): for
+    /// `v = w_k`, the entry `(B⁻¹)_{ik}`.
+    fn binv(&self, i: usize, v: usize) -> f64;
+    /// The variable of column `k` of the reference basis `B_s` of the
+    /// lexicographic rule, which compares the rows of `B⁻¹ B_s`: the basis
+    /// the path started from. `w_k` (the default) for a path started at
+    /// `B = I`; `w_k` or `z_k` for a path started from a guessed
+    /// complementary basis (see [`run`]).
+    fn reference(&self, k: usize) -> usize {
+        k
+    }
     /// Exchanges the basic variable of row `r` for the loaded entering
     /// variable; `false` if a non-finite entry appeared or the new basis
     /// could not be factorised.
@@ -69,22 +78,35 @@ enum Step {
     TooSmall,
 }
 
-/// Runs Lemke's method on a basis set up at `w` basic (`B = I`); `cand` is
-/// scratch. Returns the termination and a failure detail.
+/// Runs Lemke's method from the complementary basis set up in `e`; `cand`
+/// is scratch. Returns the termination and a failure detail.
+///
+/// The basis is `B = I` (every `w` basic) for the classical method, or a
+/// guessed complementary basis `B_s` (`z_i` basic for `i` in a set `α`,
+/// `w_i` for the others) with the covering column `d = B_s 1`, so that the
+/// loaded column of `z0` is `B_s⁻¹(−d) = −1` (see [`super::revised`]). The
+/// latter is the classical method on the principal pivot transform of the
+/// LCP on `α`: its basic values `B_s⁻¹ q` are the transformed `q`, and the
+/// lexicographic rule compares the rows of `B⁻¹ B_s` ([`Basis::reference`]),
+/// which are those of the transformed problem's `B⁻¹`. If the basic values
+/// are already non-negative the basis solves the LCP: 0 pivots.
 pub(crate) fn run<B: Basis>(
     e: &mut B,
     cand: &mut Vec<usize>,
     opts: &LemkeOptions,
     max_pivots: usize,
 ) -> (Termination, Option<&'static str>) {
+    let n = e.n();
+    if (0..n).all(|i| e.b(i) >= 0.0) {
+        return (Termination::Solved, None);
+    }
     if max_pivots == 0 {
         return (Termination::MaxPivots, Some("pivot cap is 0"));
     }
-    let n = e.n();
     let z0 = 2 * n;
-    // First pivot: z0 enters; the leaving row minimises q_i / d_i
-    // (lexicographically for the lexicographic rule), which makes every
-    // right-hand side non-negative.
+    // First pivot: z0 enters; the leaving row minimises b_i / (B⁻¹d)_i
+    // (q_i / d_i from B = I; lexicographically for the lexicographic
+    // rule), which makes every right-hand side non-negative.
     if !e.load(z0) {
         return (
             Termination::NumericalFailure,
@@ -260,16 +282,17 @@ fn select_among_ties<B: Basis>(
                 if cand.len() <= 1 {
                     break;
                 }
-                let rk = e.row_of(k);
+                let v = e.reference(k);
+                let rk = e.row_of(v);
                 if rk != NONE {
-                    // w_k basic in row rk: column k of B⁻¹ is the unit
+                    // v basic in row rk: column k of B⁻¹ B_s is the unit
                     // vector of that row, whose ratio 1/c is positive,
                     // every other candidate's is 0.
                     cand.retain(|&i| i != rk);
                 } else {
                     filter_min(
                         cand,
-                        |i| e.binv(i, k) / (sign * e.c(i)),
+                        |i| e.binv(i, v) / (sign * e.c(i)),
                         opts.lex_tol,
                         opts.lex_tol,
                     );

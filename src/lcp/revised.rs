@@ -55,6 +55,15 @@ use faer::{Conj, MatMut};
 /// not yet tuned by measurement (an open point of docs/physics.md §3.3).
 pub(crate) const REFACTOR_EVERY: usize = 48;
 
+/// Smallest principal pivot of the crash of a guessed basis
+/// ([`Revised::setup_from_basis`]), relative to the largest entry of its
+/// column (at least 1, on the scaled data): below it the guessed `z_k`
+/// stays non-basic. Well above rounding (a singular `M_αα` leaves pivots of
+/// 1e-16 relative) and well below the entries of a regular Delassus
+/// diagonal, so that the basis the path starts from is well conditioned;
+/// chosen, not tuned.
+pub(crate) const CRASH_PIVOT_TOL: f64 = 1e-7;
+
 /// The factorised basis; see the module doc.
 #[derive(Default)]
 pub(crate) struct Revised {
@@ -92,6 +101,10 @@ pub(crate) struct Revised {
     lex_list: Vec<usize>,
     triplets: Vec<Triplet<usize, usize, f64>>,
     pivots: usize,
+    /// The starting complementary basis (`start[k]`: `z_k` basic, else
+    /// `w_k`), the reference of the lexicographic rule; all `false` after
+    /// [`Revised::setup`].
+    start: Vec<bool>,
 }
 
 impl std::fmt::Debug for Revised {
@@ -154,6 +167,82 @@ impl Revised {
         self.lex_pos.resize(n, NONE);
         self.lex_list.clear();
         self.pivots = 0;
+        self.start.clear();
+        self.start.resize(n, false);
+    }
+
+    /// Sets up a complementary basis `B_s` near the guess `start`
+    /// (`start[k]`: `z_k` basic in row k, else `w_k`) for the problem
+    /// `(m, q)` scaled by `2^-ea`, `2^-eb` (all finite, checked by the
+    /// caller), with the covering column `d = B_s 1`
+    /// (`d_i = [i ∉ α] − Σ_{j ∈ α} M'_ij`), so that the column of `z0` is
+    /// `B_s⁻¹(−d) = −1`: Lemke's path on the principal pivot transform of
+    /// the LCP on `α` with the covering vector 1 (docs/physics.md §3.3,
+    /// "Warm Lemke").
+    ///
+    /// The guessed `M_αα` is often singular on contact LCPs (two points of
+    /// facing edges have equal tangential columns; the guess is the support
+    /// of a solution, not a basis), so `B_s` is built by a **crash**: from
+    /// `B = I`, `z_k` replaces `w_k` for each guessed `k` in increasing
+    /// order (one FTRAN and an eta each: a principal pivot on the diagonal
+    /// of the current Schur complement) unless that pivot is below
+    /// [`CRASH_PIVOT_TOL`] of its column, in which case `w_k` stays basic.
+    /// `α` is the set actually pivoted in; the basis is then refactorised
+    /// (the entry cost) and `b = B_s⁻¹ q'` recomputed from the data. The
+    /// crash exchanges are not counted as pivots. Returns the number of
+    /// guessed indices left out, or `None` if a non-finite entry appeared or
+    /// the final factorisation failed.
+    pub(crate) fn setup_from_basis(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        start: &[bool],
+        ea: i32,
+        eb: i32,
+    ) -> Option<usize> {
+        let n = q.len();
+        let mut d = std::mem::take(&mut self.d);
+        d.clear();
+        d.resize(n, 1.0);
+        self.setup(m, q, &d, ea, eb);
+        self.d = d;
+        let mut dropped = 0;
+        for k in (0..n).filter(|&k| start[k]) {
+            if !self.load(n + k) {
+                return None;
+            }
+            let cmax = self.c.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+            if self.c[k].abs() > CRASH_PIVOT_TOL * cmax.max(1.0) {
+                if !self.pivot(k) {
+                    return None;
+                }
+                self.start[k] = true;
+            } else {
+                dropped += 1;
+            }
+        }
+        self.d.iter_mut().enumerate().for_each(|(i, x)| {
+            *x = if self.start[i] { 0.0 } else { 1.0 };
+        });
+        for j in (0..n).filter(|&j| self.start[j]) {
+            for p in self.mp[j]..self.mp[j + 1] {
+                self.d[self.mi[p]] -= self.mv[p];
+            }
+        }
+        if !self.d.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        self.pivots = 0;
+        // B_s = I when nothing was pivoted in: nothing to factorise.
+        if self.start.iter().any(|&s| s) && !self.refactor() {
+            return None;
+        }
+        Some(dropped)
+    }
+
+    /// The scaled covering column of the last set-up.
+    pub(crate) fn covering(&self) -> &[f64] {
+        &self.d
     }
 
     fn clear_etas(&mut self) {
@@ -320,8 +409,28 @@ impl Basis for Revised {
         finite
     }
 
-    fn binv(&self, i: usize, k: usize) -> f64 {
-        self.lex_rows[self.lex_pos[i] * self.n + k]
+    fn binv(&self, i: usize, v: usize) -> f64 {
+        let n = self.n;
+        let y = &self.lex_rows[self.lex_pos[i] * n..(self.lex_pos[i] + 1) * n];
+        if v < n {
+            y[v]
+        } else if v < 2 * n {
+            // Row i of B⁻¹ times the column −M'_{·j}.
+            let j = v - n;
+            -(self.mp[j]..self.mp[j + 1])
+                .map(|p| y[self.mi[p]] * self.mv[p])
+                .sum::<f64>()
+        } else {
+            -y.iter().zip(&self.d).map(|(a, b)| a * b).sum::<f64>()
+        }
+    }
+
+    fn reference(&self, k: usize) -> usize {
+        if self.start[k] {
+            self.n + k
+        } else {
+            k
+        }
     }
 
     fn pivot(&mut self, r: usize) -> bool {

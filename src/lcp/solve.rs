@@ -79,6 +79,10 @@ pub enum Strategy {
     /// Principal pivoting from a guessed basis ([`solve_warm`]), before any
     /// Lemke attempt.
     WarmStart,
+    /// Lemke's path from the guessed basis ([`solve_warm`], after a
+    /// rejected principal pivoting; [`SolveOptions::warm_lemke`]), on the
+    /// factorised basis, before the cold attempts.
+    WarmLemke,
 }
 
 /// Choice of the covering vector `d` of an attempt.
@@ -120,8 +124,8 @@ impl Covering {
 /// Overall outcome of [`solve`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum SolveStatus {
-    /// The warm start ([`solve_warm`]) or the first Lemke attempt
-    /// (lexicographic) was accepted.
+    /// The warm start ([`solve_warm`]: its principal pivoting or its Lemke
+    /// path) or the first cold Lemke attempt (lexicographic) was accepted.
     Solved,
     /// A later attempt was accepted.
     SolvedByFallback,
@@ -216,6 +220,28 @@ pub struct SolveOptions {
     /// about 10 % cheaper on the dump corpora (docs/physics.md §3.3).
     #[serde(default)]
     pub unpolished_below: f64,
+    /// With a guessed basis ([`solve_warm`]) that principal pivoting did not
+    /// accept, run Lemke's path from that basis ([`Strategy::WarmLemke`],
+    /// docs/physics.md §3.3 "Warm Lemke") before the cold attempts. Default
+    /// `true`; `false` gives the warm start as it was before this option
+    /// (principal pivoting, then the cold attempts).
+    #[serde(default = "default_warm_lemke")]
+    pub warm_lemke: bool,
+    /// Pivot cap of the warm Lemke path, per unknown (the cap is
+    /// `ceil(warm_lemke_pivots · (n + 1))`, at least 1). Default 1: a cold
+    /// path takes about 2.5 n pivots on the large contact LCPs of a jammed
+    /// pack, so a warm path that has not ended after n pivots has already
+    /// cost about half of a cold solve, which then follows.
+    #[serde(default = "default_warm_lemke_pivots")]
+    pub warm_lemke_pivots: f64,
+}
+
+fn default_warm_lemke() -> bool {
+    true
+}
+
+fn default_warm_lemke_pivots() -> f64 {
+    1.0
 }
 
 fn default_revised_from() -> usize {
@@ -242,6 +268,8 @@ impl Default for SolveOptions {
             warm_solves: 16,
             revised_from: l.revised_from,
             unpolished_below: 0.0,
+            warm_lemke: default_warm_lemke(),
+            warm_lemke_pivots: default_warm_lemke_pivots(),
         }
     }
 }
@@ -346,6 +374,13 @@ pub struct SolveSummary {
 }
 
 impl LcpSolution {
+    /// The warm Lemke attempt ([`Strategy::WarmLemke`]), if one ran.
+    pub fn warm_lemke_attempt(&self) -> Option<&Attempt> {
+        self.attempts
+            .iter()
+            .find(|a| a.strategy == Strategy::WarmLemke)
+    }
+
     /// An empty result (no unknowns, failed) to be filled by
     /// [`solve_into`].
     pub fn empty() -> Self {
@@ -406,6 +441,16 @@ pub struct SolveCounters {
     /// Solves accepted by an attempt on the factorised (revised) basis.
     #[serde(default)]
     pub revised: u64,
+    /// Solves accepted by the warm Lemke path ([`Strategy::WarmLemke`]).
+    #[serde(default)]
+    pub warm_lemke_hits: u64,
+    /// Solves whose warm Lemke path was run and not accepted (the cold
+    /// attempts followed).
+    #[serde(default)]
+    pub warm_lemke_misses: u64,
+    /// Pivots of the warm Lemke paths (included in `total_pivots`).
+    #[serde(default)]
+    pub warm_lemke_pivots: u64,
 }
 
 impl SolveCounters {
@@ -439,6 +484,14 @@ impl SolveCounters {
         if s.attempts.iter().any(|a| a.accepted && a.revised) {
             self.revised += 1;
         }
+        if let Some(a) = s.warm_lemke_attempt() {
+            self.warm_lemke_pivots += a.pivots as u64;
+            if a.accepted {
+                self.warm_lemke_hits += 1;
+            } else {
+                self.warm_lemke_misses += 1;
+            }
+        }
     }
 }
 
@@ -454,9 +507,16 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
     with_thread_workspace(|ws| solve_with(ws, lcp, opts))
 }
 
-/// The attempts of the plan, in order: `(strategy, rule, ε_rel)`.
-fn plan(opts: &SolveOptions) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
-    std::iter::once((Strategy::Lexicographic, PivotRule::Lexicographic, 0.0))
+/// The attempts of the plan, in order: `(strategy, rule, ε_rel)`; with
+/// `warm`, the warm Lemke path first.
+fn plan(opts: &SolveOptions, warm: bool) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
+    warm.then_some((Strategy::WarmLemke, PivotRule::Lexicographic, 0.0))
+        .into_iter()
+        .chain(std::iter::once((
+            Strategy::Lexicographic,
+            PivotRule::Lexicographic,
+            0.0,
+        )))
         .chain(
             opts.alternative_rule
                 .map(|rule| (Strategy::AlternativeRule, rule, 0.0)),
@@ -488,6 +548,19 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
 /// recorded as an accepted lexicographic attempt of 0 pivots, as Lemke's
 /// method would report it (it stops before its first pivot).
 pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut LcpSolution) {
+    solve_plan(ws, lcp, opts, out, None);
+}
+
+/// [`solve_into`], with the warm Lemke path from the guessed basis `start`
+/// as first attempt when given (the caller checked its length and that the
+/// data are finite).
+fn solve_plan(
+    ws: &mut Workspace,
+    lcp: &Lcp,
+    opts: &SolveOptions,
+    out: &mut LcpSolution,
+    start: Option<&[bool]>,
+) {
     let (m, q) = (&lcp.m[..], &lcp.q[..]);
     let n = q.len();
     out.attempts.clear();
@@ -535,19 +608,34 @@ pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut 
     let mut pivots = 0usize;
     let mut best_r = f64::INFINITY;
     let mut have_best = false;
-    for (strategy, rule, eps_rel) in plan(opts) {
+    for (strategy, rule, eps_rel) in plan(opts, start.is_some()) {
         let covering = if strategy == Strategy::AlternativeRule {
             &opts.alternative_covering
         } else {
             &opts.covering
         };
+        let warm = match start {
+            Some(s) if strategy == Strategy::WarmLemke => Some(s),
+            _ => None,
+        };
+        let max_pivots = if warm.is_some() {
+            let cap = (opts.warm_lemke_pivots * (n as f64 + 1.0)).ceil();
+            // A NaN or negative factor gives the smallest cap, 1.
+            Some(if cap >= 1.0 { cap as usize } else { 1 })
+        } else {
+            opts.max_pivots
+        };
         let lopts = LemkeOptions {
             rule,
-            covering: covering.vector(m, n),
+            covering: if warm.is_some() {
+                None
+            } else {
+                covering.vector(m, n)
+            },
             pivot_tol: opts.pivot_tol,
             tie_tol: opts.tie_tol,
             lex_tol: opts.lex_tol,
-            max_pivots: opts.max_pivots,
+            max_pivots,
             clamp_tol: opts.clamp_tol,
             prefer_z0: true,
             z0_tol: opts.z0_tol,
@@ -573,6 +661,8 @@ pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut 
                 sc.m_shift[i * n + i] += epsilon;
             }
             ws.run(&sc.m_shift, q, &lopts)
+        } else if let Some(s) = warm {
+            ws.run_warm(m, q, &lopts, s)
         } else {
             ws.run(m, q, &lopts)
         };
@@ -644,7 +734,7 @@ pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut 
 
     let accepted_by = attempts.iter().find(|a| a.accepted).map(|a| a.strategy);
     out.status = match accepted_by {
-        Some(Strategy::Lexicographic) => SolveStatus::Solved,
+        Some(Strategy::Lexicographic | Strategy::WarmLemke) => SolveStatus::Solved,
         Some(_) => SolveStatus::SolvedByFallback,
         None => SolveStatus::Failed,
     };
@@ -674,10 +764,17 @@ fn set_vec(v: &mut Vec<f64>, n: usize, f: impl Fn(usize) -> f64) {
 /// [`SolveOptions::warm_solves`] basis solves on the original data. Its
 /// candidate is accepted on the same test as every attempt (residual on the
 /// original data `<= tolerance`); then no Lemke attempt is made and the
-/// status is [`SolveStatus::Solved`] with [`Strategy::WarmStart`]. Otherwise
-/// the attempts of [`solve`] follow as if cold (the record of the warm start
-/// is kept in [`LcpSolution::warm`]). A guess of the wrong size, a
-/// non-finite problem or `warm_solves = 0` goes straight to [`solve`].
+/// status is [`SolveStatus::Solved`] with [`Strategy::WarmStart`].
+/// Otherwise, with [`SolveOptions::warm_lemke`], Lemke's path runs from
+/// the guessed basis ([`Strategy::WarmLemke`]: the covering column
+/// `d = B 1` of the guessed basis `B`, at most
+/// [`SolveOptions::warm_lemke_pivots`] pivots per unknown; docs/physics.md
+/// §3.3), its candidate judged and polished like every attempt's; then, if
+/// it is not accepted, the attempts of [`solve`] follow as if cold (the
+/// record of the principal pivoting is kept in [`LcpSolution::warm`]). A
+/// guess of the wrong size, a non-finite problem, or `warm_solves = 0`
+/// without `warm_lemke`, goes straight to [`solve`] (`warm_solves = 0`
+/// with `warm_lemke`: the warm Lemke path alone, then the cold attempts).
 ///
 /// For an LCP with several solutions (friction) the warm start may accept a
 /// solution other than the one Lemke would reach; each is a solution to the
@@ -711,12 +808,17 @@ pub fn solve_warm_into(
     let usable = lcp.check().is_ok()
         && opts.tolerance.is_finite()
         && opts.tolerance >= 0.0
-        && opts.warm_solves > 0
+        && (opts.warm_solves > 0 || opts.warm_lemke)
         && guess.basic.len() == n
         && guess.z.len() == n
         && lcp.is_finite();
     if !usable {
         solve_into(ws, lcp, opts, out);
+        return;
+    }
+    let start = opts.warm_lemke.then_some(&guess.basic[..]);
+    if opts.warm_solves == 0 {
+        solve_plan(ws, lcp, opts, out, start);
         return;
     }
     let pv = &mut ws.scratch.get_or_insert_with(Box::default).pivoting;
@@ -741,7 +843,7 @@ pub fn solve_warm_into(
         out.status = SolveStatus::Solved;
         return;
     }
-    solve_into(ws, lcp, opts, out);
+    solve_plan(ws, lcp, opts, out, start);
     out.warm = Some(warm);
 }
 

@@ -110,6 +110,7 @@ pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
                 Strategy::AlternativeRule => String::from("AlternativeRule"),
                 Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
                 Strategy::WarmStart => String::from("WarmStart"),
+                Strategy::WarmLemke => String::from("WarmLemke"),
             };
             if a.revised {
                 name + "/revised"

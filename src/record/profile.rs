@@ -38,6 +38,27 @@ pub struct SizeBucket {
     pub failed: u64,
     /// Monotonic time of the solves, s (estimated: see the module doc).
     pub seconds: f64,
+    /// Solves that had a guessed basis (warm start on; absent when 0).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warm_tried: u64,
+    /// Of them, solved by its principal pivoting (0 pivots).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warm_hits: u64,
+    /// Of them, solved by the warm Lemke path.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warm_lemke_hits: u64,
+    /// Pivots of the warm Lemke paths (included in `pivots`).
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warm_lemke_pivots: u64,
+    /// Unknowns whose side differs between the guessed basis and the
+    /// accepted solution's support, summed over the solved warm-started
+    /// solves: how far the guess was.
+    #[serde(skip_serializing_if = "is_zero")]
+    pub warm_support_changes: u64,
+}
+
+fn is_zero(x: &u64) -> bool {
+    *x == 0
 }
 
 /// The LCP solves of a run by size.
