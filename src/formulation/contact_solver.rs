@@ -423,9 +423,10 @@ pub const DEFAULT_WARM_START: bool = false;
 
 /// Whether a warm start runs Lemke's path from the guessed basis when its
 /// principal pivoting is rejected (the `warm_lemke` case key), before the
-/// cold attempts: on, as [`crate::lcp::SolveOptions::warm_lemke`]. Acts
+/// cold attempts: off, as [`crate::lcp::SolveOptions::warm_lemke`] (it
+/// cost more than it saved on the jammed bay, docs/physics.md §3.3). Acts
 /// only when the warm start is on (off by default).
-pub const DEFAULT_WARM_LEMKE: bool = true;
+pub const DEFAULT_WARM_LEMKE: bool = false;
 
 /// The basis and impulses of one contact in an accepted LCP solution:
 /// `(λ, β̃⁺, β̃⁻, α)`, the last three only with friction.

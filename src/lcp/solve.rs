@@ -223,8 +223,10 @@ pub struct SolveOptions {
     /// With a guessed basis ([`solve_warm`]) that principal pivoting did not
     /// accept, run Lemke's path from that basis ([`Strategy::WarmLemke`],
     /// docs/physics.md §3.3 "Warm Lemke") before the cold attempts. Default
-    /// `true`; `false` gives the warm start as it was before this option
-    /// (principal pivoting, then the cold attempts).
+    /// `false`: on the jammed bay it cost more CPU than the cold attempts it
+    /// replaced and moved the trajectories (§3.3); `false` is the warm start
+    /// as it was before this option (principal pivoting, then the cold
+    /// attempts).
     #[serde(default = "default_warm_lemke")]
     pub warm_lemke: bool,
     /// Pivot cap of the warm Lemke path, per unknown (the cap is
@@ -237,7 +239,7 @@ pub struct SolveOptions {
 }
 
 fn default_warm_lemke() -> bool {
-    true
+    false
 }
 
 fn default_warm_lemke_pivots() -> f64 {

@@ -1725,7 +1725,11 @@ fn check_every_path(
     tally: &mut PathTally,
     label: &str,
 ) {
-    let opts = SolveOptions::default();
+    // The warm Lemke path (off by default) is one of the paths checked.
+    let opts = SolveOptions {
+        warm_lemke: true,
+        ..SolveOptions::default()
+    };
     let n = lcp.n;
     let judge = |s: &floebench::lcp::LcpSolution, path: &str| {
         assert!(s.status.is_solved(), "{label} {path}: {s:?}");
@@ -1908,7 +1912,10 @@ fn a_warm_start_never_accepts_a_non_solution() {
     // with q = (−1, −1), whose two rows sum to w1 + w2 = −2) and a
     // non-finite starting point: every path fails cleanly, z finite ≥ 0.
     let mut ws = Workspace::default();
-    let opts = SolveOptions::default();
+    let opts = SolveOptions {
+        warm_lemke: true,
+        ..SolveOptions::default()
+    };
     let cases = [
         Lcp::new(1, vec![0.0], vec![-1.0]).expect("sizes"),
         Lcp::new(2, vec![1.0, -1.0, -1.0, 1.0], vec![-1.0, -1.0]).expect("sizes"),
@@ -2303,6 +2310,7 @@ fn a_candidate_is_kept_unpolished_only_when_its_residual_is_below_the_switch() {
 fn warm_lemke_only(ws: &mut Workspace, lcp: &Lcp, basic: Vec<bool>) -> LcpSolution {
     let opts = SolveOptions {
         warm_solves: 0,
+        warm_lemke: true,
         ..SolveOptions::default()
     };
     let guess = BasisGuess {
