@@ -87,11 +87,19 @@ pub fn draw(rec: &PercussionRecord, title: &str, stem: &Path) -> Result<[PathBuf
         },
         Series {
             dash: Some(0),
-            ..Series::new(format!("broken bonds ({})", rec.broken.len()), BROKEN, broken)
+            ..Series::new(
+                format!("broken bonds ({})", rec.broken.len()),
+                BROKEN,
+                broken,
+            )
         },
         Series {
             dash: Some(0),
-            ..Series::new(format!("impact: {}", impact_text(rec)), plot::EXACT, arrow(rec))
+            ..Series::new(
+                format!("impact: {}", impact_text(rec)),
+                plot::EXACT,
+                arrow(rec),
+            )
         },
     ];
     plot::network_view(
