@@ -20,9 +20,12 @@ const BROKEN: usize = 1;
 /// the origin (the floe's radius about its centre of mass).
 const ARROW: f64 = 0.4;
 
+/// A polyline, points `(x, y)` in metres; a NaN point is a gap.
+type Polyline = Vec<(f64, f64)>;
+
 /// The bonds of `rec` at rest as two broken polylines, `(intact, broken)`:
 /// each spring a segment followed by a NaN point (a gap in the line).
-fn bonds(rec: &PercussionRecord) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+fn bonds(rec: &PercussionRecord) -> (Polyline, Polyline) {
     let (mut intact, mut broken) = (Vec::new(), Vec::new());
     for (s, &ok) in rec.springs.iter().zip(&rec.intact) {
         let (Some(a), Some(b)) = (rec.nodes.get(s[0]), rec.nodes.get(s[1])) else {
@@ -37,7 +40,7 @@ fn bonds(rec: &PercussionRecord) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
 /// The impact arrow of `rec`: a shaft of [`ARROW`] times the lattice's
 /// radius along the normal, ending at the contact point, and a head of
 /// two strokes at ±25°.
-fn arrow(rec: &PercussionRecord) -> Vec<(f64, f64)> {
+fn arrow(rec: &PercussionRecord) -> Polyline {
     let radius = rec
         .nodes
         .iter()
