@@ -145,6 +145,24 @@ fn non_finite(result: &RunResult) -> Option<String> {
             return Some(format!("energy.csv: non-finite {c} at t = {} s", e.t));
         }
     }
+    if let Some(p) = &result.percussion {
+        let i = &p.impact;
+        let numbers = [
+            p.t, p.angle, p.bound, p.weakest, p.loss, p.energy, p.spacing, i.speed,
+        ]
+        .into_iter()
+        .chain(p.position)
+        .chain(i.point)
+        .chain(i.normal)
+        .chain(i.striker_mass)
+        .chain(p.nodes.iter().flatten().copied());
+        if numbers.into_iter().any(|v| !v.is_finite()) {
+            return Some(format!(
+                "{PERCUSSION_FILE}: a non-finite number in the percussion of floe {} at t = {} s",
+                p.floe, p.t
+            ));
+        }
+    }
     None
 }
 
