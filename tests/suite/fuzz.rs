@@ -504,7 +504,7 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
         "trajectory.csv",
     ];
     if r.percussion.is_some() {
-        expected.insert(2, output::PERCUSSION_FILE);
+        expected.insert(3, output::PERCUSSION_FILE);
     }
     if files != expected {
         return Err(format!("partial file: the folder holds {files:?}"));
