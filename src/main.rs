@@ -1288,44 +1288,21 @@ fn percussion_2d(
         fmt_num(o.striker_velocity[1])
     );
     if let Some(stem) = plot {
-        use floebench::report::plot::{plan_view, PlanView, Series};
-        // The springs at rest (the crack pattern on the floe as it was),
-        // as broken polylines.
-        let (mut intact, mut broken) = (Vec::new(), Vec::new());
-        for (k, s) in lattice.springs.iter().enumerate() {
-            let (a, b) = (lattice.nodes[s.nodes[0]], lattice.nodes[s.nodes[1]]);
-            let list = if p.bonded(k) {
-                &mut intact
-            } else {
-                &mut broken
-            };
-            list.extend([(a.x, a.y), (b.x, b.y), (f64::NAN, f64::NAN)]);
-        }
+        // The springs at rest (the crack pattern on the floe as it was).
+        let broken: Vec<usize> = o.broken.iter().map(|b| b.spring).collect();
+        let rec = floebench::model::fracture::PercussionRecord {
+            bound: o.impact_energy,
+            weakest: p.weakest_bond_energy(),
+            loss: o.fracture_energy,
+            ..floebench::fracture::crack::of_lattice(&lattice, &broken, &impact)
+        };
         let title = format!(
             "percussion at {} m/s: {} broken, {} pieces",
             fmt_num(strike.speed),
             plural(o.broken.len(), "bond"),
             o.fragments.len()
         );
-        let paths = [
-            Series {
-                dash: Some(0),
-                ..Series::new("bonds", 5, intact)
-            },
-            Series {
-                dash: Some(0),
-                ..Series::new("broken bonds", 1, broken)
-            },
-        ];
-        match plan_view(
-            &PlanView {
-                title: &title,
-                paths: &paths,
-                obstacles: &[],
-                labels: &[],
-            },
-            stem,
-        ) {
+        match floebench::report::crack::draw(&rec, &title, stem) {
             Ok([png, svg]) => eprintln!("wrote {} and {}", png.display(), svg.display()),
             Err(e) => return fail(e.to_string()),
         }

@@ -8,9 +8,11 @@
 //! fracturer decides which floes break and where, and [`apply_split`]
 //! replaces each by its two pieces in the scenario, the state and the
 //! history together. Without a `[fracture]` table (or `model = "none"`)
-//! nothing here runs.
+//! nothing here runs. The lattice model (`strike`) keeps the crack of its
+//! largest percussion in the history ([`crack`]).
 
 pub mod chain;
+pub mod crack;
 pub mod lattice;
 pub mod split;
 pub mod stress;
@@ -371,7 +373,19 @@ impl Fracturer {
                     let spent = d.crack_energy.min(budget);
                     apply_split(scn, sys, d, spent).map(|_| spent)
                 }
-                Some(l) => apply_lattice(scn, sys, d, l, budget),
+                Some(l) => {
+                    let pose = sys.bodies[d.floe];
+                    let taken = apply_lattice(scn, sys, d, l, budget);
+                    // The crack of the run's largest percussion (crack.rs).
+                    if let (Some(_), Some(lat), Some(row)) = (
+                        taken,
+                        self.lattices.get(&id),
+                        scn.history.fractures.last().cloned(),
+                    ) {
+                        crack::keep(&mut scn.history, lat, l, &pose, &row);
+                    }
+                    taken
+                }
             };
             if let Some(taken) = applied {
                 budget = (budget - taken).max(0.0);

@@ -153,6 +153,12 @@ pub fn split(floe: &Floe, b: &BodyState, c: &Cut) -> Option<[Piece; 2]> {
 /// parent's centre of mass and, if `kinetic`, kinetic energy (the measure of
 /// [`crate::model::fracture::FractureRecord::conservation`]; the lattice
 /// model's pieces change the kinetic energy, and the ledger books it).
+/// Momenta are relative to `M (|v| + |ω| r)` (times `r` for the angular
+/// one); without `kinetic` (the lattice model's pieces, which move apart)
+/// that scale also takes the pieces' motion relative to the parent's rigid
+/// field, `Σ m_j |v_j − v − ω k ∧ r_j| + Σ I_j |ω_j − ω| / r`: a floe at
+/// rest that bursts into pieces has a zero rigid scale, and the rounding of
+/// the pieces' opposite momenta would then read as an error of order one.
 pub fn conservation_error(parent: &Floe, b: &BodyState, pieces: &[Piece], kinetic: bool) -> f64 {
     let (mut area, mut mass, mut p, mut l, mut e) = (0.0, 0.0, Vec2::zeros(), 0.0, 0.0);
     for q in pieces {
@@ -166,7 +172,22 @@ pub fn conservation_error(parent: &Floe, b: &BodyState, pieces: &[Piece], kineti
             .kinetic_energy(&q.state.velocity, q.state.angular_velocity);
     }
     let rel = |x: f64, x0: f64| (x - x0).abs() / x0.abs().max(f64::MIN_POSITIVE);
-    let pscale = (parent.mass * (b.velocity.norm() + b.angular_velocity.abs() * parent.radius))
+    let relative: f64 = if kinetic {
+        0.0
+    } else {
+        pieces
+            .iter()
+            .map(|q| {
+                let r = q.state.position - b.position;
+                let rigid = b.velocity + perp(&r) * b.angular_velocity;
+                q.floe.mass * (q.state.velocity - rigid).norm()
+                    + q.floe.inertia * (q.state.angular_velocity - b.angular_velocity).abs()
+                        / parent.radius
+            })
+            .sum()
+    };
+    let pscale = (parent.mass * (b.velocity.norm() + b.angular_velocity.abs() * parent.radius)
+        + relative)
         .max(f64::MIN_POSITIVE);
     let e0 = parent.kinetic_energy(&b.velocity, b.angular_velocity);
     [

@@ -279,6 +279,11 @@ pub struct LatticeSplit {
     pub loss: f64,
     /// Bonds broken.
     pub broken: usize,
+    /// The springs that broke, in the order they broke (the crack,
+    /// [`super::crack`]).
+    pub bonds: Vec<usize>,
+    /// The impact that broke it.
+    pub impact: Impact,
 }
 
 /// The outcome of one triggered impact: the impact energy bound (J), the
@@ -357,6 +362,8 @@ pub fn strike_all(
             pieces,
             loss: o.fracture_energy,
             broken: o.broken.len(),
+            bonds: o.broken.iter().map(|b| b.spring).collect(),
+            impact,
         }),
     })
 }

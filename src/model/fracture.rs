@@ -530,6 +530,65 @@ pub struct FractureRecord {
     pub conservation: f64,
 }
 
+/// The impact that started a recorded percussion, in the struck floe's
+/// body frame (docs/physics.md §9.8).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ImpactRecord {
+    /// The contact point (the pair's centre of pressure), m.
+    pub point: [f64; 2],
+    /// The unit normal, pointing into the struck floe.
+    pub normal: [f64; 2],
+    /// The equivalent approach speed `u_N`, m/s.
+    pub speed: f64,
+    /// The striker's effective mass along the normal, kg; `None` (`null`)
+    /// for an obstacle (infinite).
+    pub striker_mass: Option<f64>,
+}
+
+/// One percussion of the lattice model with its crack pattern: the
+/// lattice at rest with every spring intact or broken, and the impact
+/// (`percussion.json`, docs/physics.md §9.8). Positions are in the struck
+/// floe's body frame (the frame of its `floes.json` polygon: centre of mass
+/// at the origin); `position` and `angle` place it in the world at `t`
+/// (`x_world = position + R(angle) x`, as its `trajectory.csv` row).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PercussionRecord {
+    /// When, s (the fracture's `t`).
+    pub t: f64,
+    /// The floe struck (id), the fracture's `parent`.
+    pub floe: usize,
+    /// The ids of its pieces, the fracture's `children`.
+    pub children: Vec<usize>,
+    /// Its centre of mass at `t`, m.
+    pub position: [f64; 2],
+    /// Its angle at `t` (as `theta` of `trajectory.csv`), rad.
+    pub angle: f64,
+    /// The impact.
+    pub impact: ImpactRecord,
+    /// The trigger bound `½ μ_G u_N²`, J (the fracture's `measure`).
+    pub bound: f64,
+    /// The floe's weakest bond's breaking energy, J (its `threshold`).
+    pub weakest: f64,
+    /// The lattice's loss (dashpots, broken bonds, ringing), J: a run
+    /// keeps the percussion of largest loss (the earlier on a tie).
+    pub loss: f64,
+    /// What the ledger booked in its `fracture` column for it, J (the
+    /// fracture's `energy`; at most `loss`).
+    pub energy: f64,
+    /// The lattice spacing asked for, m.
+    pub spacing: f64,
+    /// The nodes at rest, m.
+    pub nodes: Vec<[f64; 2]>,
+    /// Each spring's two nodes (indices into `nodes`).
+    pub springs: Vec<[usize; 2]>,
+    /// Whether each spring held (`false`: it broke), in the order of
+    /// `springs`.
+    pub intact: Vec<bool>,
+    /// The springs that broke, in the order they broke (indices into
+    /// `springs`).
+    pub broken: Vec<usize>,
+}
+
 /// The floes that ended and the fractures of a run so far.
 #[derive(Debug, Clone, PartialEq, Default, Serialize)]
 pub struct FloeHistory {
@@ -537,6 +596,10 @@ pub struct FloeHistory {
     pub ended: Vec<FloeRecord>,
     /// Every fracture, in time order.
     pub fractures: Vec<FractureRecord>,
+    /// The lattice model's percussion of largest loss that broke a floe
+    /// (`percussion.json`; `None` for the other models and a run with no
+    /// lattice fracture).
+    pub percussion: Option<PercussionRecord>,
     /// The id the next piece gets.
     pub next_id: usize,
 }

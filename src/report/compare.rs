@@ -8,8 +8,10 @@
 //! <out>/<case>/checks.csv             case,formulation,check,measured,expected,tolerance,unit,pass,claimed,note
 //! <out>/<case>/floe_sizes.csv         formulation,when,area_m2,count_at_least (cases whose floes can break)
 //! <out>/<case>/summary.json           the case, each run's summary, the pairs, the verdict
-//! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json (as `floebench run`)
-//! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu, floe_sizes
+//! <out>/<case>/<formulation>/         trajectory.csv, energy.csv, summary.json, floes.json,
+//!                                     fractures.csv, percussion.json (as `floebench run`)
+//! <out>/<case>/*.png, *.svg           kinetic, dissipated, divergence, paths, snapshots, cpu, floe_sizes,
+//!                                     crack_<formulation> (lattice runs that broke a floe)
 //! <out>/<case>/animation.gif          the floes over time, one panel per completed run
 //! ```
 //!

@@ -13,6 +13,9 @@
 //!   area at least `A` against `A`, log–log, of the initial floes (black
 //!   dashes) and of the floes alive at the end of every run, from the data
 //!   of `floe_sizes.csv` ([`crate::analysis::floe_sizes`]);
+//! - `crack_<formulation>` (runs of the lattice model that broke a floe):
+//!   the crack of the run's percussion of largest lattice loss, from its
+//!   `percussion.json` ([`super::crack`]);
 //! - `cpu`: CPU time per stage of the run of median CPU time, one stacked bar
 //!   per formulation, its ratio to the fastest median above it;
 //! - `exact_*`: where the checks know the exact motion
@@ -350,6 +353,25 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         exact_figures(comp, dir, &mut add)?;
     }
     floe_size_figure(comp, dir, &mut add)?;
+    for r in &comp.runs {
+        let Some(rec) = &r.percussion else { continue };
+        let form = &r.summary.formulation;
+        let file = format!("crack_{form}");
+        let stem = dir.join(&file);
+        let title = format!(
+            "{name}, {form}: floe {} at t = {} s, {} broken bonds, {} pieces",
+            rec.floe,
+            super::format::fmt_num(rec.t),
+            rec.broken.len(),
+            rec.children.len()
+        );
+        super::crack::draw(rec, &title, &stem).map_err(plot_err(&stem))?;
+        add(
+            &file,
+            format!("the crack of {form}'s largest percussion"),
+            &super::crack::caption(rec, form),
+        );
+    }
 
     let categories: Vec<String> = comp
         .runs

@@ -11,6 +11,8 @@
 //! - [`checks`]: the tables of check outcomes (`floebench check`): plain
 //!   text, Markdown, `checks.csv`;
 //! - [`figures`]: which plots a comparison draws, from its data;
+//! - [`crack`]: the crack figure of a percussion (the lattice with its
+//!   broken bonds), for the report and `percussion-2d --plot`;
 //! - [`page`]: the page's document model, rendered as Markdown and HTML;
 //! - `parameters` (private): the case's and the runs' parameters on the page;
 //! - [`provenance`]: version, commit, machine and date of a report;
@@ -23,6 +25,7 @@
 
 pub mod checks;
 pub mod compare;
+pub mod crack;
 pub mod figures;
 pub mod folder;
 pub mod format;

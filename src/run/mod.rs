@@ -16,7 +16,7 @@ pub mod output;
 pub mod repeat;
 
 use crate::formulation::{Formulation, FormulationError};
-use crate::model::fracture::{FloeRecord, FractureRecord};
+use crate::model::fracture::{FloeRecord, FractureRecord, PercussionRecord};
 use crate::model::Scenario;
 use crate::record::{
     thread_cpu_seconds, ContactLog, Counters, Settings, SolveProfile, StageClock, StageTimes,
@@ -308,6 +308,9 @@ pub struct RunResult {
     pub floes: Vec<FloeRecord>,
     /// Every fracture (`fractures.csv`), in time order.
     pub fractures: Vec<FractureRecord>,
+    /// The lattice model's percussion of largest loss that broke a floe,
+    /// with its crack (`percussion.json`; `None` without one).
+    pub percussion: Option<PercussionRecord>,
 }
 
 /// Options of a run.
@@ -502,6 +505,7 @@ impl Runner {
             contacts: form.take_contact_log(),
             floes: floe_records(scn),
             fractures: scn.history.fractures.clone(),
+            percussion: scn.history.percussion.clone(),
         }
     }
 }

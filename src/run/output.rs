@@ -1,6 +1,8 @@
 //! Writing a run's results: `trajectory.csv`, `energy.csv`, `summary.json`,
-//! `floes.json` (every floe that existed) and `fractures.csv` (one row per
-//! fracture; only its header without fracture).
+//! `floes.json` (every floe that existed), `fractures.csv` (one row per
+//! fracture; only its header without fracture) and, for a run of the
+//! lattice model that broke a floe, `percussion.json` (the crack of its
+//! largest percussion, [`crate::model::fracture::PercussionRecord`]).
 //!
 //! Every file is written to a temporary name in the output folder and renamed
 //! into place, so a reader never sees a half-written file.
@@ -148,10 +150,32 @@ fn non_finite(result: &RunResult) -> Option<String> {
             return Some(format!("energy.csv: non-finite {c} at t = {} s", e.t));
         }
     }
+    if let Some(p) = &result.percussion {
+        let i = &p.impact;
+        let numbers = [
+            p.t, p.angle, p.bound, p.weakest, p.loss, p.energy, p.spacing, i.speed,
+        ]
+        .into_iter()
+        .chain(p.position)
+        .chain(i.point)
+        .chain(i.normal)
+        .chain(i.striker_mass)
+        .chain(p.nodes.iter().flatten().copied());
+        if numbers.into_iter().any(|v| !v.is_finite()) {
+            return Some(format!(
+                "{PERCUSSION_FILE}: a non-finite number in the percussion of floe {} at t = {} s",
+                p.floe, p.t
+            ));
+        }
+    }
     None
 }
 
-/// Writes the five output files into `dir`; returns their paths. Refuses
+/// The name of the percussion record a run of the lattice model writes.
+pub const PERCUSSION_FILE: &str = "percussion.json";
+
+/// Writes the five output files into `dir`, and [`PERCUSSION_FILE`] when
+/// the run has a percussion record; returns their paths. Refuses
 /// (before writing anything) a result with a non-finite number in its
 /// trajectory or ledger: the runner ends a run at the last finite output,
 /// so this is a safety net that names the number.
@@ -159,7 +183,7 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
     if let Some(m) = non_finite(result) {
         return Err(io::Error::new(io::ErrorKind::InvalidData, m));
     }
-    let files = [
+    let mut files = vec![
         ("trajectory.csv", trajectory_csv(result).into_bytes()),
         ("energy.csv", energy_csv(result).into_bytes()),
         (
@@ -172,6 +196,18 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
         ),
         ("fractures.csv", fractures_csv(result).into_bytes()),
     ];
+    match &result.percussion {
+        // One line: its arrays of nodes and springs are long.
+        Some(p) => files.push((
+            PERCUSSION_FILE,
+            serde_json::to_vec(p).map_err(io::Error::other)?,
+        )),
+        // An earlier run's record in the same folder is not this run's.
+        None => match std::fs::remove_file(dir.join(PERCUSSION_FILE)) {
+            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
+            _ => {}
+        },
+    }
     let mut paths = Vec::new();
     for (name, bytes) in files {
         let p = dir.join(name);

@@ -495,16 +495,41 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
     }
     let mut files = listed();
     files.sort();
-    if files
-        != [
-            "energy.csv",
-            "floes.json",
-            "fractures.csv",
-            "summary.json",
-            "trajectory.csv",
-        ]
-    {
+    // A lattice run that broke a floe also writes its percussion record.
+    let mut expected = vec![
+        "energy.csv",
+        "floes.json",
+        "fractures.csv",
+        "summary.json",
+        "trajectory.csv",
+    ];
+    if r.percussion.is_some() {
+        expected.insert(3, output::PERCUSSION_FILE);
+    }
+    if files != expected {
         return Err(format!("partial file: the folder holds {files:?}"));
+    }
+    if r.percussion.is_some() {
+        let text = std::fs::read_to_string(dir.path().join(output::PERCUSSION_FILE))
+            .map_err(|e| format!("unreadable output: percussion.json: {e}"))?;
+        let v: serde_json::Value = serde_json::from_str(&text)
+            .map_err(|e| format!("unreadable output: percussion.json: {e}"))?;
+        // serde_json writes a non-finite number as null: only an
+        // obstacle's striker mass may be null.
+        let numbers = [
+            "t", "angle", "bound", "weakest", "loss", "energy", "spacing",
+        ];
+        if numbers.iter().any(|k| !v[*k].is_number())
+            || !v["impact"]["speed"].is_number()
+            || v["nodes"].as_array().is_none_or(|a| {
+                a.iter().any(|p| {
+                    p.as_array()
+                        .is_none_or(|xy| xy.iter().any(|x| !x.is_number()))
+                })
+            })
+        {
+            return Err(format!("non-finite number in percussion.json: {text}"));
+        }
     }
     for (name, rows) in [
         ("trajectory.csv", r.trajectory.len()),

@@ -528,3 +528,119 @@ fn a_spin_that_prestresses_the_lattice_fails_the_spin_check() {
         "{fast} {expected}"
     );
 }
+
+#[test]
+fn a_lattice_run_records_the_crack_of_its_largest_percussion_and_the_report_draws_it() {
+    use floebench::fracture::crack;
+    use floebench::run::output::{write_run, PERCUSSION_FILE};
+    let case = std::fs::read_to_string(case_path("lattice_ram")).unwrap();
+    let scn = scenario(&case);
+    let r = run(&scn, "event-driven");
+    let rec = r.percussion.as_ref().expect("lattice_ram breaks floes");
+    // It is one of the run's fractures: same instant, parent, pieces and booked energy.
+    let row = r
+        .fractures
+        .iter()
+        .find(|f| f.t == rec.t && f.parent == rec.floe)
+        .unwrap_or_else(|| panic!("no fracture of floe {} at {} s", rec.floe, rec.t));
+    assert_eq!(row.children, rec.children);
+    assert_eq!(
+        (row.energy, row.measure, row.threshold),
+        (rec.energy, rec.bound, rec.weakest)
+    );
+    // Its crack is that percussion's: the same impact in the same lattice,
+    // struck again, breaks the same springs in the same order and leaves as
+    // many pieces as the fracture made.
+    let parent = scn
+        .floes
+        .iter()
+        .find(|f| f.id == rec.floe)
+        .expect("an initial floe");
+    let s = &scn.fracture;
+    let l = Lattice::build(&parent.shape, lattice_spec(s, parent)).unwrap();
+    let impact = Impact {
+        point: Vec2::new(rec.impact.point[0], rec.impact.point[1]),
+        normal: Vec2::new(rec.impact.normal[0], rec.impact.normal[1]),
+        mass: rec.impact.striker_mass.unwrap_or(f64::INFINITY),
+        speed: rec.impact.speed,
+    };
+    let again = strike(
+        &l,
+        impact,
+        chain_options(s),
+        false,
+        s.min_area,
+        parent.density * parent.thickness,
+    )
+    .unwrap()
+    .split
+    .expect("it broke");
+    assert_eq!(again.bonds, rec.broken);
+    assert_eq!(again.pieces.len(), rec.children.len());
+    assert_eq!(again.loss, rec.loss);
+    assert_eq!(rec.nodes.len(), l.nodes.len());
+    assert_eq!(rec.springs.len(), l.springs.len());
+    let broken = rec.intact.iter().filter(|&&ok| !ok).count();
+    assert!(broken > 0);
+    assert_eq!(broken, rec.broken.len());
+    for &k in &rec.broken {
+        assert!(!rec.intact[k], "spring {k}");
+    }
+    // The largest lattice loss of the run: the 2 m/s diamond's first impact
+    // (floe 3) breaks more than the 1 m/s one's (floe 2), whose pieces
+    // break again later with less.
+    assert_eq!(rec.floe, 3, "{:?}", (rec.t, rec.loss));
+    // percussion.json holds the same record.
+    let dir = crate::common::tempdir();
+    write_run(dir.path(), &r).unwrap();
+    let json: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.path().join(PERCUSSION_FILE)).unwrap()).unwrap();
+    let intact = json["intact"].as_array().unwrap();
+    assert_eq!(intact.len(), rec.springs.len());
+    assert_eq!(
+        intact.iter().filter(|b| b.as_bool() == Some(false)).count(),
+        rec.broken.len()
+    );
+    assert_eq!(json["floe"].as_u64(), Some(rec.floe as u64));
+    assert!(json["impact"]["striker_mass"].is_null(), "a coast");
+    // The report draws it, one figure per formulation that recorded one.
+    let out = dir.path().join("report");
+    let comps = floebench::compare::compare(
+        vec![(case_path("lattice_ram"), scn.clone())],
+        &floebench::compare::CompareOptions {
+            formulations: vec!["event-driven".into()],
+            progress: false,
+            chaos_probe: false,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    floebench::report::compare::write_report(&comps, &out, "test").unwrap();
+    let case_dir = out.join("lattice_ram");
+    for ext in ["png", "svg"] {
+        let f = case_dir.join(format!("crack_event-driven.{ext}"));
+        assert!(std::fs::metadata(&f).unwrap().len() > 5000, "{f:?}");
+    }
+    assert!(case_dir.join("event-driven").join(PERCUSSION_FILE).exists());
+    let md = std::fs::read_to_string(out.join("index.md")).unwrap();
+    assert!(md.contains("lattice_ram/crack_event-driven.png"), "{md}");
+    // A record is kept over another only for a larger loss.
+    let mut history = floebench::model::fracture::FloeHistory::new(1);
+    let pose = BodyState {
+        position: Vec2::zeros(),
+        angle: 0.0,
+        velocity: Vec2::zeros(),
+        angular_velocity: 0.0,
+    };
+    let mut row = row.clone();
+    crack::keep(&mut history, &l, &again, &pose, &row);
+    let mut less = again.clone();
+    less.loss *= 0.5;
+    row.t += 1.0;
+    crack::keep(&mut history, &l, &less, &pose, &row);
+    assert_eq!(history.percussion.as_ref().map(|p| p.t), Some(rec.t));
+    let mut more = again.clone();
+    more.loss *= 2.0;
+    crack::keep(&mut history, &l, &more, &pose, &row);
+    assert_eq!(history.percussion.as_ref().map(|p| p.t), Some(rec.t + 1.0));
+}

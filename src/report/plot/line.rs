@@ -22,8 +22,10 @@ pub(super) struct Xy<'a> {
     pub(super) y_label: &'a str,
     pub(super) series: &'a [Series],
     pub(super) obstacles: &'a [Vec<(f64, f64)>],
-    /// Equal aspect ratio, start markers, padded x range.
+    /// Equal aspect ratio, padded x range.
     pub(super) plan: bool,
+    /// A marker at each series' first point (plans only).
+    pub(super) starts: bool,
     /// Ignored for plans (equal aspect needs linear axes).
     pub(super) x_scale: Scale,
     pub(super) y_scale: Scale,
@@ -119,7 +121,7 @@ impl Xy<'_> {
                     plot.draw(&PathElement::new(piece, style))?;
                 }
             }
-            if self.plan {
+            if self.plan && self.starts {
                 if let Some(p) = s.points.iter().find(|p| ok(p)) {
                     chart.draw_series([
                         Circle::new(*p, 6, color(s.color).filled()),
@@ -167,7 +169,7 @@ impl Xy<'_> {
                 occupied.push((q.0, q.1 - 20, q.0 + 60, q.1));
             }
         }
-        if self.plan && !self.series.is_empty() {
+        if self.plan && self.starts && !self.series.is_empty() {
             entries.push("start");
             chart
                 .draw_series(std::iter::empty::<Circle<(f64, f64), i32>>())?

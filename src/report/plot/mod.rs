@@ -5,7 +5,8 @@
 //!
 //! - [`line_chart`]: curves against a common axis (energy against time, ...);
 //! - [`bar_chart`]: stacked bars, one bar per category, one segment per stage;
-//! - [`plan_view`]: floe paths in the plane at equal aspect ratio, obstacles in grey;
+//! - [`plan_view`]: floe paths in the plane at equal aspect ratio, obstacles in grey
+//!   ([`network_view`]: the same without start markers, for a lattice's bonds);
 //! - [`snapshot_grid`]: panels of floe polygons sharing the same bounds;
 //! - [`animation`]: a looping GIF of snapshot rows, one frame per time,
 //!   every frame with the same bounds and scale;
@@ -276,6 +277,7 @@ pub fn line_chart(chart: &LineChart, stem: &Path) -> Result<[PathBuf; 2], PlotEr
             series: chart.series,
             obstacles: &[],
             plan: false,
+            starts: false,
             x_scale: chart.x_scale,
             y_scale: chart.y_scale,
             marks: chart.marks,
@@ -312,6 +314,17 @@ pub fn bar_chart(chart: &StackedBars, stem: &Path) -> Result<[PathBuf; 2], PlotE
 
 /// Draws `chart` into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
 pub fn plan_view(chart: &PlanView, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    plan(chart, true, stem)
+}
+
+/// [`plan_view`] without the start markers: for paths that are not
+/// trajectories (a lattice's bonds, an arrow).
+pub fn network_view(chart: &PlanView, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
+    plan(chart, false, stem)
+}
+
+/// A plan view, with a marker at each path's start when `starts`.
+fn plan(chart: &PlanView, starts: bool, stem: &Path) -> Result<[PathBuf; 2], PlotError> {
     render(
         &Xy {
             title: chart.title,
@@ -320,6 +333,7 @@ pub fn plan_view(chart: &PlanView, stem: &Path) -> Result<[PathBuf; 2], PlotErro
             series: chart.paths,
             obstacles: chart.obstacles,
             plan: true,
+            starts,
             x_scale: Scale::Linear,
             y_scale: Scale::Linear,
             marks: &[],
