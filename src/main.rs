@@ -1294,7 +1294,7 @@ fn percussion_2d(
             bound: o.impact_energy,
             weakest: p.weakest_bond_energy(),
             loss: o.fracture_energy,
-            ..floebench::fracture::crack::of_lattice(&lattice, &broken, &impact)
+            ..floebench::fracture::crack::of_lattice(&lattice, &broken, &[impact])
         };
         let title = format!(
             "percussion at {} m/s: {} broken, {} pieces",

@@ -26,11 +26,12 @@ pub fn impact_record(impact: &Impact) -> ImpactRecord {
     }
 }
 
-/// The record of a percussion of `lattice` by `impact` that broke the
-/// springs `broken` (in the order they broke): its geometry and impact,
+/// The record of a percussion of `lattice` by `impacts` (one striker each)
+/// that broke the springs `broken` (in the order they broke): its geometry
+/// and impacts,
 /// at `t = 0` for floe 0 at the world origin, its energies 0 (the caller
 /// sets what it knows).
-pub fn of_lattice(lattice: &Lattice, broken: &[usize], impact: &Impact) -> PercussionRecord {
+pub fn of_lattice(lattice: &Lattice, broken: &[usize], impacts: &[Impact]) -> PercussionRecord {
     let mut intact = vec![true; lattice.springs.len()];
     for &k in broken {
         if let Some(b) = intact.get_mut(k) {
@@ -43,7 +44,7 @@ pub fn of_lattice(lattice: &Lattice, broken: &[usize], impact: &Impact) -> Percu
         children: Vec::new(),
         position: [0.0, 0.0],
         angle: 0.0,
-        impact: impact_record(impact),
+        impacts: impacts.iter().map(impact_record).collect(),
         bound: 0.0,
         weakest: 0.0,
         loss: 0.0,
@@ -85,6 +86,6 @@ pub fn keep(
         weakest: fracture.threshold,
         loss: split.loss,
         energy: fracture.energy,
-        ..of_lattice(lattice, &split.bonds, &split.impact)
+        ..of_lattice(lattice, &split.bonds, &split.impacts)
     });
 }

@@ -282,8 +282,8 @@ pub struct LatticeSplit {
     /// The springs that broke, in the order they broke (the crack,
     /// [`super::crack`]).
     pub bonds: Vec<usize>,
-    /// The impact that broke it.
-    pub impact: Impact,
+    /// The impacts that broke it (one striker each, [`strike_all`]).
+    pub impacts: Vec<Impact>,
 }
 
 /// The outcome of one triggered impact: the impact energy bound (J), the
@@ -363,7 +363,7 @@ pub fn strike_all(
             loss: o.fracture_energy,
             broken: o.broken.len(),
             bonds: o.broken.iter().map(|b| b.spring).collect(),
-            impact,
+            impacts: impacts.to_vec(),
         }),
     })
 }

@@ -563,8 +563,9 @@ pub struct PercussionRecord {
     pub position: [f64; 2],
     /// Its angle at `t` (as `theta` of `trajectory.csv`), rad.
     pub angle: f64,
-    /// The impact.
-    pub impact: ImpactRecord,
+    /// The impacts, one per striker (every pair that loaded the floe in the
+    /// solve, docs/physics.md §9.8).
+    pub impacts: Vec<ImpactRecord>,
     /// The trigger bound `½ μ_G u_N²`, J (the fracture's `measure`).
     pub bound: f64,
     /// The floe's weakest bond's breaking energy, J (its `threshold`).

@@ -8,7 +8,7 @@
 
 use super::format::fmt_num;
 use super::plot::{self, PlanView, PlotError, Series};
-use crate::model::fracture::PercussionRecord;
+use crate::model::fracture::{ImpactRecord, PercussionRecord};
 use std::path::{Path, PathBuf};
 
 /// Palette index of the intact bonds (sky blue).
@@ -37,46 +37,53 @@ fn bonds(rec: &PercussionRecord) -> (Polyline, Polyline) {
     (intact, broken)
 }
 
-/// The impact arrow of `rec`: a shaft of [`ARROW`] times the lattice's
-/// radius along the normal, ending at the contact point, and a head of
-/// two strokes at ±25°.
-fn arrow(rec: &PercussionRecord) -> Polyline {
+/// The impact arrows of `rec`, one per striker: a shaft of [`ARROW`] times
+/// the lattice's radius along the normal, ending at the contact point, and
+/// a head of two strokes at ±25°.
+fn arrows(rec: &PercussionRecord) -> Polyline {
     let radius = rec
         .nodes
         .iter()
         .map(|p| p[0].hypot(p[1]))
         .fold(0.0, f64::max);
     let len = ARROW * radius;
-    let [px, py] = rec.impact.point;
-    let [nx, ny] = rec.impact.normal;
-    let tail = (px - len * nx, py - len * ny);
     let head = 0.25 * len;
     let (c, s) = (25f64.to_radians().cos(), 25f64.to_radians().sin());
-    // The head's strokes point back along −n, turned by ±25°.
-    let back = |sign: f64| {
-        let (bx, by) = (-nx, -ny);
-        (
-            px + head * (c * bx - sign * s * by),
-            py + head * (sign * s * bx + c * by),
-        )
-    };
-    vec![
-        tail,
-        (px, py),
-        (f64::NAN, f64::NAN),
-        back(1.0),
-        (px, py),
-        back(-1.0),
-    ]
+    let mut out = Vec::new();
+    for i in &rec.impacts {
+        let [px, py] = i.point;
+        let [nx, ny] = i.normal;
+        // The head's strokes point back along −n, turned by ±25°.
+        let back = |sign: f64| {
+            (
+                px + head * (-c * nx + sign * s * ny),
+                py + head * (-sign * s * nx - c * ny),
+            )
+        };
+        out.extend([
+            (px - len * nx, py - len * ny),
+            (px, py),
+            (f64::NAN, f64::NAN),
+            back(1.0),
+            (px, py),
+            back(-1.0),
+            (f64::NAN, f64::NAN),
+        ]);
+    }
+    out
 }
 
-/// How `rec`'s impact reads: `u_N = … m/s, striker … kg` (or `a coast`).
+/// How `rec`'s impacts read: `u_N = … m/s, striker … kg` (or `an
+/// obstacle`) for each striker, separated by `; `.
 pub fn impact_text(rec: &PercussionRecord) -> String {
-    let striker = match rec.impact.striker_mass {
-        Some(m) => format!("striker {} kg", fmt_num(m)),
-        None => "striker an obstacle".to_string(),
+    let one = |i: &ImpactRecord| {
+        let striker = match i.striker_mass {
+            Some(m) => format!("striker {} kg", fmt_num(m)),
+            None => "striker an obstacle".to_string(),
+        };
+        format!("u_N = {} m/s, {striker}", fmt_num(i.speed))
     };
-    format!("u_N = {} m/s, {striker}", fmt_num(rec.impact.speed))
+    rec.impacts.iter().map(one).collect::<Vec<_>>().join("; ")
 }
 
 /// Draws `rec` under `title` into `<stem>.png` and `<stem>.svg`; returns
@@ -101,7 +108,7 @@ pub fn draw(rec: &PercussionRecord, title: &str, stem: &Path) -> Result<[PathBuf
             ..Series::new(
                 format!("impact: {}", impact_text(rec)),
                 plot::EXACT,
-                arrow(rec),
+                arrows(rec),
             )
         },
     ];
@@ -119,7 +126,7 @@ pub fn draw(rec: &PercussionRecord, title: &str, stem: &Path) -> Result<[PathBuf
 /// How to read a crack figure of a run, for the report page.
 pub fn caption(rec: &PercussionRecord, formulation: &str) -> String {
     format!(
-        "the lattice of floe {} in the {formulation} run at its percussion of largest lattice loss (t = {} s, {} J lost in the lattice, {} J booked as fracture energy), at rest in the floe's body frame (m, centre of mass at the origin): intact bonds blue, the {} broken bonds red (they trace the crack), the black arrow the equivalent impact ({}) ending at the contact point; it left {} pieces (ids {:?}); data in {formulation}/percussion.json",
+        "the lattice of floe {} in the {formulation} run at its percussion of largest lattice loss (t = {} s, {} J lost in the lattice, {} J booked as fracture energy), at rest in the floe's body frame (m, centre of mass at the origin): intact bonds blue, the {} broken bonds red (they trace the crack), the black arrows the equivalent impacts, one per striker ({}), ending at the contact points; it left {} pieces (ids {:?}); data in {formulation}/percussion.json",
         rec.floe,
         fmt_num(rec.t),
         fmt_num(rec.loss),

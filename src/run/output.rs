@@ -151,15 +151,19 @@ fn non_finite(result: &RunResult) -> Option<String> {
         }
     }
     if let Some(p) = &result.percussion {
-        let i = &p.impact;
+        let impacts = p.impacts.iter().flat_map(|i| {
+            [i.speed]
+                .into_iter()
+                .chain(i.point)
+                .chain(i.normal)
+                .chain(i.striker_mass)
+        });
         let numbers = [
-            p.t, p.angle, p.bound, p.weakest, p.loss, p.energy, p.spacing, i.speed,
+            p.t, p.angle, p.bound, p.weakest, p.loss, p.energy, p.spacing,
         ]
         .into_iter()
         .chain(p.position)
-        .chain(i.point)
-        .chain(i.normal)
-        .chain(i.striker_mass)
+        .chain(impacts)
         .chain(p.nodes.iter().flatten().copied());
         if numbers.into_iter().any(|v| !v.is_finite()) {
             return Some(format!(

@@ -520,7 +520,9 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
             "t", "angle", "bound", "weakest", "loss", "energy", "spacing",
         ];
         if numbers.iter().any(|k| !v[*k].is_number())
-            || !v["impact"]["speed"].is_number()
+            || v["impacts"]
+                .as_array()
+                .is_none_or(|a| a.is_empty() || a.iter().any(|i| !i["speed"].is_number()))
             || v["nodes"].as_array().is_none_or(|a| {
                 a.iter().any(|p| {
                     p.as_array()

@@ -23,7 +23,7 @@
 //! | `inertial_period` | one floe, no obstacle or spin, still ocean, `f ≠ 0`, a calm of at least one period after the wind stops | `2π Δt / Δφ` of the velocity's turning in the calm | [`INERTIAL_PERIOD_TOLERANCE`] × `2π/\|f\|` |
 //! | `fracture_conservation` | the run broke a floe | the largest relative change a split made to area, mass, linear and angular momentum, kinetic energy | [`FRACTURE_CONSERVATION_TOLERANCE`] |
 //! | `ram_critical_speed` | `[fracture] model = "energy"`, one floe moving without spin toward an obstacle it meets face-on (two contact rays), no forcing, the configuration symmetric about the line of motion, faster than the closed-form critical speed `v_c` | `v0 sqrt(threshold / measure)` of the run's first fracture | [`RAM_CRITICAL_SPEED_TOLERANCE`] × `v_c` |
-//! | `lattice_spin_prestress` | `[fracture] model = "lattice"` | the largest centrifugal pre-strain `(3 + ν)/8 ρ (ω R)² / E` of a floe alive at an output over its bonds' breaking strain | [`crate::fracture::strike::SPIN_PRESTRESS_LIMIT`] |
+//! | `lattice_spin_prestress` | `[fracture] model = "lattice"` | the largest centrifugal pre-strain `(3 + ν)/8 ρ (ω R)² / E` of a floe at its last output before a percussion that broke it, over its bonds' breaking strain | [`crate::fracture::strike::SPIN_PRESTRESS_LIMIT`] |
 //! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
 //!
 //! Whether a formulation *claims* a check is decided by one table,
