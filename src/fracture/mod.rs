@@ -310,11 +310,10 @@ impl Fracturer {
     ) -> Option<Decision> {
         let s = &scn.fracture;
         let f = &scn.floes[floe];
-        let most = pairs
-            .iter()
-            .max_by(|a, b| a.impulse.norm().total_cmp(&b.impulse.norm()))?;
-        let (impact, _) = strike::equivalent_impact(scn, sys, floe, most)?;
         let impacts = strike::equivalent_impacts(scn, sys, floe, pairs)?;
+        // The decision's line is the cut of the other models; the lattice's
+        // pieces do not use it, so it only records the first striker.
+        let first = *impacts.first()?;
         let lattice = match self.lattices.entry(f.id) {
             std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
             std::collections::btree_map::Entry::Vacant(e) => {
@@ -338,8 +337,8 @@ impl Fracturer {
         Some(Decision {
             floe,
             line: BodyLine {
-                point: impact.point,
-                dir: impact.normal,
+                point: first.point,
+                dir: first.normal,
             },
             length: 0.0,
             measure: out.bound,
