@@ -125,6 +125,65 @@ pub struct ContactLcp {
     pub keys: Vec<ContactKey>,
 }
 
+/// Adds the Delassus matrix `HᵀM⁻¹H` into the row-major `a` (leading
+/// dimension `n`), floe by floe: for floe `l` (rows `3l..3l + 3` of `H`,
+/// inverse masses `minv`) and every pair `(r, c)` of the columns
+/// `touching[l]` that are non-zero in those rows,
+/// `a_rc ← fma(H_kr, M⁻¹_k H_kc, a_rc)` for `k = 3l, 3l + 1, 3l + 2`.
+/// Floes are visited in increasing order, so each entry is the fused sum
+/// over `k` in increasing order of its non-zero terms — what the dense
+/// product over every row computed (the rows of other floes add exact
+/// zeros) — at the cost of `Σ_l 3 |touching[l]|²` instead of
+/// `3 n_g · cols²`.
+fn delassus_blocks(h: &Mat<f64>, minv: &[f64], touching: &[Vec<usize>], n: usize, a: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU supports FMA, checked just above.
+            unsafe { delassus_blocks_fma(h, minv, touching, n, a) };
+            return;
+        }
+    }
+    delassus_blocks_body(h, minv, touching, n, a);
+}
+
+/// [`delassus_blocks`] compiled with FMA (`mul_add` is then one
+/// instruction instead of a correctly rounded software routine: the same
+/// result).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+unsafe fn delassus_blocks_fma(
+    h: &Mat<f64>,
+    minv: &[f64],
+    touching: &[Vec<usize>],
+    n: usize,
+    a: &mut [f64],
+) {
+    delassus_blocks_body(h, minv, touching, n, a);
+}
+
+#[inline(always)]
+fn delassus_blocks_body(
+    h: &Mat<f64>,
+    minv: &[f64],
+    touching: &[Vec<usize>],
+    n: usize,
+    a: &mut [f64],
+) {
+    for (l, cols) in touching.iter().enumerate() {
+        for &r in cols {
+            let hr = [h[(3 * l, r)], h[(3 * l + 1, r)], h[(3 * l + 2, r)]];
+            for &c in cols {
+                let e = &mut a[r * n + c];
+                for (d, &hd) in hr.iter().enumerate() {
+                    let k = 3 * l + d;
+                    *e = hd.mul_add(h[(k, c)] * minv[k], *e);
+                }
+            }
+        }
+    }
+}
+
 /// One Jacobian column block: `(n, r × n)` for a direction `n` at lever arm `r`.
 fn jac(n: &Vec2, r: &Vec2) -> Gen {
     [n.x, n.y, cross(r, n)]
@@ -178,39 +237,60 @@ impl ContactLcp {
             let f = &scn.floes[i];
             minv.extend([1.0 / f.mass, 1.0 / f.mass, 1.0 / f.inertia]);
         }
-        let mut minv_h = h.clone();
-        for r in 0..3 * ng {
-            for c in 0..cols {
-                minv_h[(r, c)] *= minv[r];
+        // Block-sparse Delassus matrix: the columns of H touching each floe
+        // (in increasing order), and for each floe the products of those
+        // columns' 3-row blocks only (docs/physics.md §3.1).
+        let mut touching: Vec<Vec<usize>> = vec![Vec::new(); ng];
+        let mut col_floes: Vec<[usize; 2]> = vec![[usize::MAX; 2]; m];
+        for (j, &k) in group.contacts.iter().enumerate() {
+            let c = &contacts[k];
+            let mut ls = [c.a, c.b].map(|b| if b < n_floes { local(b) } else { None });
+            ls.sort_unstable_by_key(|l| l.unwrap_or(usize::MAX));
+            for (slot, l) in ls.iter().enumerate() {
+                if let Some(l) = *l {
+                    col_floes[j][slot] = l;
+                    touching[l].push(j);
+                    if friction {
+                        touching[l].extend([m + 2 * j, m + 2 * j + 1]);
+                    }
+                }
             }
         }
-        let g: Mat<f64> = h.transpose() * &minv_h;
+        let n = if friction { 4 * m } else { m };
+        let mut a = vec![0.0; n * n];
+        delassus_blocks(&h, &minv, &touching, n, &mut a);
         let scale = {
-            let d: f64 = (0..cols).map(|k| g[(k, k)]).sum::<f64>() / cols.max(1) as f64;
+            let d: f64 = (0..cols).map(|k| a[k * n + k]).sum::<f64>() / cols.max(1) as f64;
             if d.is_finite() && d > 0.0 {
                 d
             } else {
                 1.0
             }
         };
+        for r in 0..cols {
+            for x in &mut a[r * n..r * n + cols] {
+                *x /= scale;
+            }
+        }
         // Free velocities in group order.
         let mut wf = vec![0.0; 3 * ng];
         for (l, &i) in group.floes.iter().enumerate() {
             wf[3 * l..3 * l + 3].copy_from_slice(&w_free[i]);
         }
-        let n = if friction { 4 * m } else { m };
-        let mut a = vec![0.0; n * n];
         let mut q = vec![0.0; n];
         let mut v_scale = 0.0f64;
         for r in 0..cols {
-            for c in 0..cols {
-                a[r * n + c] = g[(r, c)] / scale;
-            }
+            // Rows of H non-zero in column r: the blocks of its floes, in
+            // increasing order (the same sum as over every row: the others
+            // add exact zeros).
+            let j = if r < m { r } else { (r - m) / 2 };
             let mut hw = 0.0;
-            for k in 0..3 * ng {
-                let term = h[(k, r)] * wf[k];
-                hw += term;
-                v_scale = v_scale.max(term.abs());
+            for &l in col_floes[j].iter().filter(|&&l| l != usize::MAX) {
+                for k in 3 * l..3 * l + 3 {
+                    let term = h[(k, r)] * wf[k];
+                    hw += term;
+                    v_scale = v_scale.max(term.abs());
+                }
             }
             q[r] = hw;
         }
@@ -242,6 +322,29 @@ impl ContactLcp {
             v_scale,
             keys: group.contacts.iter().map(|&k| contacts[k].key()).collect(),
         }
+    }
+
+    /// The scaled Delassus block `HᵀM⁻¹H / g` (`cols × cols`, row-major,
+    /// `cols` the columns of `H`) computed as the assembly did before it
+    /// became block-sparse: the dense faer product over every row of `H`.
+    /// A reference for the tests of [`ContactLcp::assemble`] only.
+    #[doc(hidden)]
+    pub fn dense_delassus_reference(&self) -> Vec<f64> {
+        let (rows, cols) = (self.h.nrows(), self.h.ncols());
+        let mut minv_h = self.h.clone();
+        for r in 0..rows {
+            for c in 0..cols {
+                minv_h[(r, c)] *= self.minv[r];
+            }
+        }
+        let g: Mat<f64> = self.h.transpose() * &minv_h;
+        let mut out = vec![0.0; cols * cols];
+        for r in 0..cols {
+            for c in 0..cols {
+                out[r * cols + c] = g[(r, c)] / self.scale;
+            }
+        }
+        out
     }
 
     /// The physical unknowns `(λ, β̃, α)` (N·s, N·s, m/s) of an LCP
