@@ -18,10 +18,31 @@
 //!
 //! so `z = (λ, β̃, α)` (size `4m`) solves `w = A z + q ≥ 0 ⟂ z ≥ 0` with
 //! `A = [[JᵀM⁻¹J, JᵀM⁻¹D, 0], [DᵀM⁻¹J, DᵀM⁻¹D, E], [μ, −Eᵀ, 0]]` and
-//! `q = (JᵀW_free + c, DᵀW_free, 0)`. The Delassus blocks `HᵀM⁻¹H`,
-//! `H = (J, D)`, are formed with faer. Without friction (`μ = 0`) only the
+//! `q = (JᵀW_free + c, DᵀW_free, 0)` (the Coulomb rows then scaled to
+//! velocities, below), with `H = (J, D)`. Without friction (`μ = 0`) only the
 //! normal block is kept (size `m`): the friction unknowns would be zero and
 //! the slack `α` undetermined.
+//!
+//! **Coulomb rows in velocity units.** Each Coulomb row
+//! `σ_j = μ λ_j − β̃⁺_j − β̃⁻_j` is assembled multiplied by the contact's
+//! scaled normal Delassus diagonal `(JᵀM⁻¹J)_jj / g` (left as it is if that
+//! diagonal is not positive and finite), so that every row of `w` is a
+//! velocity (m/s). A positive row scaling keeps the solutions (`z`
+//! unchanged, `w ≥ 0 ⟂ z ≥ 0` row by row) but makes the residual
+//! `‖min(z, w)‖ / ‖q‖` of [`crate::lcp::solve()`] consistent in units:
+//! unscaled, `σ` is in N·s while `q` is in m/s, and the rounding of impulses
+//! of 1e6 N·s (`σ` ≈ −2e-11 N·s) alone exceeds the acceptance threshold
+//! 1e-10 ‖q‖ — measured: a third of the frictional LCPs of
+//! `field_200_coast` were rejected after Lemke solved them. (The scaling
+//! was a copy of the assembled LCP made before each solve; it is now part
+//! of the assembly, the same numbers without the copy.)
+//!
+//! **Block-sparse Delassus matrix.** A contact couples only with the
+//! contacts that share one of its floes, so `HᵀM⁻¹H` is summed floe by
+//! floe over the columns touching each floe (`Σ_l 3 k_l²` fused
+//! multiply–adds for `k_l` columns touching floe `l`), not as a dense
+//! product over every floe of the group; each entry is the fused sum of its
+//! non-zero terms in row order.
 //!
 //! **Scaling.** Delassus entries are inverse masses (1e-8 /kg for a
 //! 100 m floe) while `μ` and `E` are of order one; unscaled, Lemke's rounding
@@ -303,11 +324,14 @@ impl ContactLcp {
                 // γ rows: + E α.
                 a[(m + 2 * j) * n + 3 * m + j] = 1.0;
                 a[(m + 2 * j + 1) * n + 3 * m + j] = 1.0;
-                // σ row: μ λ − Eᵀ β̃.
+                // σ row: μ λ − Eᵀ β̃, in velocity units (see the module
+                // doc): times the contact's scaled normal diagonal.
+                let g = a[j * n + j];
+                let f = if g > 0.0 && g.is_finite() { g } else { 1.0 };
                 let s = 3 * m + j;
-                a[s * n + j] = mu;
-                a[s * n + m + 2 * j] = -1.0;
-                a[s * n + m + 2 * j + 1] = -1.0;
+                a[s * n + j] = mu * f;
+                a[s * n + m + 2 * j] = -f;
+                a[s * n + m + 2 * j + 1] = -f;
             }
         }
         ContactLcp {
@@ -539,38 +563,5 @@ impl ContactLcp {
             }
         }
         z
-    }
-}
-
-impl ContactLcp {
-    /// The same LCP with each Coulomb row `σ_j = μ λ_j − β̃⁺_j − β̃⁻_j`
-    /// multiplied by the contact's normal Delassus diagonal `(JᵀM⁻¹J)_jj`
-    /// (1/kg), so that every row of `w` is a velocity (m/s).
-    ///
-    /// A positive row scaling keeps the solutions (`z` unchanged, `w ≥ 0 ⟂
-    /// z ≥ 0` row by row) but makes the residual `‖min(z, w)‖ / ‖q‖` of
-    /// [`crate::lcp::solve()`] consistent in units: unscaled, `σ` is in N·s
-    /// while `q` is in m/s, and the rounding of impulses of 1e6 N·s
-    /// (`σ` ≈ −2e-11 N·s) alone exceeds the acceptance threshold 1e-10 ‖q‖
-    /// — measured: a third of the frictional LCPs of `field_200_coast`
-    /// rejected after Lemke solved them.
-    pub fn with_velocity_coulomb_rows(&self) -> ContactLcp {
-        let mut out = self.clone();
-        if !self.friction {
-            return out;
-        }
-        let (m, n) = (self.m, self.lcp.n);
-        for j in 0..m {
-            let g = self.lcp.m[j * n + j];
-            if !(g > 0.0 && g.is_finite()) {
-                continue;
-            }
-            let s = 3 * m + j;
-            for c in 0..n {
-                out.lcp.m[s * n + c] *= g;
-            }
-            out.lcp.q[s] *= g;
-        }
-        out
     }
 }

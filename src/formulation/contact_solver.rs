@@ -6,9 +6,9 @@
 //! - **`lcp`**: the velocity–impulse LCP of docs/physics.md §3.1 by
 //!   [`crate::lcp::solve()`] (lexicographic Lemke, another pivot rule with
 //!   another covering vector, a perturbed matrix), whose residual is
-//!   recomputed on the original data. Before the solve, each Coulomb row
-//!   `σ_j = μ λ_j − Eᵀβ̃` is scaled by the contact's normal Delassus diagonal
-//!   ([`ContactLcp::with_velocity_coulomb_rows`]) so that every row of `w`
+//!   recomputed on the original data. Each Coulomb row
+//!   `σ_j = μ λ_j − Eᵀβ̃` comes scaled by the contact's normal Delassus
+//!   diagonal ([`ContactLcp::assemble`]) so that every row of `w`
 //!   is a velocity and the residual `‖min(z, w)‖/‖q‖` is consistent in units;
 //!   the scaling keeps the solutions. When every attempt fails, the last
 //!   resort is the frictionless LCP of the same contacts
@@ -736,14 +736,6 @@ impl ContactSolver {
 
     /// [`ContactSolver::solve_lcp`] with the warm-start history of `usage`.
     fn solve_lcp_for(&mut self, lcp: &ContactLcp, t: f64, usage: Use) -> Vec<f64> {
-        // Only a frictional LCP has Coulomb rows to scale (and to copy).
-        let scaled;
-        let lcp = if lcp.friction {
-            scaled = lcp.with_velocity_coulomb_rows();
-            &scaled
-        } else {
-            lcp
-        };
         let cache = self.warm.as_mut().map(|c| &mut c[usage as usize]);
         let guess = cache.and_then(|c| {
             c.at(t);

@@ -48,7 +48,7 @@
 //!      by the shared [`ContactSolver`]: Lemke with the residual check,
 //!      fallbacks, and the last resort (frictionless LCP, then no impulse),
 //!      each counted. Its Coulomb rows are scaled to velocities
-//!      ([`ContactLcp::with_velocity_coulomb_rows`]) so that the residual
+//!      ([`ContactLcp::assemble`]) so that the residual
 //!      check judges rounding consistently (unscaled, a third of the
 //!      frictional LCPs of `field_200_coast` were rejected after Lemke had
 //!      solved them); or

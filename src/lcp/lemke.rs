@@ -368,6 +368,8 @@ pub(crate) struct Scratch {
     pub(crate) z2: Vec<f64>,
     pub(crate) w2: Vec<f64>,
     pub(crate) pivoting: super::pivoting::Pivoting,
+    /// The residual over the compressed columns of M, for large problems.
+    pub(crate) sparse: super::sparse::SparseResidual,
 }
 
 impl Workspace {

@@ -73,6 +73,7 @@ pub(crate) mod path;
 pub(crate) mod pivoting;
 pub(crate) mod polish;
 pub(crate) mod revised;
+pub(crate) mod sparse;
 pub mod solve;
 pub mod timing;
 
@@ -317,7 +318,7 @@ pub(crate) fn w_into(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64], m_finite: b
 
 /// Largest n for which [`w_into`] sums over the support of `z` (its index
 /// list lives on the stack).
-const SUPPORT_MAX_N: usize = 64;
+pub(crate) const SUPPORT_MAX_N: usize = 64;
 
 /// [`w_into`] over the support, compiled with FMA (the products' errors are
 /// `fma(a, b, −ab)`, as in [`dot2_fma`]).
@@ -379,7 +380,7 @@ unsafe fn w_into_fma(m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
 }
 
 /// Error-free transformation `a + b = s + e`.
-fn two_sum(a: f64, b: f64) -> (f64, f64) {
+pub(crate) fn two_sum(a: f64, b: f64) -> (f64, f64) {
     let s = a + b;
     let bb = s - a;
     (s, (a - (s - bb)) + (b - bb))
@@ -388,7 +389,7 @@ fn two_sum(a: f64, b: f64) -> (f64, f64) {
 /// Error-free product `a b = h + r` by Dekker's splitting (Ogita, Rump &
 /// Oishi 2005, TwoProduct): exact without a hardware fused multiply–add,
 /// which `f64::mul_add` would emulate in software on a baseline x86-64 target.
-fn two_prod(a: f64, b: f64) -> (f64, f64) {
+pub(crate) fn two_prod(a: f64, b: f64) -> (f64, f64) {
     const SPLIT: f64 = 134_217_729.0; // 2^27 + 1
     let h = a * b;
     let split = |x: f64| {

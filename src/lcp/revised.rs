@@ -44,6 +44,7 @@
 
 use super::lemke::ldexp;
 use super::path::{Basis, NONE};
+use super::sparse::csc_of_rows;
 use faer::linalg::solvers::SolveCore;
 use faer::sparse::linalg::solvers::Lu;
 use faer::sparse::{SparseColMat, Triplet};
@@ -133,20 +134,14 @@ impl Revised {
     pub(crate) fn setup(&mut self, m: &[f64], q: &[f64], d: &[f64], ea: i32, eb: i32) {
         let n = q.len();
         self.n = n;
-        self.mp.clear();
-        self.mi.clear();
-        self.mv.clear();
-        self.mp.push(0);
-        for j in 0..n {
-            for i in 0..n {
-                let a = m[i * n + j];
-                if a != 0.0 {
-                    self.mi.push(i);
-                    self.mv.push(ldexp(a, -ea));
-                }
-            }
-            self.mp.push(self.mi.len());
-        }
+        csc_of_rows(
+            m,
+            n,
+            |a| ldexp(a, -ea),
+            &mut self.mp,
+            &mut self.mi,
+            &mut self.mv,
+        );
         self.d.clear();
         self.d.extend_from_slice(d);
         self.q.clear();

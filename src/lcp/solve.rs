@@ -600,6 +600,7 @@ fn solve_plan(
     }
     let scale = ResidualScale::of(q);
     let mut sc = ws.scratch.take().unwrap_or_default();
+    sc.sparse.reset();
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
         v.clear();
         v.resize(n, 0.0);
@@ -680,7 +681,7 @@ fn solve_plan(
         for x in sc.z.iter_mut() {
             *x = x.max(0.0);
         }
-        w_into(m, q, &sc.z, &mut sc.w, finite);
+        sc.sparse.w_into(m, q, &sc.z, &mut sc.w, finite);
         let mut resid = scale.residual(&sc.z, &sc.w);
         // A solved path already within `unpolished_below` is kept as it is.
         let settled = run.tableau
@@ -869,7 +870,7 @@ fn refine(
     sc.w2.resize(q.len(), 0.0);
     for _ in 0..REFINE_STEPS {
         ws.refine_step(&mut sc.x, &sc.w, &mut sc.rho, &mut sc.z2);
-        w_into(m, q, &sc.z2, &mut sc.w2, true);
+        sc.sparse.w_into(m, q, &sc.z2, &mut sc.w2, true);
         let r2 = scale.residual(&sc.z2, &sc.w2);
         if r2.is_nan() || r2 >= *resid {
             break;

@@ -603,3 +603,46 @@ fn block_sparse_assembly_equals_the_dense_product() {
     assert!(coupled_entries >= 100_000, "{coupled_entries} coupled entries");
     eprintln!("{large_differing} entries of the large groups differ by one rounding");
 }
+
+#[test]
+fn the_driver_residual_of_large_lcps_equals_the_dense_compensated_sum() {
+    // Above 64 unknowns the driver computes w = M z + q over the compressed
+    // columns of M; its w must be the dense compensated sum's, bit for bit
+    // (up to the sign of a zero), on real contact LCPs: the frictional
+    // elastic pool (184 unknowns) and the frictionless bay jam (980).
+    let pool = case_text("elastic_pool").replace("friction = 0.0", "friction = 0.3");
+    let bay: String = case_text("fields/bay_jam_200")
+        .lines()
+        .map(|l| {
+            if l.trim_start().starts_with("friction =") {
+                "friction = 0.0"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let mut large = 0;
+    for (text, distance) in [(pool, 12.0), (bay, 30.0)] {
+        let (lcps, _) = problems_at_start(&scenario(&text), distance);
+        for lcp in lcps.iter().filter(|l| l.lcp.n > 64) {
+            // Every contact approaching (the packs start at rest or slow).
+            let mut l = lcp.lcp.clone();
+            for (j, q) in l.q.iter_mut().take(lcp.m).enumerate() {
+                *q -= 0.1 * (1.0 + (j % 3) as f64);
+            }
+            let sol = solve(&l, &SolveOptions::default());
+            assert!(sol.z.iter().filter(|z| **z != 0.0).count() >= 10);
+            let dense = floebench::lcp::compute_w(&l.m, &l.q, &sol.z).unwrap();
+            for (i, (a, b)) in sol.w.iter().zip(&dense).enumerate() {
+                assert!(
+                    a.to_bits() == b.to_bits() || (*a == 0.0 && *b == 0.0),
+                    "n = {}, row {i}: {a:e} vs {b:e}",
+                    lcp.lcp.n
+                );
+            }
+            large += 1;
+        }
+    }
+    assert!(large >= 2, "{large} large LCPs");
+}
