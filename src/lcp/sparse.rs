@@ -185,9 +185,20 @@ mod tests {
                 *x = (u() - 0.5) * 10f64.powf(16.0 * u() - 8.0);
             }
         }
-        let q: Vec<f64> = (0..n).map(|_| (u() - 0.5) * 10f64.powf(4.0 * u() - 2.0)).collect();
         let z: Vec<f64> = (0..n)
             .map(|_| if u() < 0.33 { 0.0 } else { u() * 10f64.powf(6.0 * u() - 3.0) })
+            .collect();
+        // Half of the rows cancel to the rounding of their terms (q_i the
+        // opposite of the plain sum): there the compensated sum's last bits
+        // depend on the order of its terms.
+        let q: Vec<f64> = (0..n)
+            .map(|i| {
+                if i % 2 == 0 {
+                    -(0..n).map(|j| m[i * n + j] * z[j]).sum::<f64>()
+                } else {
+                    (u() - 0.5) * 10f64.powf(4.0 * u() - 2.0)
+                }
+            })
             .collect();
         (m, q, z)
     }
