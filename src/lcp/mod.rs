@@ -73,8 +73,8 @@ pub(crate) mod path;
 pub(crate) mod pivoting;
 pub(crate) mod polish;
 pub(crate) mod revised;
-pub(crate) mod sparse;
 pub mod solve;
+pub(crate) mod sparse;
 pub mod timing;
 
 pub use dump::{DumpError, LcpDump};

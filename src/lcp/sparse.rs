@@ -99,7 +99,14 @@ impl SparseResidual {
     /// [`super::w_into`] gives (up to the sign of a zero): up to
     /// [`SUPPORT_MAX_N`] unknowns or for a matrix not known to be finite,
     /// by [`super::w_into`] itself; above, over the compressed columns.
-    pub(crate) fn w_into(&mut self, m: &[f64], q: &[f64], z: &[f64], w: &mut [f64], m_finite: bool) {
+    pub(crate) fn w_into(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        z: &[f64],
+        w: &mut [f64],
+        m_finite: bool,
+    ) {
         let n = q.len();
         if !m_finite || n <= SUPPORT_MAX_N || z.len() != n || m.len() != n * n {
             super::w_into(m, q, z, w, m_finite);
@@ -186,7 +193,13 @@ mod tests {
             }
         }
         let z: Vec<f64> = (0..n)
-            .map(|_| if u() < 0.33 { 0.0 } else { u() * 10f64.powf(6.0 * u() - 3.0) })
+            .map(|_| {
+                if u() < 0.33 {
+                    0.0
+                } else {
+                    u() * 10f64.powf(6.0 * u() - 3.0)
+                }
+            })
             .collect();
         // Half of the rows cancel to the rounding of their terms (q_i the
         // opposite of the plain sum): there the compensated sum's last bits

@@ -593,14 +593,25 @@ fn block_sparse_assembly_equals_the_dense_product() {
             groups_checked += 1;
             multi_floe += usize::from(lcp.floes.len() >= 3);
             with_obstacle += usize::from(
-                lcp.keys.iter().any(|k| k.a >= scn.floes.len() || k.b >= scn.floes.len()),
+                lcp.keys
+                    .iter()
+                    .any(|k| k.a >= scn.floes.len() || k.b >= scn.floes.len()),
             );
         }
     }
     assert_eq!(groups_checked, 6);
-    assert!(multi_floe >= 5, "{multi_floe} groups of three floes or more");
-    assert!(with_obstacle >= 1, "{with_obstacle} groups touching an obstacle");
-    assert!(coupled_entries >= 100_000, "{coupled_entries} coupled entries");
+    assert!(
+        multi_floe >= 5,
+        "{multi_floe} groups of three floes or more"
+    );
+    assert!(
+        with_obstacle >= 1,
+        "{with_obstacle} groups touching an obstacle"
+    );
+    assert!(
+        coupled_entries >= 100_000,
+        "{coupled_entries} coupled entries"
+    );
     eprintln!("{large_differing} entries of the large groups differ by one rounding");
 }
 
