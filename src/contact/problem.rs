@@ -146,6 +146,31 @@ pub struct ContactLcp {
     pub keys: Vec<ContactKey>,
 }
 
+/// Largest number of rows of `H` (three per floe of the group) whose
+/// Delassus matrix is summed block-sparsely ([`delassus_blocks`]); larger
+/// groups use the dense product ([`dense_delassus`]). Up to this size the two
+/// give the same bits (tested); above it the dense product splits the rows
+/// of `H` into cache blocks and adds the blocks' sums, so about 1 % of the
+/// entries of a 200-floe group differ by one rounding, and that moved the
+/// trajectory of the bay jam (a run's contact sequence is chaotic at the
+/// rounding level: 100 s of the jam took 253 s of CPU instead of 34 s, with
+/// another energy exchange). Kept at a size inside any cache block, so that
+/// results stay those of the dense product until the change is accepted
+/// with a regenerated sample report (docs/physics.md §3.3).
+pub const BLOCK_SPARSE_MAX_ROWS: usize = 64;
+
+/// `HᵀM⁻¹H` by the dense faer product over every row of `H`
+/// (`minv`: the inverse mass of each row).
+fn dense_delassus(h: &Mat<f64>, minv: &[f64]) -> Mat<f64> {
+    let mut minv_h = h.clone();
+    for r in 0..h.nrows() {
+        for c in 0..h.ncols() {
+            minv_h[(r, c)] *= minv[r];
+        }
+    }
+    h.transpose() * &minv_h
+}
+
 /// Adds the Delassus matrix `HᵀM⁻¹H` into the row-major `a` (leading
 /// dimension `n`), floe by floe: for floe `l` (rows `3l..3l + 3` of `H`,
 /// inverse masses `minv`) and every pair `(r, c)` of the columns
@@ -279,7 +304,16 @@ impl ContactLcp {
         }
         let n = if friction { 4 * m } else { m };
         let mut a = vec![0.0; n * n];
-        delassus_blocks(&h, &minv, &touching, n, &mut a);
+        if 3 * ng <= BLOCK_SPARSE_MAX_ROWS {
+            delassus_blocks(&h, &minv, &touching, n, &mut a);
+        } else {
+            let g = dense_delassus(&h, &minv);
+            for r in 0..cols {
+                for c in 0..cols {
+                    a[r * n + c] = g[(r, c)];
+                }
+            }
+        }
         let scale = {
             let d: f64 = (0..cols).map(|k| a[k * n + k]).sum::<f64>() / cols.max(1) as f64;
             if d.is_finite() && d > 0.0 {
@@ -354,14 +388,8 @@ impl ContactLcp {
     /// A reference for the tests of [`ContactLcp::assemble`] only.
     #[doc(hidden)]
     pub fn dense_delassus_reference(&self) -> Vec<f64> {
-        let (rows, cols) = (self.h.nrows(), self.h.ncols());
-        let mut minv_h = self.h.clone();
-        for r in 0..rows {
-            for c in 0..cols {
-                minv_h[(r, c)] *= self.minv[r];
-            }
-        }
-        let g: Mat<f64> = self.h.transpose() * &minv_h;
+        let cols = self.h.ncols();
+        let g = dense_delassus(&self.h, &self.minv);
         let mut out = vec![0.0; cols * cols];
         for r in 0..cols {
             for c in 0..cols {
