@@ -541,7 +541,7 @@ fn block_sparse_assembly_equals_the_dense_product() {
     // larger than one block an entry may differ by one rounding. Small
     // groups (at most 64 rows of H, within any block) must agree bit for
     // bit, large ones to 1e-15 of sqrt(G_rr G_cc) (the scale of the terms);
-    // above BLOCK_SPARSE_MAX_ROWS the assembly keeps the dense product.
+    // the assembly itself keeps the dense product (BLOCK_SPARSE_MAX_ROWS).
     let mut groups_checked = 0;
     let mut multi_floe = 0;
     let mut with_obstacle = 0;
@@ -574,12 +574,15 @@ fn block_sparse_assembly_equals_the_dense_product() {
         let (lcps, _) = problems_at_start(&scn, distance);
         for lcp in &lcps {
             let reference = lcp.dense_delassus_reference();
+            let sparse = lcp.block_sparse_delassus();
             let cols = if lcp.friction { 3 * lcp.m } else { lcp.m };
             let n = lcp.lcp.n;
             let small = 3 * lcp.floes.len() <= 64;
             for r in 0..cols {
                 for c in 0..cols {
-                    let (got, want) = (lcp.lcp.m[r * n + c], reference[r * cols + c]);
+                    let want = reference[r * cols + c];
+                    assert_eq!(lcp.lcp.m[r * n + c].to_bits(), want.to_bits());
+                    let got = sparse[r * cols + c];
                     let bound = 1e-15 * (reference[r * cols + r] * reference[c * cols + c]).sqrt();
                     let same = got.to_bits() == want.to_bits();
                     assert!(
