@@ -38,11 +38,13 @@
 //! of the assembly, the same numbers without the copy.)
 //!
 //! **Block-sparse Delassus matrix.** A contact couples only with the
-//! contacts that share one of its floes, so `HᵀM⁻¹H` is summed floe by
-//! floe over the columns touching each floe (`Σ_l 3 k_l²` fused
-//! multiply–adds for `k_l` columns touching floe `l`), not as a dense
-//! product over every floe of the group; each entry is the fused sum of its
-//! non-zero terms in row order.
+//! contacts that share one of its floes, so `HᵀM⁻¹H` can be summed floe
+//! by floe over the columns touching each floe (`Σ_l 3 k_l²` fused
+//! multiply–adds for `k_l` columns touching floe `l`) instead of as a dense
+//! product over every floe of the group; each entry is then the fused sum
+//! of its non-zero terms in row order. Off by default
+//! ([`BLOCK_SPARSE_MAX_ROWS`]): it differs from the dense product at the
+//! last bit on some groups, which moves the sample report's runs.
 //!
 //! **Scaling.** Delassus entries are inverse masses (1e-8 /kg for a
 //! 100 m floe) while `μ` and `E` are of order one; unscaled, Lemke's rounding
@@ -387,9 +389,9 @@ impl ContactLcp {
     }
 
     /// The scaled Delassus block `HᵀM⁻¹H / g` (`cols × cols`, row-major,
-    /// `cols` the columns of `H`) computed as the assembly did before it
-    /// became block-sparse: the dense faer product over every row of `H`.
-    /// A reference for the tests of [`ContactLcp::assemble`] only.
+    /// `cols` the columns of `H`) by the dense faer product over every row
+    /// of `H` (what the assembly uses above [`BLOCK_SPARSE_MAX_ROWS`]). A
+    /// reference for the tests of the block-sparse sum only.
     #[doc(hidden)]
     pub fn dense_delassus_reference(&self) -> Vec<f64> {
         let cols = self.h.ncols();
