@@ -310,7 +310,10 @@ impl ContactLcp {
         }
         let n = if friction { 4 * m } else { m };
         let mut a = vec![0.0; n * n];
-        if 3 * ng <= BLOCK_SPARSE_MAX_ROWS {
+        // Always false at the default 0 (off); the switch is the constant.
+        #[allow(clippy::absurd_extreme_comparisons)]
+        let block_sparse = 3 * ng <= BLOCK_SPARSE_MAX_ROWS;
+        if block_sparse {
             delassus_blocks(&h, &minv, &touching, n, &mut a);
         } else {
             let g = dense_delassus(&h, &minv);
