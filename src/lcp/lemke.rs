@@ -373,7 +373,21 @@ pub(crate) struct Scratch {
 impl Workspace {
     /// Sets up the tableau for `(m, q, d)` and runs the method.
     pub(crate) fn run(&mut self, m: &[f64], q: &[f64], opts: &LemkeOptions) -> Run {
-        self.run_from(m, q, opts, None)
+        self.run_from(m, q, opts, None, None)
+    }
+
+    /// [`Workspace::run`] for data the caller has already scanned:
+    /// `maxima = (max|M_ij|, max|q_i|)` of a finite `M` and `q` (as
+    /// [`max_abs`] computes them), so that the set-up does not read the
+    /// data a second time. The same run as [`Workspace::run`].
+    pub(crate) fn run_scanned(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        opts: &LemkeOptions,
+        maxima: (f64, f64),
+    ) -> Run {
+        self.run_from(m, q, opts, None, Some(maxima))
     }
 
     /// Runs the method from the guessed complementary basis `start`
@@ -398,7 +412,7 @@ impl Workspace {
                 tableau: false,
             };
         }
-        self.run_from(m, q, opts, Some(start))
+        self.run_from(m, q, opts, Some(start), None)
     }
 
     /// [`Workspace::run`] (`start = None`) or [`Workspace::run_warm`].
@@ -408,6 +422,7 @@ impl Workspace {
         q: &[f64],
         opts: &LemkeOptions,
         start: Option<&[bool]>,
+        maxima: Option<(f64, f64)>,
     ) -> Run {
         let n = q.len();
         let early = |termination, detail| Run {
@@ -426,8 +441,10 @@ impl Workspace {
                 "invalid tolerance in LemkeOptions",
             );
         }
-        let (mmax, mfinite) = max_abs_finite(m);
-        let (qmax, qfinite) = max_abs_finite(q);
+        let ((mmax, mfinite), (qmax, qfinite)) = match maxima {
+            Some((mmax, qmax)) => ((mmax, true), (qmax, true)),
+            None => (max_abs_finite(m), max_abs_finite(q)),
+        };
         if !(mfinite && qfinite) {
             return early(Termination::NumericalFailure, "non-finite entry in M or q");
         }
@@ -934,7 +951,7 @@ pub(crate) fn max_abs(v: &[f64]) -> f64 {
 }
 
 /// Largest magnitude and whether every entry is finite, in one pass.
-fn max_abs_finite(v: &[f64]) -> (f64, bool) {
+pub(crate) fn max_abs_finite(v: &[f64]) -> (f64, bool) {
     let mut m = 0.0_f64;
     let mut finite = true;
     for &x in v {

@@ -61,7 +61,7 @@
 
 use super::json_f64;
 use super::lemke::{
-    max_abs, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
+    max_abs, max_abs_finite, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
     REVISED_FROM,
 };
 use super::{w_into, Lcp, ResidualScale};
@@ -576,7 +576,11 @@ fn solve_plan(
         out.status = SolveStatus::Failed;
         return;
     }
-    let finite = lcp.is_finite();
+    // One pass over the data: the maxima the set-up scales by, finiteness
+    // and the sign of q.
+    let (mmax, mfinite) = max_abs_finite(m);
+    let (qmax, qfinite) = max_abs_finite(q);
+    let finite = mfinite && qfinite;
     if finite && q.iter().all(|&x| x >= 0.0) {
         set_vec(&mut out.z, n, |_| 0.0);
         set_vec(&mut out.w, n, |i| q[i]);
@@ -598,7 +602,7 @@ fn solve_plan(
         out.status = SolveStatus::Solved;
         return;
     }
-    let scale = ResidualScale::of(q);
+    let scale = ResidualScale::with_max(q, qmax, qfinite);
     let mut sc = ws.scratch.take().unwrap_or_default();
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
         v.clear();
@@ -665,6 +669,8 @@ fn solve_plan(
             ws.run(&sc.m_shift, q, &lopts)
         } else if let Some(s) = warm {
             ws.run_warm(m, q, &lopts, s)
+        } else if finite {
+            ws.run_scanned(m, q, &lopts, (mmax, qmax))
         } else {
             ws.run(m, q, &lopts)
         };
