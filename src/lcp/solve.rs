@@ -220,6 +220,17 @@ pub struct SolveOptions {
     /// about 10 % cheaper on the dump corpora (docs/physics.md §3.3).
     #[serde(default)]
     pub unpolished_below: f64,
+    /// [`SolveOptions::unpolished_below`] for the small problems, of at most
+    /// [`SMALL_N`] unknowns (the larger of the two applies there). Default
+    /// `1e-13`, a thousandth of the default tolerance: on a small problem
+    /// the refinement of an accepted candidate, up to three more
+    /// compensated residuals, cost about a quarter of the solve and moves
+    /// only the last digits of `z` (docs/physics.md §3.3, "Small
+    /// problems"); a candidate above it, or from a run that did not report
+    /// [`Termination::Solved`], is polished as before. `0` gives the
+    /// driver of before this option.
+    #[serde(default = "default_small_unpolished_below")]
+    pub small_unpolished_below: f64,
     /// With a guessed basis ([`solve_warm`]) that principal pivoting did not
     /// accept, run Lemke's path from that basis ([`Strategy::WarmLemke`],
     /// docs/physics.md §3.3 "Warm Lemke") before the cold attempts. Default
@@ -236,6 +247,16 @@ pub struct SolveOptions {
     /// cost about half of a cold solve, which then follows.
     #[serde(default = "default_warm_lemke_pivots")]
     pub warm_lemke_pivots: f64,
+}
+
+/// Largest number of unknowns of a "small" problem, to which
+/// [`SolveOptions::small_unpolished_below`] applies: 40, every problem of the
+/// dense tableau under the default [`SolveOptions::revised_from`] (the
+/// contact LCPs of up to ten frictional contacts).
+pub const SMALL_N: usize = 40;
+
+fn default_small_unpolished_below() -> f64 {
+    1e-13
 }
 
 fn default_warm_lemke() -> bool {
@@ -270,6 +291,7 @@ impl Default for SolveOptions {
             warm_solves: 16,
             revised_from: l.revised_from,
             unpolished_below: 0.0,
+            small_unpolished_below: default_small_unpolished_below(),
             warm_lemke: default_warm_lemke(),
             warm_lemke_pivots: default_warm_lemke_pivots(),
         }
@@ -603,6 +625,11 @@ fn solve_plan(
         return;
     }
     let scale = ResidualScale::with_max(q, qmax, qfinite);
+    let unpolished_below = if n <= SMALL_N {
+        opts.unpolished_below.max(opts.small_unpolished_below)
+    } else {
+        opts.unpolished_below
+    };
     let mut sc = ws.scratch.take().unwrap_or_default();
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
         v.clear();
@@ -691,7 +718,7 @@ fn solve_plan(
         // A solved path already within `unpolished_below` is kept as it is.
         let settled = run.tableau
             && termination == Termination::Solved
-            && resid <= opts.tolerance.min(opts.unpolished_below);
+            && resid <= opts.tolerance.min(unpolished_below);
         let mut polished = false;
         let mut basis_solves = 0;
         if opts.polish && resid > 0.0 && finite && !settled {
