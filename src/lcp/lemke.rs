@@ -946,7 +946,6 @@ fn options_valid(o: &LemkeOptions) -> bool {
     ok(o.pivot_tol) && ok(o.tie_tol) && ok(o.lex_tol) && ok(o.clamp_tol) && ok(o.z0_tol)
 }
 
-
 /// Largest magnitude of `v` (0 for an empty slice; NaN entries are skipped).
 pub(crate) fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
