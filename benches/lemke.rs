@@ -136,21 +136,32 @@ fn lemke_on_corpus(c: &mut Criterion) {
         if lcps.is_empty() {
             continue;
         }
-        let mut ws = Workspace::default();
-        let mut out = LcpSolution::empty();
         let id = format!("{}_{}_dumps", bucket_label(b), lcps.len());
-        g.bench_function(id, |bch| {
-            bch.iter(|| {
-                let mut pivots = 0;
-                for lcp in lcps {
-                    solve_into(&mut ws, lcp, &opts, &mut out);
-                    pivots += out.pivots;
-                }
-                black_box(pivots)
-            })
-        });
+        bench_dumps(&mut g, id, lcps, &opts);
     }
     g.finish();
+}
+
+/// One benchmark of `g`: an iteration solves every LCP of `lcps` with one
+/// work space and one output ([`solve_into`]).
+fn bench_dumps(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: String,
+    lcps: &[Lcp],
+    opts: &SolveOptions,
+) {
+    let mut ws = Workspace::default();
+    let mut out = LcpSolution::empty();
+    g.bench_function(id, |bch| {
+        bch.iter(|| {
+            let mut pivots = 0;
+            for lcp in lcps {
+                solve_into(&mut ws, lcp, opts, &mut out);
+                pivots += out.pivots;
+            }
+            black_box(pivots)
+        })
+    });
 }
 
 /// `lemke_small`: the committed dumps of at most `SMALL_N` unknowns
@@ -176,19 +187,8 @@ fn lemke_on_small(c: &mut Criterion) {
             continue;
         }
         for (name, opts) in &variants {
-            let mut ws = Workspace::default();
-            let mut out = LcpSolution::empty();
             let id = format!("{name}/{}_{}_dumps", bucket_label(b), lcps.len());
-            g.bench_function(id, |bch| {
-                bch.iter(|| {
-                    let mut pivots = 0;
-                    for lcp in lcps {
-                        solve_into(&mut ws, lcp, opts, &mut out);
-                        pivots += out.pivots;
-                    }
-                    black_box(pivots)
-                })
-            });
+            bench_dumps(&mut g, id, lcps, opts);
         }
     }
     g.finish();

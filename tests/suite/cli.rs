@@ -493,19 +493,12 @@ fn lcp_time_switches_the_small_problem_refinement() {
     let dumps = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/lcp");
     let rows = |extra: &[&str], name: &str| {
         let csv = dir.path().join(name);
-        let out = floebench()
-            .arg("lcp")
-            .arg(&dumps)
-            .args(["--time", "--repeat", "1", "--csv"])
-            .arg(&csv)
-            .args(extra)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        let mut args: Vec<&std::ffi::OsStr> = vec!["lcp".as_ref(), dumps.as_os_str()];
+        args.extend(["--time", "--repeat", "1", "--csv"].map(std::ffi::OsStr::new));
+        args.push(csv.as_os_str());
+        args.extend(extra.iter().map(std::ffi::OsStr::new));
+        let (ok, _, stderr) = cli(&args);
+        assert!(ok, "{stderr}");
         let text = std::fs::read_to_string(&csv).unwrap();
         text.lines()
             .skip(1)
@@ -533,12 +526,12 @@ fn lcp_time_switches_the_small_problem_refinement() {
         }
     }
     assert!(differ > 0, "the switch changed no residual");
-    let bad = floebench()
-        .arg("lcp")
-        .arg(&dumps)
-        .args(["--time", "--small-unpolished-below=-1"])
-        .output()
-        .unwrap();
-    assert!(!bad.status.success());
-    assert!(String::from_utf8_lossy(&bad.stderr).contains("--small-unpolished-below"));
+    let (ok, _, stderr) = cli(&[
+        "lcp".as_ref(),
+        dumps.as_os_str(),
+        "--time".as_ref(),
+        "--small-unpolished-below=-1".as_ref(),
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("--small-unpolished-below"), "{stderr}");
 }
