@@ -164,9 +164,8 @@ enum Command {
         #[arg(long, value_name = "N", requires = "time")]
         revised_from: Option<usize>,
         /// Residual (relative to ‖q‖) at or below which an accepted Lemke
-        /// candidate of at most 40 unknowns is kept without refinement; 0
-        /// refines every candidate, as the driver did before [default: the
-        /// driver's, 1e-13].
+        /// candidate of at most 40 unknowns is kept without refinement, e.g.
+        /// 1e-13; 0 refines every candidate [default: the driver's, 0].
         #[arg(long, value_name = "R", requires = "time")]
         small_unpolished_below: Option<f64>,
     },

@@ -485,10 +485,10 @@ fn compare_replaces_only_its_own_case_folders_and_clears_its_stale_ones() {
 
 #[test]
 fn lcp_time_switches_the_small_problem_refinement() {
-    // `lcp DIR --time --small-unpolished-below 0` refines every candidate,
-    // as the driver did before the small-problem rule: the same pivots on
-    // every dump, and residuals at least as small; the default keeps the
-    // small candidates within 1e-13. A negative value is refused by name.
+    // `lcp DIR --time --small-unpolished-below 1e-13` keeps the small
+    // candidates within 1e-13 unrefined; the default refines every
+    // candidate: the same pivots on every dump, and residuals at least as
+    // small. A negative value is refused by name.
     let dir = tempdir();
     let dumps = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/lcp");
     let rows = |extra: &[&str], name: &str| {
@@ -511,8 +511,8 @@ fn lcp_time_switches_the_small_problem_refinement() {
             })
             .collect::<Vec<_>>()
     };
-    let small = rows(&[], "small.csv");
-    let refined = rows(&["--small-unpolished-below", "0"], "refined.csv");
+    let small = rows(&["--small-unpolished-below", "1e-13"], "small.csv");
+    let refined = rows(&[], "refined.csv");
     assert_eq!(small.len(), refined.len());
     let mut differ = 0;
     for (a, b) in small.iter().zip(&refined) {

@@ -2516,8 +2516,8 @@ fn small_path_problems(seed: u64) -> Vec<(String, Lcp)> {
 #[test]
 fn small_problems_take_the_same_pivots_and_skip_only_an_unneeded_refinement() {
     use floebench::lcp::solve::SMALL_N;
-    // The default driver against the driver without the small-problem rule
-    // (`small_unpolished_below = 0`: every candidate polished, as before):
+    // The small-problem rule (`small_unpolished_below = 1e-13`) against the
+    // default driver (`0`: every candidate polished, as before):
     // the same attempts with the same pivots and terminations on every
     // problem; an accepted candidate left unpolished is exactly Lemke's own
     // `z` (read from the tableau, no refinement) with a residual, recomputed
@@ -2525,12 +2525,12 @@ fn small_problems_take_the_same_pivots_and_skip_only_an_unneeded_refinement() {
     // same bits.
     let mut ws = Workspace::default();
     let mut ws_old = Workspace::default();
-    let new_opts = SolveOptions::default();
-    assert_eq!(new_opts.small_unpolished_below, 1e-13);
-    let old_opts = SolveOptions {
-        small_unpolished_below: 0.0,
+    let new_opts = SolveOptions {
+        small_unpolished_below: 1e-13,
         ..SolveOptions::default()
     };
+    let old_opts = SolveOptions::default();
+    assert_eq!(old_opts.small_unpolished_below, 0.0, "off by default");
     let (mut skipped, mut large) = (0, 0);
     for (label, lcp) in small_path_problems(0x5EED_5A11_0001) {
         let new = solve_with(&mut ws, &lcp, &new_opts);
@@ -2579,9 +2579,13 @@ fn small_problems_one_by_one_and_nonnegative_q_on_the_direct_exits() {
     // 1×1: z = −q/a exactly (the scalings are powers of two and the one
     // division of the path is correctly rounded) when a > 0 > q; no
     // solution when a ≤ 0 > q (failed, z finite); q ≥ 0: z = 0, w = q,
-    // residual 0, no pivot.
+    // residual 0, no pivot. With the small-problem rule on.
+    let opts = SolveOptions {
+        small_unpolished_below: 1e-13,
+        ..SolveOptions::default()
+    };
     for (label, lcp) in small_path_problems(0x5EED_5A11_0002) {
-        let s = solve(&lcp, &SolveOptions::default());
+        let s = solve(&lcp, &opts);
         if lcp.q.iter().all(|&x| x >= 0.0) {
             assert_eq!(
                 (s.status, s.pivots, s.residual),
