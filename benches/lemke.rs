@@ -15,12 +15,18 @@
 //! `floebench lcp --time`; one iteration solves every dump of the bucket
 //! with one work space and one output ([`solve_into`]).
 //!
+//! `lemke_small`: the buckets of at most 40 unknowns of the same dumps, with
+//! the small-problem rule and by the default driver, which refines every
+//! candidate
+//! (docs/physics.md §3.3, "Small problems").
+//!
 //! `cargo bench --bench lemke`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use floebench::contact::problem::{groups, ContactLcp, Gen};
 use floebench::contact::BroadPhase;
 use floebench::formulation::parse_case;
+use floebench::lcp::solve::SMALL_N;
 use floebench::lcp::timing::{bucket_label, bucket_of, dump_files, BUCKETS};
 use floebench::lcp::{solve, solve_into, Lcp, LcpDump, LcpSolution, SolveOptions, Workspace};
 use floebench::model::Scenario;
@@ -131,19 +137,60 @@ fn lemke_on_corpus(c: &mut Criterion) {
         if lcps.is_empty() {
             continue;
         }
-        let mut ws = Workspace::default();
-        let mut out = LcpSolution::empty();
         let id = format!("{}_{}_dumps", bucket_label(b), lcps.len());
-        g.bench_function(id, |bch| {
-            bch.iter(|| {
-                let mut pivots = 0;
-                for lcp in lcps {
-                    solve_into(&mut ws, lcp, &opts, &mut out);
-                    pivots += out.pivots;
-                }
-                black_box(pivots)
-            })
-        });
+        bench_dumps(&mut g, id, lcps, &opts);
+    }
+    g.finish();
+}
+
+/// One benchmark of `g`: an iteration solves every LCP of `lcps` with one
+/// work space and one output ([`solve_into`]).
+fn bench_dumps(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    id: String,
+    lcps: &[Lcp],
+    opts: &SolveOptions,
+) {
+    let mut ws = Workspace::default();
+    let mut out = LcpSolution::empty();
+    g.bench_function(id, |bch| {
+        bch.iter(|| {
+            let mut pivots = 0;
+            for lcp in lcps {
+                solve_into(&mut ws, lcp, opts, &mut out);
+                pivots += out.pivots;
+            }
+            black_box(pivots)
+        })
+    });
+}
+
+/// `lemke_small`: the committed dumps of at most `SMALL_N` unknowns
+/// (buckets 1–8 and 9–40), solved with the small-problem rule (`small`:
+/// `small_unpolished_below = 1e-13`, an accepted candidate within it is
+/// not refined) and by the default driver, which refines every candidate
+/// (`refined`), one iteration solving every dump of the
+/// bucket with one work space and one output.
+fn lemke_on_small(c: &mut Criterion) {
+    let mut g = c.benchmark_group("lemke_small");
+    let variants = [
+        (
+            "small",
+            SolveOptions {
+                small_unpolished_below: 1e-13,
+                ..SolveOptions::default()
+            },
+        ),
+        ("refined", SolveOptions::default()),
+    ];
+    for (b, lcps) in corpus_buckets().iter().enumerate() {
+        if lcps.is_empty() || lcps.iter().any(|l| l.n > SMALL_N) {
+            continue;
+        }
+        for (name, opts) in &variants {
+            let id = format!("{name}/{}_{}_dumps", bucket_label(b), lcps.len());
+            bench_dumps(&mut g, id, lcps, opts);
+        }
     }
     g.finish();
 }
@@ -151,6 +198,6 @@ fn lemke_on_corpus(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = lemke_on_impacts, lemke_on_corpus
+    targets = lemke_on_impacts, lemke_on_corpus, lemke_on_small
 }
 criterion_main!(benches);

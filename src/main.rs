@@ -163,6 +163,11 @@ enum Command {
         /// the driver's, 41].
         #[arg(long, value_name = "N", requires = "time")]
         revised_from: Option<usize>,
+        /// Residual (relative to ‖q‖) at or below which an accepted Lemke
+        /// candidate of at most 40 unknowns is kept without refinement, e.g.
+        /// 1e-13; 0 refines every candidate [default: the driver's, 0].
+        #[arg(long, value_name = "R", requires = "time")]
+        small_unpolished_below: Option<f64>,
     },
     /// Run a sweep plan (docs/sweep-format.md): every point of cases x
     /// formulations x settings, measured against the reference; writes
@@ -374,9 +379,27 @@ fn main() -> ExitCode {
             warm,
             csv,
             revised_from,
+            small_unpolished_below,
         } => {
             if time {
-                time_lcps(&path, repeat as usize, warm, csv.as_deref(), revised_from)
+                let mut opts = floebench::lcp::timing::TimingOptions {
+                    repeats: repeat as usize,
+                    warm,
+                    ..Default::default()
+                };
+                if let Some(k) = revised_from {
+                    opts.solve.revised_from = k;
+                }
+                if let Some(r) = small_unpolished_below {
+                    if !(r.is_finite() && r >= 0.0) {
+                        eprintln!(
+                            "error: --small-unpolished-below must be a finite number >= 0, got {r}"
+                        );
+                        return ExitCode::FAILURE;
+                    }
+                    opts.solve.small_unpolished_below = r;
+                }
+                time_lcps(&path, opts, csv.as_deref())
             } else if path.is_dir() {
                 eprintln!(
                     "error: {} is a folder: give one dump file, or --time to time every dump of it",
@@ -1107,12 +1130,10 @@ fn resolve_lcp(file: &Path) -> ExitCode {
 
 fn time_lcps(
     path: &Path,
-    repeats: usize,
-    warm: bool,
+    opts: floebench::lcp::timing::TimingOptions,
     csv: Option<&Path>,
-    revised_from: Option<usize>,
 ) -> ExitCode {
-    use floebench::lcp::timing::{self, TimingOptions};
+    use floebench::lcp::timing;
     let files = if path.is_dir() {
         match timing::dump_files(path) {
             Ok(f) => f,
@@ -1127,14 +1148,6 @@ fn time_lcps(
     if files.is_empty() {
         eprintln!("error: no *.json dump in {}", path.display());
         return ExitCode::FAILURE;
-    }
-    let mut opts = TimingOptions {
-        repeats,
-        warm,
-        ..TimingOptions::default()
-    };
-    if let Some(k) = revised_from {
-        opts.solve.revised_from = k;
     }
     let mut rows = Vec::with_capacity(files.len());
     for f in &files {
@@ -1153,10 +1166,11 @@ fn time_lcps(
         }
     }
     println!(
-        "{}: {} dumps, thread CPU per solve (median of {repeats} batches of >= 1 ms){}",
+        "{}: {} dumps, thread CPU per solve (median of {} batches of >= 1 ms){}",
         path.display(),
         rows.len(),
-        if warm {
+        opts.repeats,
+        if opts.warm {
             ", warm-started from each dump's stored solution"
         } else {
             ""

@@ -375,7 +375,21 @@ pub(crate) struct Scratch {
 impl Workspace {
     /// Sets up the tableau for `(m, q, d)` and runs the method.
     pub(crate) fn run(&mut self, m: &[f64], q: &[f64], opts: &LemkeOptions) -> Run {
-        self.run_from(m, q, opts, None)
+        self.run_from(m, q, opts, None, None)
+    }
+
+    /// [`Workspace::run`] for data the caller has already scanned:
+    /// `maxima = (max|M_ij|, max|q_i|)` of a finite `M` and `q` (as
+    /// [`max_abs`] computes them), so that the set-up does not read the
+    /// data a second time. The same run as [`Workspace::run`].
+    pub(crate) fn run_scanned(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        opts: &LemkeOptions,
+        maxima: (f64, f64),
+    ) -> Run {
+        self.run_from(m, q, opts, None, Some(maxima))
     }
 
     /// Runs the method from the guessed complementary basis `start`
@@ -400,7 +414,7 @@ impl Workspace {
                 tableau: false,
             };
         }
-        self.run_from(m, q, opts, Some(start))
+        self.run_from(m, q, opts, Some(start), None)
     }
 
     /// [`Workspace::run`] (`start = None`) or [`Workspace::run_warm`].
@@ -410,6 +424,7 @@ impl Workspace {
         q: &[f64],
         opts: &LemkeOptions,
         start: Option<&[bool]>,
+        maxima: Option<(f64, f64)>,
     ) -> Run {
         let n = q.len();
         let early = |termination, detail| Run {
@@ -428,8 +443,10 @@ impl Workspace {
                 "invalid tolerance in LemkeOptions",
             );
         }
-        let (mmax, mfinite) = max_abs_finite(m);
-        let (qmax, qfinite) = max_abs_finite(q);
+        let ((mmax, mfinite), (qmax, qfinite)) = match maxima {
+            Some((mmax, qmax)) => ((mmax, true), (qmax, true)),
+            None => (max_abs_finite(m), max_abs_finite(q)),
+        };
         if !(mfinite && qfinite) {
             return early(Termination::NumericalFailure, "non-finite entry in M or q");
         }
@@ -521,7 +538,8 @@ impl Workspace {
         let n = q.len();
         let cols = n + 2;
         self.cols = cols;
-        resize(&mut self.t, n * cols);
+        // Every entry of the n rows is written below: no zeroing.
+        self.t.resize(n * cols, 0.0);
         let (fa, fb) = (exp2_factor(-self.ea), exp2_factor(-self.eb));
         for i in 0..n {
             let row = &mut self.t[i * cols..(i + 1) * cols];
@@ -554,7 +572,7 @@ impl Workspace {
         self.col_of.clear();
         self.col_of.resize(n, NONE);
         self.col_of.extend(0..=n);
-        resize(&mut self.prow, cols);
+        self.prow.resize(cols, 0.0);
         self.nz.clear();
         self.cand.clear();
     }
@@ -570,14 +588,19 @@ impl Workspace {
         let mut finite = true;
         {
             let row = &mut self.t[r * cols..(r + 1) * cols];
-            for x in row.iter_mut() {
-                *x /= p;
+            // The pivot row divided by p, copied as it goes (an element
+            // loop: a row of a small tableau is shorter than the call of a
+            // memcpy).
+            for (x, pr) in row.iter_mut().zip(self.prow.iter_mut()) {
+                let v = *x / p;
+                *x = v;
+                *pr = v;
+                finite &= v.is_finite();
             }
-            row[s] = 1.0 / p;
-            self.prow.copy_from_slice(row);
-        }
-        for &x in &self.prow {
-            finite &= x.is_finite();
+            let inv = 1.0 / p;
+            row[s] = inv;
+            self.prow[s] = inv;
+            finite &= inv.is_finite();
         }
         // The non-zero positions of the pivot row, for a sparse elimination;
         // not worth listing in a short row (the dense loop is as fast).
@@ -925,25 +948,34 @@ fn options_valid(o: &LemkeOptions) -> bool {
     ok(o.pivot_tol) && ok(o.tie_tol) && ok(o.lex_tol) && ok(o.clamp_tol) && ok(o.z0_tol)
 }
 
-fn resize(v: &mut Vec<f64>, len: usize) {
-    v.clear();
-    v.resize(len, 0.0);
-}
-
 /// Largest magnitude of `v` (0 for an empty slice; NaN entries are skipped).
 pub(crate) fn max_abs(v: &[f64]) -> f64 {
     v.iter().fold(0.0_f64, |a, x| a.max(x.abs()))
 }
 
 /// Largest magnitude and whether every entry is finite, in one pass.
-fn max_abs_finite(v: &[f64]) -> (f64, bool) {
-    let mut m = 0.0_f64;
+///
+/// The same number as [`max_abs`] (NaN entries skipped: a comparison with
+/// NaN is false), in four independent running maxima so that the
+/// comparisons do not wait on each other.
+pub(crate) fn max_abs_finite(v: &[f64]) -> (f64, bool) {
+    let mut m = [0.0_f64; 4];
     let mut finite = true;
-    for &x in v {
-        m = m.max(x.abs());
-        finite &= x.is_finite();
+    let mut chunks = v.chunks_exact(4);
+    for c in &mut chunks {
+        for (ml, &x) in m.iter_mut().zip(c) {
+            let a = x.abs();
+            *ml = if a > *ml { a } else { *ml };
+            finite &= a < f64::INFINITY;
+        }
     }
-    (m, finite)
+    for &x in chunks.remainder() {
+        let a = x.abs();
+        m[0] = if a > m[0] { a } else { m[0] };
+        finite &= a < f64::INFINITY;
+    }
+    let (a, b) = (m[0].max(m[1]), m[2].max(m[3]));
+    (a.max(b), finite)
 }
 
 /// `2^e` for `-1022 <= e <= 1023` (a normal number), else `None`.

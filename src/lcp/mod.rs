@@ -567,6 +567,16 @@ impl ResidualScale {
         }
     }
 
+    /// [`ResidualScale::of`] given `qmax = max|q_i|` (as
+    /// [`lemke::max_abs`] computes it, NaN entries skipped) and whether `q`
+    /// is finite: the same scale, without reading `q` for them again.
+    pub(crate) fn with_max(q: &[f64], qmax: f64, q_finite: bool) -> Self {
+        Self {
+            den: scaled_norm(qmax, q.len(), |i| q[i]).max(RESIDUAL_DENOMINATOR_FLOOR),
+            q_finite,
+        }
+    }
+
     /// [`residual`] of `z` with `w = M z + q` known: `INFINITY` if the sizes
     /// differ or anything is non-finite. The same arithmetic as [`norm2`]
     /// (largest magnitude first, then the scaled sum of squares), with the

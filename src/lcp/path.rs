@@ -183,9 +183,14 @@ fn z0_negligible<B: Basis>(e: &B, opts: &LemkeOptions) -> bool {
 /// Minimum-ratio test on the loaded entering column.
 fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -> Step {
     let n = e.n();
+    // max |c_i| (a NaN entry skipped, as by `f64::max`), by a comparison:
+    // the same number without the NaN handling of `max` on the chain.
     let mut cmax = 0.0_f64;
     for i in 0..n {
-        cmax = cmax.max(e.c(i).abs());
+        let a = e.c(i).abs();
+        if a > cmax {
+            cmax = a;
+        }
     }
     let scale = cmax.max(1.0);
     let thresh = opts.pivot_tol * scale;

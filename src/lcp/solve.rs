@@ -25,7 +25,10 @@
 //! polished, each step kept only if it lowers the residual (with
 //! [`SolveOptions::unpolished_below`] > 0, off by default, a candidate of a
 //! run that reported [`Termination::Solved`] whose residual is already at
-//! most that is kept as it is): when Lemke
+//! most that is kept as it is; on the small problems, of at most
+//! [`SMALL_N`] unknowns, [`SolveOptions::small_unpolished_below`], also off
+//! by default, does the same: there the refinement of a candidate already
+//! accepted costs about a third of the solve): when Lemke
 //! solved, by up to three steps of iterative refinement of the final basis
 //! (`x_B += B⁻¹ (q − B x_B)` with the residual of the **original** M and q,
 //! and the tableau's `B⁻¹`: O(n²) a step, valid when `M_αα` is singular, and
@@ -61,8 +64,8 @@
 
 use super::json_f64;
 use super::lemke::{
-    max_abs, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination, Workspace,
-    REVISED_FROM,
+    max_abs, max_abs_finite, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination,
+    Workspace, REVISED_FROM,
 };
 use super::{w_into, Lcp, ResidualScale};
 use serde::{Deserialize, Serialize};
@@ -220,6 +223,20 @@ pub struct SolveOptions {
     /// about 10 % cheaper on the dump corpora (docs/physics.md §3.3).
     #[serde(default)]
     pub unpolished_below: f64,
+    /// [`SolveOptions::unpolished_below`] for the small problems, of at most
+    /// [`SMALL_N`] unknowns (the larger of the two applies there), leaving
+    /// the larger problems' refinement as it is. Default `0`: off, the
+    /// driver of before this option, bit for bit. `1e-13` (a thousandth of
+    /// the default tolerance) is the measured proposal: the refinement of
+    /// an accepted small candidate, up to three more compensated
+    /// residuals, costs about a third of the solve and moves only the last
+    /// digits of `z` (docs/physics.md §3.3, "Small problems"); a candidate
+    /// above it, or from a run that did not report
+    /// [`Termination::Solved`], is polished as before. Off by default
+    /// because it moves the committed sample report at the rounding level
+    /// (which must then be regenerated).
+    #[serde(default = "default_small_unpolished_below")]
+    pub small_unpolished_below: f64,
     /// With a guessed basis ([`solve_warm`]) that principal pivoting did not
     /// accept, run Lemke's path from that basis ([`Strategy::WarmLemke`],
     /// docs/physics.md §3.3 "Warm Lemke") before the cold attempts. Default
@@ -236,6 +253,16 @@ pub struct SolveOptions {
     /// cost about half of a cold solve, which then follows.
     #[serde(default = "default_warm_lemke_pivots")]
     pub warm_lemke_pivots: f64,
+}
+
+/// Largest number of unknowns of a "small" problem, to which
+/// [`SolveOptions::small_unpolished_below`] applies: 40, every problem of the
+/// dense tableau under the default [`SolveOptions::revised_from`] (the
+/// contact LCPs of up to ten frictional contacts).
+pub const SMALL_N: usize = 40;
+
+fn default_small_unpolished_below() -> f64 {
+    0.0
 }
 
 fn default_warm_lemke() -> bool {
@@ -270,6 +297,7 @@ impl Default for SolveOptions {
             warm_solves: 16,
             revised_from: l.revised_from,
             unpolished_below: 0.0,
+            small_unpolished_below: default_small_unpolished_below(),
             warm_lemke: default_warm_lemke(),
             warm_lemke_pivots: default_warm_lemke_pivots(),
         }
@@ -576,7 +604,11 @@ fn solve_plan(
         out.status = SolveStatus::Failed;
         return;
     }
-    let finite = lcp.is_finite();
+    // One pass over the data: the maxima the set-up scales by, finiteness
+    // and the sign of q.
+    let (mmax, mfinite) = max_abs_finite(m);
+    let (qmax, qfinite) = max_abs_finite(q);
+    let finite = mfinite && qfinite;
     if finite && q.iter().all(|&x| x >= 0.0) {
         set_vec(&mut out.z, n, |_| 0.0);
         set_vec(&mut out.w, n, |i| q[i]);
@@ -598,7 +630,12 @@ fn solve_plan(
         out.status = SolveStatus::Solved;
         return;
     }
-    let scale = ResidualScale::of(q);
+    let scale = ResidualScale::with_max(q, qmax, qfinite);
+    let unpolished_below = if n <= SMALL_N {
+        opts.unpolished_below.max(opts.small_unpolished_below)
+    } else {
+        opts.unpolished_below
+    };
     let mut sc = ws.scratch.take().unwrap_or_default();
     sc.sparse.reset();
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
@@ -666,6 +703,8 @@ fn solve_plan(
             ws.run(&sc.m_shift, q, &lopts)
         } else if let Some(s) = warm {
             ws.run_warm(m, q, &lopts, s)
+        } else if finite {
+            ws.run_scanned(m, q, &lopts, (mmax, qmax))
         } else {
             ws.run(m, q, &lopts)
         };
@@ -686,7 +725,7 @@ fn solve_plan(
         // A solved path already within `unpolished_below` is kept as it is.
         let settled = run.tableau
             && termination == Termination::Solved
-            && resid <= opts.tolerance.min(opts.unpolished_below);
+            && resid <= opts.tolerance.min(unpolished_below);
         let mut polished = false;
         let mut basis_solves = 0;
         if opts.polish && resid > 0.0 && finite && !settled {
