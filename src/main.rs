@@ -154,8 +154,16 @@ enum Command {
         /// cost of a warm start whose guess is right).
         #[arg(long, requires = "time")]
         warm: bool,
+        /// Solve every dump from a basis predicted by block Gauss–Seidel on
+        /// its contact blocks, then the warm Lemke path (docs/physics.md
+        /// §3.3, "Predicted basis"); the prediction is in the timed CPU.
+        #[arg(long, requires = "time", conflicts_with = "warm")]
+        predict: bool,
+        /// Sweep cap of the prediction [default: 100].
+        #[arg(long, value_name = "N", requires = "predict", value_parser = clap::value_parser!(u64).range(1..))]
+        predict_sweeps: Option<u64>,
         /// Also write one CSV row per dump:
-        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots.
+        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties.
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
         /// Problems of at least this many unknowns run on the factorised
@@ -372,11 +380,26 @@ fn main() -> ExitCode {
             time,
             repeat,
             warm,
+            predict,
+            predict_sweeps,
             csv,
             revised_from,
         } => {
             if time {
-                time_lcps(&path, repeat as usize, warm, csv.as_deref(), revised_from)
+                let predict = predict.then(|| {
+                    let mut p = floebench::lcp::predict::PredictOptions::default();
+                    if let Some(k) = predict_sweeps {
+                        p.max_sweeps = usize::try_from(k).unwrap_or(usize::MAX);
+                    }
+                    p
+                });
+                time_lcps(
+                    &path,
+                    repeat as usize,
+                    (warm, predict),
+                    csv.as_deref(),
+                    revised_from,
+                )
             } else if path.is_dir() {
                 eprintln!(
                     "error: {} is a folder: give one dump file, or --time to time every dump of it",
@@ -1108,7 +1131,7 @@ fn resolve_lcp(file: &Path) -> ExitCode {
 fn time_lcps(
     path: &Path,
     repeats: usize,
-    warm: bool,
+    (warm, predict): (bool, Option<floebench::lcp::predict::PredictOptions>),
     csv: Option<&Path>,
     revised_from: Option<usize>,
 ) -> ExitCode {
@@ -1131,6 +1154,7 @@ fn time_lcps(
     let mut opts = TimingOptions {
         repeats,
         warm,
+        predict,
         ..TimingOptions::default()
     };
     if let Some(k) = revised_from {
@@ -1156,7 +1180,9 @@ fn time_lcps(
         "{}: {} dumps, thread CPU per solve (median of {repeats} batches of >= 1 ms){}",
         path.display(),
         rows.len(),
-        if warm {
+        if predict.is_some() {
+            ", from a predicted basis (block Gauss-Seidel, then warm Lemke)"
+        } else if warm {
             ", warm-started from each dump's stored solution"
         } else {
             ""

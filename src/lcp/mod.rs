@@ -52,6 +52,10 @@
 //! [`timing`] times the driver on a folder of dumps (`floebench lcp DIR
 //! --time`).
 //!
+//! [`predict`] guesses the complementary basis of a large contact LCP by a
+//! block nonsmooth Gauss–Seidel (one block per contact), for the warm Lemke
+//! path of the driver.
+//!
 //! [`dump`] writes and reads JSON LCP dumps for reproducing a solve.
 //!
 //! # References
@@ -71,6 +75,7 @@ mod json_f64;
 pub mod lemke;
 pub(crate) mod path;
 pub(crate) mod pivoting;
+pub mod predict;
 pub(crate) mod polish;
 pub(crate) mod revised;
 pub mod solve;
