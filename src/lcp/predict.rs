@@ -454,3 +454,18 @@ pub fn solve_predicted_into(
         }
     }
 }
+
+/// [`solve_predicted_into`] with this thread's work space, returning the
+/// solution and the prediction made, if any.
+pub fn solve_predicted(
+    lcp: &Lcp,
+    opts: &super::SolveOptions,
+    blocks: &Blocks,
+    popts: &PredictOptions,
+) -> (super::LcpSolution, Option<Prediction>) {
+    super::lemke::with_thread_workspace(|ws| {
+        let mut out = super::LcpSolution::empty();
+        let p = solve_predicted_into(ws, lcp, opts, blocks, popts, &mut out);
+        (out, p)
+    })
+}
