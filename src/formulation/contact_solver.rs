@@ -62,10 +62,8 @@
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::ContactLcp;
 use crate::contact::ContactKey;
+use crate::lcp::predict::{basis_mismatch, solve_predicted, Blocks, PredictOptions, Prediction};
 use crate::lcp::SolveStatus;
-use crate::lcp::predict::{
-    basis_mismatch, solve_predicted, Blocks, PredictOptions, Prediction,
-};
 use crate::lcp::Strategy;
 use crate::lcp::{
     solve, solve_warm, BasisGuess, LcpDump, LcpSolution, SolveCounters, SolveOptions,

@@ -287,14 +287,17 @@ fn basic_solution(a: &[f64], r: &[f64], mask: u32, amax: f64, z: &mut [f64]) -> 
     }
     for c in 0..s {
         let piv = (c..s).max_by(|&x, &y| mat[x][c].abs().total_cmp(&mat[y][c].abs()))?;
-        if !(mat[piv][c].abs() > LOCAL_PIVOT * amax) {
+        // A NaN pivot fails this test too.
+        if mat[piv][c].abs().partial_cmp(&(LOCAL_PIVOT * amax)) != Some(std::cmp::Ordering::Greater)
+        {
             return None;
         }
         mat.swap(c, piv);
-        for p in c + 1..s {
-            let f = mat[p][c] / mat[c][c];
-            for k in c..=s {
-                mat[p][k] -= f * mat[c][k];
+        let pivot_row = mat[c];
+        for row in mat[c + 1..s].iter_mut() {
+            let f = row[c] / pivot_row[c];
+            for (x, y) in row[c..=s].iter_mut().zip(&pivot_row[c..=s]) {
+                *x -= f * y;
             }
         }
     }

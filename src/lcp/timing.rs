@@ -24,9 +24,9 @@
 //! by [`summarize`].
 
 use super::dump::{DumpError, LcpDump};
-use super::predict::{basis_mismatch, solve_predicted_into, Blocks, PredictOptions, Prediction};
 use super::lemke::Termination;
 use super::lemke::Workspace;
+use super::predict::{basis_mismatch, solve_predicted_into, Blocks, PredictOptions, Prediction};
 use super::solve::{
     solve_into, solve_warm_into, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
 };
@@ -393,10 +393,16 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
                     .filter(|r| r.accepted_attempt.starts_with("WarmLemke"))
                     .count(),
                 median_sweeps: median(
-                    &mut sel.iter().map(|r| r.predict_sweeps as f64).collect::<Vec<_>>(),
+                    &mut sel
+                        .iter()
+                        .map(|r| r.predict_sweeps as f64)
+                        .collect::<Vec<_>>(),
                 ),
                 median_wrong: median(
-                    &mut sel.iter().map(|r| r.predict_wrong as f64).collect::<Vec<_>>(),
+                    &mut sel
+                        .iter()
+                        .map(|r| r.predict_wrong as f64)
+                        .collect::<Vec<_>>(),
                 ),
             }
         })

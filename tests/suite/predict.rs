@@ -5,9 +5,7 @@
 
 use crate::common::{case_text, counter, run, scenario, with_formulation_table};
 use crate::lemke::{family_lcp, stewart_trinkle, Family, FAMILIES};
-use floebench::lcp::predict::{
-    basis_mismatch, predict, solve_predicted, Blocks, PredictOptions,
-};
+use floebench::lcp::predict::{basis_mismatch, predict, solve_predicted, Blocks, PredictOptions};
 use floebench::lcp::{residual, solve, Lcp, SolveOptions, SolveStatus, Strategy};
 use floebench::rng::SplitMix64;
 
@@ -45,10 +43,18 @@ fn contact_blocks_partition_the_unknowns() {
     assert_eq!(b.blocks(), &[vec![0], vec![1], vec![2]]);
     assert_eq!(Blocks::contacts(7, 2), None, "neither 4m nor m");
     assert_eq!(Blocks::contacts(0, 0), None);
-    assert_eq!(Blocks::new(3, vec![vec![0, 1], vec![1, 2]]), None, "overlap");
+    assert_eq!(
+        Blocks::new(3, vec![vec![0, 1], vec![1, 2]]),
+        None,
+        "overlap"
+    );
     assert_eq!(Blocks::new(3, vec![vec![0, 1]]), None, "2 not covered");
     assert_eq!(Blocks::new(5, vec![(0..5).collect()]), None, "block of 5");
-    assert_eq!(Blocks::new(2, vec![vec![0], vec![2]]), None, "index out of range");
+    assert_eq!(
+        Blocks::new(2, vec![vec![0], vec![2]]),
+        None,
+        "index out of range"
+    );
 }
 
 #[test]
@@ -71,7 +77,10 @@ fn predicted_solves_are_accepted_only_within_the_tolerance() {
             let label = format!("{family:?} {k} (n = {})", lcp.n);
             let p = p.expect("finite data of the right size: a prediction");
             assert!(p.sweeps >= 1 && p.sweeps <= popts.max_sweeps, "{label}");
-            assert!(p.guess.z.iter().all(|v| v.is_finite() && *v >= 0.0), "{label}");
+            assert!(
+                p.guess.z.iter().all(|v| v.is_finite() && *v >= 0.0),
+                "{label}"
+            );
             assert!(sol.status.is_solved(), "{label}: {:?}", sol.attempts);
             assert!(sol.z.iter().all(|v| v.is_finite() && *v >= 0.0), "{label}");
             let r = residual(&lcp.m, &lcp.q, &sol.z);
@@ -194,7 +203,11 @@ fn predict_from_setting_solves_from_the_prediction_in_both_lcp_formulations() {
     for name in ["event-driven", "moreau"] {
         let plain = run(&scenario(&text), name);
         assert!(
-            plain.summary.counters.by_name("lcp_predict_solves").is_err(),
+            plain
+                .summary
+                .counters
+                .by_name("lcp_predict_solves")
+                .is_err(),
             "{name}: not declared when off"
         );
         let table = with_formulation_table(&text, name, "predict_from = 1");
