@@ -213,8 +213,10 @@ const PREDICT_COUNTERS: &[&Counter] = &[
 ];
 
 /// Whether and from which size the LCPs are solved from a predicted basis
-/// (the `predict_from` case key, unknowns): `None`, off (measured slower
-/// than the cold solve on the jammed bay, docs/physics.md §3.3).
+/// (the `predict_from` case key, unknowns): `None`, off. On the 40 LCPs of
+/// more than 800 unknowns of the jammed bay (event-driven, 100 s) the
+/// predicted solve took a median 309 ms against 197 ms cold
+/// (docs/physics.md §3.3, "Predicted basis").
 pub const DEFAULT_PREDICT_FROM: Option<usize> = None;
 
 /// LCPs accepted after principal pivoting completed a Lemke path.

@@ -155,7 +155,10 @@ impl Blocks {
 /// Options of [`predict`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PredictOptions {
-    /// Sweep cap. Default 100.
+    /// Sweep cap. Default 100: a sweep costs about 0.14 ms at n = 1,550
+    /// (bay jam), so 100 sweeps cost about as much as 120 pivots of the
+    /// factorised Lemke path (a cold solve there takes 1,000–26,000); more
+    /// sweeps give better guesses but were not faster (docs/physics.md §3.3).
     pub max_sweeps: usize,
     /// Consecutive sweeps without a change of basis that (with the residual
     /// test) end the sweeps. Default 3.
@@ -163,7 +166,7 @@ pub struct PredictOptions {
     /// Residual (`‖min(z, w)‖₂ / ‖q‖₂`, the driver's) at or below which a
     /// stable basis ends the sweeps. Default 1e-7: on the bay-jam dumps
     /// (n ≈ 1,500) a guess at a residual of 1e-3 still has 40–250 wrong
-    /// indices, at 1e-7 about 5 (docs/physics.md §3.3).
+    /// indices, at 1e-7 about 3 to 5 (docs/physics.md §3.3).
     pub residual: f64,
 }
 
