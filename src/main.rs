@@ -154,8 +154,16 @@ enum Command {
         /// cost of a warm start whose guess is right).
         #[arg(long, requires = "time")]
         warm: bool,
+        /// Solve every dump from a basis predicted by block Gauss–Seidel on
+        /// its contact blocks, then the warm Lemke path (docs/physics.md
+        /// §3.3, "Predicted basis"); the prediction is in the timed CPU.
+        #[arg(long, requires = "time", conflicts_with = "warm")]
+        predict: bool,
+        /// Sweep cap of the prediction [default: 100].
+        #[arg(long, value_name = "N", requires = "predict", value_parser = clap::value_parser!(u64).range(1..))]
+        predict_sweeps: Option<u64>,
         /// Also write one CSV row per dump:
-        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots.
+        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties.
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
         /// Problems of at least this many unknowns run on the factorised
@@ -377,6 +385,8 @@ fn main() -> ExitCode {
             time,
             repeat,
             warm,
+            predict,
+            predict_sweeps,
             csv,
             revised_from,
             small_unpolished_below,
@@ -385,6 +395,13 @@ fn main() -> ExitCode {
                 let mut opts = floebench::lcp::timing::TimingOptions {
                     repeats: repeat as usize,
                     warm,
+                    predict: predict.then(|| {
+                        let mut p = floebench::lcp::predict::PredictOptions::default();
+                        if let Some(k) = predict_sweeps {
+                            p.max_sweeps = usize::try_from(k).unwrap_or(usize::MAX);
+                        }
+                        p
+                    }),
                     ..Default::default()
                 };
                 if let Some(k) = revised_from {
@@ -1170,7 +1187,9 @@ fn time_lcps(
         path.display(),
         rows.len(),
         opts.repeats,
-        if opts.warm {
+        if opts.predict.is_some() {
+            ", from a predicted basis (block Gauss-Seidel, then warm Lemke)"
+        } else if opts.warm {
             ", warm-started from each dump's stored solution"
         } else {
             ""

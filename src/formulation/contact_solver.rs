@@ -62,6 +62,7 @@
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::ContactLcp;
 use crate::contact::ContactKey;
+use crate::lcp::predict::{basis_mismatch, solve_predicted, Blocks, PredictOptions, Prediction};
 use crate::lcp::SolveStatus;
 use crate::lcp::Strategy;
 use crate::lcp::{
@@ -169,6 +170,54 @@ const WARM_COUNTERS: &[&Counter] = &[
     &LCP_WARM_LEMKE_PIVOTS,
     &LCP_WARM_SUPPORT_CHANGES,
 ];
+
+/// LCPs solved from a predicted basis ([`ContactSolver::with_predict_from`]).
+pub const LCP_PREDICT_SOLVES: Counter = Counter::sum(
+    "lcp_predict_solves",
+    "LCPs started from a basis predicted by block Gauss-Seidel (predict_from)",
+);
+/// Predicted solves accepted by the warm Lemke path from the prediction.
+pub const LCP_PREDICT_HITS: Counter = Counter::sum(
+    "lcp_predict_hits",
+    "predicted solves accepted by Lemke's path from the predicted basis",
+);
+/// Predicted solves that fell back to the cold attempts.
+pub const LCP_PREDICT_MISSES: Counter = Counter::sum(
+    "lcp_predict_misses",
+    "predicted solves whose warm Lemke path was not accepted (then solved cold)",
+);
+/// Block Gauss–Seidel sweeps of the predictions.
+pub const LCP_PREDICT_SWEEPS: Counter = Counter::sum(
+    "lcp_predict_sweeps",
+    "block Gauss-Seidel sweeps of the predictions",
+);
+/// Pivots of the warm Lemke paths from a prediction.
+pub const LCP_PREDICT_PIVOTS: Counter = Counter::sum(
+    "lcp_predict_pivots",
+    "pivots of the warm Lemke paths from a predicted basis (included in lemke_pivots)",
+);
+/// Indices where the predicted basis differs from the accepted solution.
+pub const LCP_PREDICT_WRONG: Counter = Counter::sum(
+    "lcp_predict_wrong",
+    "non-degenerate unknowns whose side differs between the predicted basis and the accepted solution",
+);
+
+/// The counters of the predicted basis (declared only when it is on).
+const PREDICT_COUNTERS: &[&Counter] = &[
+    &LCP_PREDICT_SOLVES,
+    &LCP_PREDICT_HITS,
+    &LCP_PREDICT_MISSES,
+    &LCP_PREDICT_SWEEPS,
+    &LCP_PREDICT_PIVOTS,
+    &LCP_PREDICT_WRONG,
+];
+
+/// Whether and from which size the LCPs are solved from a predicted basis
+/// (the `predict_from` case key, unknowns): `None`, off. On the 40 LCPs of
+/// more than 800 unknowns of the jammed bay (event-driven, 100 s) the
+/// predicted solve took a median 309 ms against 197 ms cold
+/// (docs/physics.md §3.3, "Predicted basis").
+pub const DEFAULT_PREDICT_FROM: Option<usize> = None;
 
 /// LCPs accepted after principal pivoting completed a Lemke path.
 pub const LCP_COMPLETED_BY_PIVOTING: Counter = Counter::sum(
@@ -531,6 +580,10 @@ pub struct ContactSolver {
     /// Whether each warm-solved LCP is solved cold too
     /// ([`ContactSolver::with_warm_check`]).
     warm_check: bool,
+    /// Smallest LCP (unknowns) solved from a predicted basis; `None`: off.
+    predict_from: Option<usize>,
+    /// Options of the prediction.
+    predict: PredictOptions,
 }
 
 impl ContactSolver {
@@ -576,7 +629,25 @@ impl ContactSolver {
             timer: Sampler::new(BUCKET_BOUNDS.len() + 1),
             warm: warm_start.then(Default::default),
             warm_check: false,
+            predict_from: DEFAULT_PREDICT_FROM,
+            predict: PredictOptions::default(),
         }
+    }
+
+    /// This solver with the predicted basis from `from` unknowns on
+    /// (`None`: off): an LCP of at least that size without a warm-start
+    /// guess is solved by [`crate::lcp::predict::solve_predicted`] (block
+    /// Gauss–Seidel on its contact blocks, then Lemke's path from the
+    /// predicted basis, then the cold attempts; docs/physics.md §3.3).
+    /// Counted: [`LCP_PREDICT_SOLVES`], [`LCP_PREDICT_HITS`],
+    /// [`LCP_PREDICT_MISSES`], [`LCP_PREDICT_SWEEPS`],
+    /// [`LCP_PREDICT_PIVOTS`], [`LCP_PREDICT_WRONG`].
+    pub fn with_predict_from(mut self, from: Option<usize>) -> ContactSolver {
+        self.predict_from = from;
+        if from.is_some() {
+            self.counters.declare(PREDICT_COUNTERS);
+        }
+        self
     }
 
     /// This solver with the warm-start check on or off (`floebench run
@@ -606,11 +677,16 @@ impl ContactSolver {
     }
 
     /// `settings` with the solver's own: `solver` (its method),
-    /// `warm_start` (`on`/`off`) and, with the warm start on, `warm_lemke`.
+    /// `warm_start` (`on`/`off`), `predict_from` when on and, with the warm
+    /// start on, `warm_lemke`.
     pub fn settings(&self, settings: Settings) -> Settings {
         let s = settings
             .text("solver", self.kind.name())
             .text("warm_start", if self.warm_start() { "on" } else { "off" });
+        let s = match self.predict_from {
+            Some(k) => s.text("predict_from", &k.to_string()),
+            None => s,
+        };
         if self.warm_start() {
             s.text(
                 "warm_lemke",
@@ -633,11 +709,19 @@ impl ContactSolver {
     fn lemke(&mut self, lcp: &ContactLcp, guess: Option<&BasisGuess>) -> LcpSolution {
         let k = bucket_of(lcp.lcp.n);
         let started = self.timer.begin(k);
-        let sol = match guess {
-            Some(g) => solve_warm(&lcp.lcp, &self.opts, g),
-            None => solve(&lcp.lcp, &self.opts),
+        let blocks = match (guess, self.predict_from) {
+            (None, Some(from)) if lcp.lcp.n >= from => Blocks::contacts(lcp.lcp.n, lcp.m),
+            _ => None,
+        };
+        let (sol, prediction) = match (guess, &blocks) {
+            (Some(g), _) => (solve_warm(&lcp.lcp, &self.opts, g), None),
+            (None, Some(b)) => solve_predicted(&lcp.lcp, &self.opts, b, &self.predict),
+            (None, None) => (solve(&lcp.lcp, &self.opts), None),
         };
         let seconds = self.timer.end(k, started);
+        if let Some(p) = &prediction {
+            self.count_prediction(lcp, p, &sol);
+        }
         if let Some(b) = self.profile.buckets.get_mut(k) {
             b.solves += 1;
             b.pivots += sol.pivots as u64;
@@ -666,6 +750,30 @@ impl ContactSolver {
             b.seconds += seconds.unwrap_or(0.0);
         }
         sol
+    }
+
+    /// Counts one solve from a predicted basis `p` with outcome `sol`.
+    fn count_prediction(&mut self, lcp: &ContactLcp, p: &Prediction, sol: &LcpSolution) {
+        let c = &mut self.counters;
+        c.add(&LCP_PREDICT_SOLVES, 1);
+        c.add(&LCP_PREDICT_SWEEPS, p.sweeps as u64);
+        if let Some(a) = sol.warm_lemke_attempt() {
+            c.add(&LCP_PREDICT_PIVOTS, a.pivots as u64);
+            c.add(
+                if a.accepted {
+                    &LCP_PREDICT_HITS
+                } else {
+                    &LCP_PREDICT_MISSES
+                },
+                1,
+            );
+        }
+        if sol.status.is_solved() {
+            let qn = lcp.lcp.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let tie = self.opts.tolerance * qn;
+            let (wrong, _) = basis_mismatch(&p.guess.basic, &sol.z, &sol.w, tie);
+            c.add(&LCP_PREDICT_WRONG, wrong as u64);
+        }
     }
 
     /// The method in use.

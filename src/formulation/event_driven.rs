@@ -94,7 +94,9 @@
 //! - F. Pfeiffer, C. Glocker (1996), *Multibody Dynamics with Unilateral
 //!   Contacts* (Poisson's impact law).
 
-use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START};
+use super::contact_solver::{
+    ContactSolver, SolverKind, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START,
+};
 use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
@@ -139,8 +141,19 @@ pub const ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "event-driven",
     validate: |t| EventDrivenSettings::from_table(t).map(|_| ()),
-    limits: &[PENETRATION_TOLERANCE],
+    limits: &[PENETRATION_TOLERANCE, PREDICT_FROM],
 };
+
+/// The bound of `predict_from`, unknowns (an LCP size).
+pub const PREDICT_FROM: Limit = Limit::range(
+    "predict_from",
+    "[formulation.event-driven]",
+    1.0,
+    1e9,
+    "",
+    "a contact LCP has at most 4 unknowns per contact; 1e9 unknowns would be a dense matrix of 8e18 bytes",
+)
+.integers();
 
 /// The bound of `penetration_tolerance`, m.
 pub const PENETRATION_TOLERANCE: Limit = Limit::range(
@@ -173,6 +186,11 @@ pub struct EventDrivenSettings {
     /// [`ContactSolver::with_warm_lemke`]). Without the warm start it does
     /// nothing.
     pub warm_lemke: bool,
+    /// `predict_from`: LCPs of at least this many unknowns (and no
+    /// warm-start guess) are solved from a basis predicted by block
+    /// Gauss–Seidel (default [`DEFAULT_PREDICT_FROM`]: absent, off; see
+    /// [`ContactSolver::with_predict_from`]).
+    pub predict_from: Option<usize>,
 }
 
 impl EventDrivenSettings {
@@ -184,6 +202,9 @@ impl EventDrivenSettings {
             solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
             warm_start: r.boolean("warm_start")?.unwrap_or(DEFAULT_WARM_START),
             warm_lemke: r.boolean("warm_lemke")?.unwrap_or(DEFAULT_WARM_LEMKE),
+            predict_from: r
+                .integer(&PREDICT_FROM)?
+                .map_or(DEFAULT_PREDICT_FROM, |k| usize::try_from(k).ok()),
         };
         r.finish()?;
         Ok(s)
@@ -734,6 +755,7 @@ impl EventDriven {
                 settings.warm_start,
             )
             .with_warm_lemke(settings.warm_lemke)
+            .with_predict_from(settings.predict_from)
             .with_warm_check(opts.warm_check),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),

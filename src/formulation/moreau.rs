@@ -119,7 +119,9 @@
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
-use super::contact_solver::{ContactSolver, SolverKind, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START};
+use super::contact_solver::{
+    ContactSolver, SolverKind, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START,
+};
 use super::{
     check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
     NotClaimed,
@@ -196,8 +198,19 @@ pub const CONE_ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "moreau",
     validate: |t| MoreauSettings::from_table(t).map(|_| ()),
-    limits: &[STEP, THETA, GAMMA],
+    limits: &[STEP, THETA, GAMMA, PREDICT_FROM],
 };
+
+/// The bound of `predict_from`, unknowns (an LCP size).
+pub const PREDICT_FROM: Limit = Limit::range(
+    "predict_from",
+    "[formulation.moreau]",
+    1.0,
+    1e9,
+    "",
+    "a contact LCP has at most 4 unknowns per contact; 1e9 unknowns would be a dense matrix of 8e18 bytes",
+)
+.integers();
 
 /// The bound of `theta`.
 pub const THETA: Limit = Limit::range(
@@ -244,6 +257,11 @@ pub struct MoreauSettings {
     /// [`ContactSolver::with_warm_lemke`]). Without the warm start it does
     /// nothing.
     pub warm_lemke: bool,
+    /// `predict_from`: LCPs of at least this many unknowns (and no
+    /// warm-start guess) are solved from a basis predicted by block
+    /// Gauss–Seidel (default [`DEFAULT_PREDICT_FROM`]: absent, off; see
+    /// [`ContactSolver::with_predict_from`]).
+    pub predict_from: Option<usize>,
 }
 
 impl Default for MoreauSettings {
@@ -255,6 +273,7 @@ impl Default for MoreauSettings {
             solver: SolverKind::Lcp,
             warm_start: DEFAULT_WARM_START,
             warm_lemke: DEFAULT_WARM_LEMKE,
+            predict_from: DEFAULT_PREDICT_FROM,
         }
     }
 }
@@ -271,6 +290,9 @@ impl MoreauSettings {
             solver: r.choice("solver")?.unwrap_or(d.solver),
             warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
             warm_lemke: r.boolean("warm_lemke")?.unwrap_or(d.warm_lemke),
+            predict_from: r
+                .integer(&PREDICT_FROM)?
+                .map_or(d.predict_from, |k| usize::try_from(k).ok()),
         };
         r.finish()?;
         Ok(s)
@@ -414,6 +436,7 @@ impl Moreau {
                 s.warm_start,
             )
             .with_warm_lemke(s.warm_lemke)
+            .with_predict_from(s.predict_from)
             .with_warm_check(opts.warm_check),
             counters: Counters::new(COUNTERS),
             records: Vec::new(),

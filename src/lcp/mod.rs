@@ -52,6 +52,10 @@
 //! [`timing`] times the driver on a folder of dumps (`floebench lcp DIR
 //! --time`).
 //!
+//! [`predict`] guesses the complementary basis of a large contact LCP by a
+//! block nonsmooth Gauss–Seidel (one block per contact), for the warm Lemke
+//! path of the driver.
+//!
 //! [`dump`] writes and reads JSON LCP dumps for reproducing a solve.
 //!
 //! # References
@@ -72,6 +76,7 @@ pub mod lemke;
 pub(crate) mod path;
 pub(crate) mod pivoting;
 pub(crate) mod polish;
+pub mod predict;
 pub(crate) mod revised;
 pub mod solve;
 pub(crate) mod sparse;

@@ -10,6 +10,15 @@
 //! elapsed, divided by the number of solves. The reported figure is the
 //! median over [`TimingOptions::repeats`] batches (default 5).
 //!
+//! With [`TimingOptions::predict`] (`--predict`) every solve is the
+//! driver from a predicted basis ([`super::predict::solve_predicted_into`]:
+//! the block Gauss–Seidel prediction on the dump's contact blocks, then the
+//! warm Lemke path from it, then the cold attempts if needed), the
+//! prediction included in the timed CPU; the rows then also give its
+//! sweeps and how many indices of its guess differ from the basis of the
+//! accepted solution. A dump whose size is neither `4 · contacts` nor
+//! `contacts` is solved cold.
+//!
 //! The per-problem rows ([`TimedSolve`]) are written as CSV by [`csv`] and
 //! summarised per size bucket (unknowns 1–8, 9–40, 41–200, 201–800, > 800)
 //! by [`summarize`].
@@ -17,6 +26,7 @@
 use super::dump::{DumpError, LcpDump};
 use super::lemke::Termination;
 use super::lemke::Workspace;
+use super::predict::{basis_mismatch, solve_predicted_into, Blocks, PredictOptions, Prediction};
 use super::solve::{
     solve_into, solve_warm_into, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
 };
@@ -55,6 +65,10 @@ pub struct TimingOptions {
     /// solution (`basic = z > 0`, starting point `z`): the cost of a warm
     /// start whose guess is right.
     pub warm: bool,
+    /// Solve every dump from a predicted basis (module doc), with these
+    /// options of the prediction; `None`: cold (or `warm`). Takes
+    /// precedence over `warm`.
+    pub predict: Option<PredictOptions>,
 }
 
 impl Default for TimingOptions {
@@ -64,6 +78,7 @@ impl Default for TimingOptions {
             min_batch_seconds: 1e-3,
             solve: SolveOptions::default(),
             warm: false,
+            predict: None,
         }
     }
 }
@@ -94,6 +109,15 @@ pub struct TimedSolve {
     pub first_termination: Termination,
     /// Pivots of the first attempt.
     pub first_pivots: usize,
+    /// Sweeps of the prediction (0 without one).
+    pub predict_sweeps: usize,
+    /// Indices where the predicted basis differs from the basis of the
+    /// accepted solution, non-degenerate indices only (0 without a
+    /// prediction; see [`basis_mismatch`], ties at `tolerance · ‖q‖₂`).
+    pub predict_wrong: usize,
+    /// Degenerate indices of the accepted solution (both `z_i` and `w_i`
+    /// within the tie level), left out of `predict_wrong`.
+    pub predict_ties: usize,
 }
 
 /// Name of the accepted attempt of `sol` as written in the CSV, with
@@ -132,14 +156,44 @@ pub fn time_solve(
     opts: &TimingOptions,
     guess: Option<&BasisGuess>,
 ) -> (LcpSolution, f64) {
+    let (sol, us, _) = time_start(lcp, opts, guess.map_or(Start::Cold, Start::Guess));
+    (sol, us)
+}
+
+/// How [`time_start`] starts each solve.
+#[derive(Debug, Clone, Copy)]
+pub enum Start<'a> {
+    /// The cold driver ([`solve_into`]).
+    Cold,
+    /// A warm start from a guess ([`solve_warm_into`]).
+    Guess(&'a BasisGuess),
+    /// A predicted basis on these blocks, with these options
+    /// ([`solve_predicted_into`]).
+    Predict(&'a Blocks, &'a PredictOptions),
+}
+
+/// [`time_solve`] with any [`Start`]; also returns the prediction of the
+/// first solve, if one was made.
+pub fn time_start(
+    lcp: &super::Lcp,
+    opts: &TimingOptions,
+    start: Start<'_>,
+) -> (LcpSolution, f64, Option<Prediction>) {
     let mut ws = Workspace::default();
     let mut out = LcpSolution::empty();
-    let mut run = |l: &super::Lcp, out: &mut LcpSolution| match guess {
-        Some(g) => solve_warm_into(&mut ws, l, &opts.solve, g, out),
-        None => solve_into(&mut ws, l, &opts.solve, out),
+    let mut run = |l: &super::Lcp, out: &mut LcpSolution| match start {
+        Start::Guess(g) => {
+            solve_warm_into(&mut ws, l, &opts.solve, g, out);
+            None
+        }
+        Start::Cold => {
+            solve_into(&mut ws, l, &opts.solve, out);
+            None
+        }
+        Start::Predict(b, p) => solve_predicted_into(&mut ws, l, &opts.solve, b, p, out),
     };
     let t0 = thread_cpu_seconds();
-    run(black_box(lcp), &mut out);
+    let prediction = run(black_box(lcp), &mut out);
     let first = (thread_cpu_seconds() - t0).max(0.0);
     let sol = out.clone();
     let min_batch = if opts.min_batch_seconds.is_finite() {
@@ -169,7 +223,7 @@ pub fn time_solve(
         }
         samples.push(dt / batch as f64 * 1e6);
     }
-    (sol, median(&mut samples))
+    (sol, median(&mut samples), prediction)
 }
 
 /// Median of `v` (reorders it); NaN for an empty slice.
@@ -207,7 +261,20 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
         basic: dump.z.iter().map(|&v| v > 0.0).collect(),
         z: dump.z.clone(),
     });
-    let (sol, cpu_us) = time_solve(&lcp, opts, guess.as_ref());
+    let blocks = opts
+        .predict
+        .as_ref()
+        .and_then(|p| Blocks::contacts(lcp.n, dump.contacts).map(|b| (b, p)));
+    let start = match (&blocks, &guess) {
+        (Some((b, p)), _) => Start::Predict(b, p),
+        (None, Some(g)) => Start::Guess(g),
+        (None, None) => Start::Cold,
+    };
+    let (sol, cpu_us, prediction) = time_start(&lcp, opts, start);
+    let qn = lcp.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let (predict_wrong, predict_ties) = prediction.as_ref().map_or((0, 0), |p| {
+        basis_mismatch(&p.guess.basic, &sol.z, &sol.w, opts.solve.tolerance * qn)
+    });
     Ok(TimedSolve {
         file: path
             .file_name()
@@ -225,19 +292,22 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
             .first()
             .map_or(Termination::Solved, |a| a.termination),
         first_pivots: sol.attempts.first().map_or(0, |a| a.pivots),
+        predict_sweeps: prediction.as_ref().map_or(0, |p| p.sweeps),
+        predict_wrong,
+        predict_ties,
     })
 }
 
 /// The CSV header of [`csv`].
 pub const CSV_HEADER: &str =
-    "file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots";
+    "file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties";
 
 /// The CSV text of `rows`, with the header [`CSV_HEADER`].
 pub fn csv(rows: &[TimedSolve]) -> String {
     let mut s = format!("{CSV_HEADER}\n");
     for r in rows {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{:e},{:.4},{},{}\n",
+            "{},{},{},{},{},{},{:e},{:.4},{},{},{},{},{}\n",
             r.file,
             r.n,
             r.contacts,
@@ -247,7 +317,10 @@ pub fn csv(rows: &[TimedSolve]) -> String {
             r.residual,
             r.cpu_us,
             r.first_termination.as_str(),
-            r.first_pivots
+            r.first_pivots,
+            r.predict_sweeps,
+            r.predict_wrong,
+            r.predict_ties
         ));
     }
     s
@@ -276,6 +349,13 @@ pub struct BucketSummary {
     pub max_residual: f64,
     /// Total CPU time of one solve of each problem, s.
     pub total_seconds: f64,
+    /// Problems accepted by the warm Lemke path (from a predicted basis
+    /// with `--predict`).
+    pub warm_lemke_hits: usize,
+    /// Median sweeps of the prediction (NaN if empty; 0 without one).
+    pub median_sweeps: f64,
+    /// Median of the guess's wrong indices ([`TimedSolve::predict_wrong`]).
+    pub median_wrong: f64,
 }
 
 /// One [`BucketSummary`] per entry of [`BUCKETS`] (empty buckets included).
@@ -308,13 +388,32 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
                     .count(),
                 max_residual: sel.iter().map(|r| r.residual).fold(0.0, f64::max),
                 total_seconds: sel.iter().fold(0.0, |a, r| a + r.cpu_us) * 1e-6,
+                warm_lemke_hits: sel
+                    .iter()
+                    .filter(|r| r.accepted_attempt.starts_with("WarmLemke"))
+                    .count(),
+                median_sweeps: median(
+                    &mut sel
+                        .iter()
+                        .map(|r| r.predict_sweeps as f64)
+                        .collect::<Vec<_>>(),
+                ),
+                median_wrong: median(
+                    &mut sel
+                        .iter()
+                        .map(|r| r.predict_wrong as f64)
+                        .collect::<Vec<_>>(),
+                ),
             }
         })
         .collect()
 }
 
-/// The summary as a fixed-width text table.
+/// The summary as a fixed-width text table; with a prediction in any
+/// bucket, three more columns: warm Lemke hits, median sweeps, median
+/// wrong indices of the guess.
 pub fn format_summary(rows: &[BucketSummary]) -> String {
+    let predicted = rows.iter().any(|r| r.median_sweeps > 0.0);
     let mut s = format!(
         "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>6} {:>6} {:>11} {:>10}\n",
         "unknowns",
@@ -328,6 +427,10 @@ pub fn format_summary(rows: &[BucketSummary]) -> String {
         "max resid",
         "total s"
     );
+    if predicted {
+        s.pop();
+        s.push_str(&format!(" {:>6} {:>7} {:>7}\n", "hits", "sweeps", "wrong"));
+    }
     for r in rows {
         if r.count == 0 {
             s.push_str(&format!("{:<9} {:>6}\n", r.label, 0));
@@ -346,6 +449,13 @@ pub fn format_summary(rows: &[BucketSummary]) -> String {
             r.max_residual,
             r.total_seconds
         ));
+        if predicted {
+            s.pop();
+            s.push_str(&format!(
+                " {:>6} {:>7.1} {:>7.1}\n",
+                r.warm_lemke_hits, r.median_sweeps, r.median_wrong
+            ));
+        }
     }
     s
 }

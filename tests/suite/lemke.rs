@@ -1191,7 +1191,7 @@ fn lexicographic_attempt_alone_reports_no_ray_where_z_is_a_solution() {
 /// matrix `G = Hᵀ M⁻¹ H` of `H = (J, D)` scaled by its mean diagonal, the
 /// unknowns `(λ, β⁺β⁻…, α)`, the rows `γ = … + E α` and the Coulomb rows
 /// `μ λ − Eᵀ β` in velocity units (scaled by `G_jj`).
-fn stewart_trinkle(rng: &mut SplitMix64, nb: usize, m: usize, mu: f64) -> Lcp {
+pub(crate) fn stewart_trinkle(rng: &mut SplitMix64, nb: usize, m: usize, mu: f64) -> Lcp {
     let cols = 3 * m;
     let mut h = vec![0.0; 3 * nb * cols];
     for j in 0..m {
@@ -1643,7 +1643,7 @@ fn strict_dump_reader_names_the_key_and_the_file() {
 
 /// The problem families of the path tests.
 #[derive(Debug, Clone, Copy, PartialEq)]
-enum Family {
+pub(crate) enum Family {
     /// Non-symmetric positive definite or diagonally dominant: P-matrix,
     /// unique solution.
     PMatrix,
@@ -1658,7 +1658,7 @@ enum Family {
 }
 
 /// Every family of the path tests.
-const FAMILIES: [Family; 4] = [
+pub(crate) const FAMILIES: [Family; 4] = [
     Family::PMatrix,
     Family::Psd,
     Family::Degenerate,
@@ -1666,7 +1666,7 @@ const FAMILIES: [Family; 4] = [
 ];
 
 /// A feasible LCP of `family` with about `n` unknowns.
-fn family_lcp(rng: &mut SplitMix64, family: Family, n: usize) -> Lcp {
+pub(crate) fn family_lcp(rng: &mut SplitMix64, family: Family, n: usize) -> Lcp {
     match family {
         Family::PMatrix => {
             let m = if rng.uniform() < 0.5 {

@@ -27,6 +27,7 @@ mod percussion;
 mod percussion2d;
 mod physics;
 mod plot;
+mod predict;
 mod rapier;
 mod registry;
 mod runner;
