@@ -557,17 +557,7 @@ fn block_sparse_assembly_equals_the_dense_product() {
     ] {
         let mut text = case_text(name);
         if frictionless {
-            text = text
-                .lines()
-                .map(|l| {
-                    if l.trim_start().starts_with("friction =") {
-                        "friction = 0.0"
-                    } else {
-                        l
-                    }
-                })
-                .collect::<Vec<_>>()
-                .join("\n");
+            text = without_friction(&text);
         }
         let scn = scenario(&text);
         assert_eq!(scn.contact.friction == 0.0, frictionless, "{name}");
@@ -626,17 +616,7 @@ fn the_driver_residual_of_large_lcps_equals_the_dense_compensated_sum() {
     // (up to the sign of a zero), on real contact LCPs: the frictional
     // elastic pool (184 unknowns) and the frictionless bay jam (980).
     let pool = case_text("elastic_pool").replace("friction = 0.0", "friction = 0.3");
-    let bay: String = case_text("fields/bay_jam_200")
-        .lines()
-        .map(|l| {
-            if l.trim_start().starts_with("friction =") {
-                "friction = 0.0"
-            } else {
-                l
-            }
-        })
-        .collect::<Vec<_>>()
-        .join("\n");
+    let bay = without_friction(&case_text("fields/bay_jam_200"));
     let mut large = 0;
     for (text, distance) in [(pool, 12.0), (bay, 30.0)] {
         let (lcps, _) = problems_at_start(&scenario(&text), distance);
@@ -660,4 +640,18 @@ fn the_driver_residual_of_large_lcps_equals_the_dense_compensated_sum() {
         }
     }
     assert!(large >= 2, "{large} large LCPs");
+}
+
+/// A case text with its `friction` line set to 0.
+fn without_friction(text: &str) -> String {
+    text.lines()
+        .map(|l| {
+            if l.trim_start().starts_with("friction =") {
+                "friction = 0.0"
+            } else {
+                l
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
 }
