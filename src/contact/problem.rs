@@ -42,9 +42,10 @@
 //! by floe over the columns touching each floe (`Σ_l 3 k_l²` fused
 //! multiply–adds for `k_l` columns touching floe `l`) instead of as a dense
 //! product over every floe of the group; each entry is then the fused sum
-//! of its non-zero terms in row order. Off by default
-//! ([`BLOCK_SPARSE_MAX_ROWS`]): it differs from the dense product at the
-//! last bit on some groups, which moves the sample report's runs.
+//! of its non-zero terms in row order. This is what the assembly computes
+//! (the dense product it replaced differs at the last bit on about 1 % of
+//! the entries of a 200-floe group, where faer adds its sums by cache
+//! blocks of rows: docs/physics.md §3.1).
 //!
 //! **Scaling.** Delassus entries are inverse masses (1e-8 /kg for a
 //! 100 m floe) while `μ` and `E` are of order one; unscaled, Lemke's rounding
@@ -148,25 +149,10 @@ pub struct ContactLcp {
     pub keys: Vec<ContactKey>,
 }
 
-/// Largest number of rows of `H` (three per floe of the group) whose
-/// Delassus matrix is summed block-sparsely ([`delassus_blocks`]); larger
-/// groups use the dense product ([`dense_delassus`]). Default 0: off. On the
-/// groups of the tests of up to 64 rows the two give the same bits, but in
-/// `compare cases/` with 64 the elastic pool's event-driven run moved (74
-/// metrics: faer's product of small matrices does not always sum in row
-/// order), so the block-sparse sum waits for a regenerated sample report.
-/// Above 64 rows the dense product splits the rows
-/// of `H` into cache blocks and adds the blocks' sums, so about 1 % of the
-/// entries of a 200-floe group differ by one rounding, and that moved the
-/// trajectory of the bay jam (a run's contact sequence is chaotic at the
-/// rounding level: 100 s of the jam took 253 s of CPU instead of 34 s, with
-/// another energy exchange). Kept at a size inside any cache block, so that
-/// results stay those of the dense product until the change is accepted
-/// with a regenerated sample report (docs/physics.md §3.3).
-pub const BLOCK_SPARSE_MAX_ROWS: usize = 0;
-
 /// `HᵀM⁻¹H` by the dense faer product over every row of `H`
-/// (`minv`: the inverse mass of each row).
+/// (`minv`: the inverse mass of each row): what the assembly computed
+/// before the block-sparse sum ([`delassus_blocks`]), kept as the
+/// reference of its tests ([`ContactLcp::dense_delassus_reference`]).
 fn dense_delassus(h: &Mat<f64>, minv: &[f64]) -> Mat<f64> {
     let mut minv_h = h.clone();
     for r in 0..h.nrows() {
@@ -310,19 +296,7 @@ impl ContactLcp {
         }
         let n = if friction { 4 * m } else { m };
         let mut a = vec![0.0; n * n];
-        // Always false at the default 0 (off); the switch is the constant.
-        #[allow(clippy::absurd_extreme_comparisons)]
-        let block_sparse = 3 * ng <= BLOCK_SPARSE_MAX_ROWS;
-        if block_sparse {
-            delassus_blocks(&h, &minv, &touching, n, &mut a);
-        } else {
-            let g = dense_delassus(&h, &minv);
-            for r in 0..cols {
-                for c in 0..cols {
-                    a[r * n + c] = g[(r, c)];
-                }
-            }
-        }
+        delassus_blocks(&h, &minv, &touching, n, &mut a);
         let scale = {
             let d: f64 = (0..cols).map(|k| a[k * n + k]).sum::<f64>() / cols.max(1) as f64;
             if d.is_finite() && d > 0.0 {
@@ -393,7 +367,7 @@ impl ContactLcp {
 
     /// The scaled Delassus block `HᵀM⁻¹H / g` (`cols × cols`, row-major,
     /// `cols` the columns of `H`) by the dense faer product over every row
-    /// of `H` (what the assembly uses above [`BLOCK_SPARSE_MAX_ROWS`]). A
+    /// of `H` (what the assembly computed before the block-sparse sum). A
     /// reference for the tests of the block-sparse sum only.
     #[doc(hidden)]
     pub fn dense_delassus_reference(&self) -> Vec<f64> {
@@ -409,8 +383,8 @@ impl ContactLcp {
     }
 
     /// The scaled Delassus block `HᵀM⁻¹H / g` (`cols × cols`, row-major)
-    /// by the block-sparse sum ([`delassus_blocks`], used by the assembly up
-    /// to [`BLOCK_SPARSE_MAX_ROWS`] rows of `H`), for its tests.
+    /// by the block-sparse sum ([`delassus_blocks`], what the assembly
+    /// computes), recomputed from `H` alone, for its tests.
     #[doc(hidden)]
     pub fn block_sparse_delassus(&self) -> Vec<f64> {
         let (rows, cols) = (self.h.nrows(), self.h.ncols());

@@ -534,14 +534,15 @@ fn free_drift_reaches_the_analytic_velocity_and_the_ledger_error_falls_with_h() 
 fn block_sparse_assembly_equals_the_dense_product() {
     // The Delassus block of every group of real packs (several floes, walls,
     // shores and coast as obstacles, with and without friction) against the
-    // dense faer product over every row of H that the assembly used before.
+    // dense faer product over every row of H that the assembly used before,
+    // and the assembly's own block (the block-sparse sum) against both.
     // Each entry is now one fused sum over its non-zero terms in row order;
     // the dense product splits the rows of H into cache blocks (of a size
     // chosen by the CPU's caches) and adds the blocks' sums, so on groups
     // larger than one block an entry may differ by one rounding. Small
     // groups (at most 64 rows of H, within any block) must agree bit for
     // bit, large ones to 1e-15 of sqrt(G_rr G_cc) (the scale of the terms);
-    // the assembly itself keeps the dense product (BLOCK_SPARSE_MAX_ROWS).
+    // the assembled LCP holds the block-sparse sum, bit for bit.
     let mut groups_checked = 0;
     let mut multi_floe = 0;
     let mut with_obstacle = 0;
@@ -571,8 +572,8 @@ fn block_sparse_assembly_equals_the_dense_product() {
             for r in 0..cols {
                 for c in 0..cols {
                     let want = reference[r * cols + c];
-                    assert_eq!(lcp.lcp.m[r * n + c].to_bits(), want.to_bits());
                     let got = sparse[r * cols + c];
+                    assert_eq!(lcp.lcp.m[r * n + c].to_bits(), got.to_bits());
                     let bound = 1e-15 * (reference[r * cols + r] * reference[c * cols + c]).sqrt();
                     let same = got.to_bits() == want.to_bits();
                     assert!(
