@@ -195,14 +195,21 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
     let scale = cmax.max(1.0);
     let thresh = opts.pivot_tol * scale;
     let noise = opts.pivot_tol * 1e-3 * scale;
-    let mut min = f64::INFINITY;
+    // The smallest ratio, its row and the smallest ratio of the other
+    // rows: when that is beyond the tie tolerance the minimiser is the only
+    // candidate, and the ratios need not be computed again to list ties.
+    let (mut min, mut arg, mut second) = (f64::INFINITY, NONE, f64::INFINITY);
     let mut small = false;
     for i in 0..n {
         let c = e.c(i);
         if c > thresh {
             let r = e.b(i).max(0.0) / c;
             if r < min {
+                second = min;
                 min = r;
+                arg = i;
+            } else if r < second {
+                second = r;
             }
         } else if c > noise {
             small = true;
@@ -225,6 +232,9 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
     }
     cand.clear();
     let tol = opts.tie_tol * min.abs();
+    if second > min + tol {
+        return Step::Pivot(arg);
+    }
     for i in 0..n {
         let c = e.c(i);
         if c > thresh && e.b(i).max(0.0) / c <= min + tol {
@@ -318,18 +328,31 @@ fn select_among_ties<B: Basis>(
 
 /// Keeps the entries of `cand` whose `key` is at most
 /// `min + rel_tol · |min| + abs_tol`.
+///
+/// The smallest key of the other entries is tracked with the minimum: when
+/// it is beyond the tolerance (the usual case, no tie) the minimiser alone
+/// is kept without computing the keys a second time.
 fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, abs_tol: f64) {
-    let mut min = f64::INFINITY;
+    let (mut min, mut arg, mut second) = (f64::INFINITY, NONE, f64::INFINITY);
     for &i in cand.iter() {
         let v = key(i);
         if v < min {
+            second = min;
             min = v;
+            arg = i;
+        } else if v < second {
+            second = v;
         }
     }
     if !min.is_finite() {
         return;
     }
     let tol = rel_tol * min.abs() + abs_tol;
+    if second > min + tol {
+        cand.clear();
+        cand.push(arg);
+        return;
+    }
     cand.retain(|&i| key(i) <= min + tol);
 }
 
