@@ -198,23 +198,17 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
     // The smallest ratio, its row and the smallest ratio of the other
     // rows: when that is beyond the tie tolerance the minimiser is the only
     // candidate, and the ratios need not be computed again to list ties.
-    let (mut min, mut arg, mut second) = (f64::INFINITY, NONE, f64::INFINITY);
+    let mut least = Least::default();
     let mut small = false;
     for i in 0..n {
         let c = e.c(i);
         if c > thresh {
-            let r = e.b(i).max(0.0) / c;
-            if r < min {
-                second = min;
-                min = r;
-                arg = i;
-            } else if r < second {
-                second = r;
-            }
+            least.add(i, e.b(i).max(0.0) / c);
         } else if c > noise {
             small = true;
         }
     }
+    let Least { min, arg, second } = least;
     if min == f64::INFINITY {
         return if small { Step::TooSmall } else { Step::Ray };
     }
@@ -333,17 +327,11 @@ fn select_among_ties<B: Basis>(
 /// it is beyond the tolerance (the usual case, no tie) the minimiser alone
 /// is kept without computing the keys a second time.
 fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, abs_tol: f64) {
-    let (mut min, mut arg, mut second) = (f64::INFINITY, NONE, f64::INFINITY);
+    let mut least = Least::default();
     for &i in cand.iter() {
-        let v = key(i);
-        if v < min {
-            second = min;
-            min = v;
-            arg = i;
-        } else if v < second {
-            second = v;
-        }
+        least.add(i, key(i));
     }
+    let Least { min, arg, second } = least;
     if !min.is_finite() {
         return;
     }
@@ -354,6 +342,37 @@ fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, a
         return;
     }
     cand.retain(|&i| key(i) <= min + tol);
+}
+
+/// The smallest of a stream of keys, its index, and the smallest key of the
+/// other indices (NaN keys are skipped: a comparison with NaN is false).
+struct Least {
+    min: f64,
+    arg: usize,
+    second: f64,
+}
+
+impl Default for Least {
+    fn default() -> Self {
+        Self {
+            min: f64::INFINITY,
+            arg: NONE,
+            second: f64::INFINITY,
+        }
+    }
+}
+
+impl Least {
+    #[inline(always)]
+    fn add(&mut self, i: usize, v: f64) {
+        if v < self.min {
+            self.second = self.min;
+            self.min = v;
+            self.arg = i;
+        } else if v < self.second {
+            self.second = v;
+        }
+    }
 }
 
 fn largest_pivot(rows: &[usize], c: impl Fn(usize) -> f64) -> Option<usize> {
