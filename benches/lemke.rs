@@ -15,9 +15,9 @@
 //! `floebench lcp --time`; one iteration solves every dump of the bucket
 //! with one work space and one output ([`solve_into`]).
 //!
-//! `lemke_small`: the buckets of at most 40 unknowns of the same dumps, with
-//! the small-problem rule and by the default driver, which refines every
-//! candidate
+//! `lemke_small`: the buckets of at most 40 unknowns of the same dumps, by
+//! the default driver (its small-problem rule) and with
+//! `unpolished_below = 0`, which refines every candidate
 //! (docs/physics.md §3.3, "Small problems").
 //!
 //! `cargo bench --bench lemke`
@@ -166,22 +166,22 @@ fn bench_dumps(
 }
 
 /// `lemke_small`: the committed dumps of at most `SMALL_N` unknowns
-/// (buckets 1–8 and 9–40), solved with the small-problem rule (`small`:
-/// `small_unpolished_below = 1e-13`, an accepted candidate within it is
-/// not refined) and by the default driver, which refines every candidate
-/// (`refined`), one iteration solving every dump of the
+/// (buckets 1–8 and 9–40), solved by the default driver with its
+/// small-problem rule (`small`: `unpolished_below = 1e-13`, an accepted
+/// candidate within it is not refined) and with `unpolished_below = 0`,
+/// which refines every candidate (`refined`), one iteration solving every dump of the
 /// bucket with one work space and one output.
 fn lemke_on_small(c: &mut Criterion) {
     let mut g = c.benchmark_group("lemke_small");
     let variants = [
+        ("small", SolveOptions::default()),
         (
-            "small",
+            "refined",
             SolveOptions {
-                small_unpolished_below: 1e-13,
+                unpolished_below: 0.0,
                 ..SolveOptions::default()
             },
         ),
-        ("refined", SolveOptions::default()),
     ];
     for (b, lcps) in corpus_buckets().iter().enumerate() {
         if lcps.is_empty() || lcps.iter().any(|l| l.n > SMALL_N) {

@@ -172,10 +172,15 @@ enum Command {
         #[arg(long, value_name = "N", requires = "time")]
         revised_from: Option<usize>,
         /// Residual (relative to ‖q‖) at or below which an accepted Lemke
-        /// candidate of at most 40 unknowns is kept without refinement, e.g.
-        /// 1e-13; 0 refines every candidate [default: the driver's, 0].
-        #[arg(long, value_name = "R", requires = "time")]
-        small_unpolished_below: Option<f64>,
+        /// candidate of at most 40 unknowns is kept without refinement; 0
+        /// refines every candidate [default: the driver's, 1e-13]
+        #[arg(
+            long,
+            value_name = "R",
+            requires = "time",
+            alias = "small-unpolished-below"
+        )]
+        unpolished_below: Option<f64>,
     },
     /// Run a sweep plan (docs/sweep-format.md): every point of cases x
     /// formulations x settings, measured against the reference; writes
@@ -389,7 +394,7 @@ fn main() -> ExitCode {
             predict_sweeps,
             csv,
             revised_from,
-            small_unpolished_below,
+            unpolished_below,
         } => {
             if time {
                 let mut opts = floebench::lcp::timing::TimingOptions {
@@ -407,14 +412,14 @@ fn main() -> ExitCode {
                 if let Some(k) = revised_from {
                     opts.solve.revised_from = k;
                 }
-                if let Some(r) = small_unpolished_below {
+                if let Some(r) = unpolished_below {
                     if !(r.is_finite() && r >= 0.0) {
                         eprintln!(
-                            "error: --small-unpolished-below must be a finite number >= 0, got {r}"
+                            "error: --unpolished-below must be a finite number >= 0, got {r}"
                         );
                         return ExitCode::FAILURE;
                     }
-                    opts.solve.small_unpolished_below = r;
+                    opts.solve.unpolished_below = r;
                 }
                 time_lcps(&path, opts, csv.as_deref())
             } else if path.is_dir() {

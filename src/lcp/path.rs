@@ -195,19 +195,20 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
     let scale = cmax.max(1.0);
     let thresh = opts.pivot_tol * scale;
     let noise = opts.pivot_tol * 1e-3 * scale;
-    let mut min = f64::INFINITY;
+    // The smallest ratio, its row and the smallest ratio of the other
+    // rows: when that is beyond the tie tolerance the minimiser is the only
+    // candidate, and the ratios need not be computed again to list ties.
+    let mut least = Least::default();
     let mut small = false;
     for i in 0..n {
         let c = e.c(i);
         if c > thresh {
-            let r = e.b(i).max(0.0) / c;
-            if r < min {
-                min = r;
-            }
+            least.add(i, e.b(i).max(0.0) / c);
         } else if c > noise {
             small = true;
         }
     }
+    let Least { min, arg, second } = least;
     if min == f64::INFINITY {
         return if small { Step::TooSmall } else { Step::Ray };
     }
@@ -225,6 +226,9 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
     }
     cand.clear();
     let tol = opts.tie_tol * min.abs();
+    if second > min + tol {
+        return Step::Pivot(arg);
+    }
     for i in 0..n {
         let c = e.c(i);
         if c > thresh && e.b(i).max(0.0) / c <= min + tol {
@@ -318,19 +322,57 @@ fn select_among_ties<B: Basis>(
 
 /// Keeps the entries of `cand` whose `key` is at most
 /// `min + rel_tol · |min| + abs_tol`.
+///
+/// The smallest key of the other entries is tracked with the minimum: when
+/// it is beyond the tolerance (the usual case, no tie) the minimiser alone
+/// is kept without computing the keys a second time.
 fn filter_min(cand: &mut Vec<usize>, key: impl Fn(usize) -> f64, rel_tol: f64, abs_tol: f64) {
-    let mut min = f64::INFINITY;
+    let mut least = Least::default();
     for &i in cand.iter() {
-        let v = key(i);
-        if v < min {
-            min = v;
-        }
+        least.add(i, key(i));
     }
+    let Least { min, arg, second } = least;
     if !min.is_finite() {
         return;
     }
     let tol = rel_tol * min.abs() + abs_tol;
+    if second > min + tol {
+        cand.clear();
+        cand.push(arg);
+        return;
+    }
     cand.retain(|&i| key(i) <= min + tol);
+}
+
+/// The smallest of a stream of keys, its index, and the smallest key of the
+/// other indices (NaN keys are skipped: a comparison with NaN is false).
+struct Least {
+    min: f64,
+    arg: usize,
+    second: f64,
+}
+
+impl Default for Least {
+    fn default() -> Self {
+        Self {
+            min: f64::INFINITY,
+            arg: NONE,
+            second: f64::INFINITY,
+        }
+    }
+}
+
+impl Least {
+    #[inline(always)]
+    fn add(&mut self, i: usize, v: f64) {
+        if v < self.min {
+            self.second = self.min;
+            self.min = v;
+            self.arg = i;
+        } else if v < self.second {
+            self.second = v;
+        }
+    }
 }
 
 fn largest_pivot(rows: &[usize], c: impl Fn(usize) -> f64) -> Option<usize> {

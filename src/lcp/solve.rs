@@ -22,13 +22,12 @@
 //! After **every** attempt, whatever Lemke reported, its `z` is projected
 //! onto `z >= 0`, its [`residual`] on the original `(M, q)` is computed
 //! (compensated `M z + q`) and, if it is not 0 and polishing is on, it is
-//! polished, each step kept only if it lowers the residual (with
-//! [`SolveOptions::unpolished_below`] > 0, off by default, a candidate of a
-//! run that reported [`Termination::Solved`] whose residual is already at
-//! most that is kept as it is; on the small problems, of at most
-//! [`SMALL_N`] unknowns, [`SolveOptions::small_unpolished_below`], also off
-//! by default, does the same: there the refinement of a candidate already
-//! accepted costs about a third of the solve): when Lemke
+//! polished, each step kept only if it lowers the residual (except, on the
+//! small problems of at most [`SMALL_N`] unknowns, a candidate of a run
+//! that reported [`Termination::Solved`] whose residual is already at most
+//! [`SolveOptions::unpolished_below`], default `1e-13`, which is kept as it
+//! is: there the refinement of a candidate already accepted costs about a
+//! third of the solve): when Lemke
 //! solved, by up to three steps of iterative refinement of the final basis
 //! (`x_B += B⁻¹ (q − B x_B)` with the residual of the **original** M and q,
 //! and the tableau's `B⁻¹`: O(n²) a step, valid when `M_αα` is singular, and
@@ -211,32 +210,22 @@ pub struct SolveOptions {
     #[serde(default = "default_revised_from")]
     pub revised_from: usize,
     /// Residual (relative to `‖q‖`, compensated, on the original data) at or
-    /// below which a candidate of a Lemke run that reported
-    /// [`Termination::Solved`] is kept without polish (the refinement would
-    /// only move its last digits, for up to three more residual
-    /// evaluations). Default `0`: off, every candidate with a non-zero
-    /// residual is polished, as before this option. Off by default because
-    /// it changes results at the rounding level (the sample report's
-    /// sliding_floe event-driven final kinetic energy, 1.2e-29 J, moves to
-    /// 4.2e-30 J) and the committed sample report must then be regenerated;
-    /// `1e-13` (a thousandth of the tolerance) makes the 1–8-unknown solves
-    /// about 10 % cheaper on the dump corpora (docs/physics.md §3.3).
-    #[serde(default)]
+    /// below which an accepted candidate of a Lemke run that reported
+    /// [`Termination::Solved`] on a small problem, of at most [`SMALL_N`]
+    /// unknowns, is kept as Lemke left it, without the refinement of its
+    /// basis (which would only move its last digits, for up to three more
+    /// compensated residuals: about a third of a small solve). Larger
+    /// problems, a candidate above it, or one from a run that did not
+    /// report [`Termination::Solved`], are polished as always. Default
+    /// [`UNPOLISHED_BELOW`] (`1e-13`); `0` refines every candidate (the
+    /// driver before this default, bit for bit). Chosen, not fitted: a
+    /// thousandth of the default acceptance tolerance, so a kept candidate
+    /// still meets it a thousand times over (docs/physics.md §3.3, "Small
+    /// problems"). (Until this version two options overlapped here, this
+    /// one for every size and `small_unpolished_below` for the small
+    /// problems, both off by default; the latter's old name is still read.)
+    #[serde(default = "default_unpolished_below", alias = "small_unpolished_below")]
     pub unpolished_below: f64,
-    /// [`SolveOptions::unpolished_below`] for the small problems, of at most
-    /// [`SMALL_N`] unknowns (the larger of the two applies there), leaving
-    /// the larger problems' refinement as it is. Default `0`: off, the
-    /// driver of before this option, bit for bit. `1e-13` (a thousandth of
-    /// the default tolerance) is the measured proposal: the refinement of
-    /// an accepted small candidate, up to three more compensated
-    /// residuals, costs about a third of the solve and moves only the last
-    /// digits of `z` (docs/physics.md §3.3, "Small problems"); a candidate
-    /// above it, or from a run that did not report
-    /// [`Termination::Solved`], is polished as before. Off by default
-    /// because it moves the committed sample report at the rounding level
-    /// (which must then be regenerated).
-    #[serde(default = "default_small_unpolished_below")]
-    pub small_unpolished_below: f64,
     /// With a guessed basis ([`solve_warm`]) that principal pivoting did not
     /// accept, run Lemke's path from that basis ([`Strategy::WarmLemke`],
     /// docs/physics.md §3.3 "Warm Lemke") before the cold attempts. Default
@@ -256,13 +245,17 @@ pub struct SolveOptions {
 }
 
 /// Largest number of unknowns of a "small" problem, to which
-/// [`SolveOptions::small_unpolished_below`] applies: 40, every problem of the
+/// [`SolveOptions::unpolished_below`] applies: 40, every problem of the
 /// dense tableau under the default [`SolveOptions::revised_from`] (the
 /// contact LCPs of up to ten frictional contacts).
 pub const SMALL_N: usize = 40;
 
-fn default_small_unpolished_below() -> f64 {
-    0.0
+/// Default of [`SolveOptions::unpolished_below`]: `1e-13` (relative
+/// residual), a thousandth of the default acceptance tolerance `1e-10`.
+pub const UNPOLISHED_BELOW: f64 = 1e-13;
+
+fn default_unpolished_below() -> f64 {
+    UNPOLISHED_BELOW
 }
 
 fn default_warm_lemke() -> bool {
@@ -296,8 +289,7 @@ impl Default for SolveOptions {
             z0_tol: l.z0_tol,
             warm_solves: 16,
             revised_from: l.revised_from,
-            unpolished_below: 0.0,
-            small_unpolished_below: default_small_unpolished_below(),
+            unpolished_below: default_unpolished_below(),
             warm_lemke: default_warm_lemke(),
             warm_lemke_pivots: default_warm_lemke_pivots(),
         }
@@ -632,9 +624,9 @@ fn solve_plan(
     }
     let scale = ResidualScale::with_max(q, qmax, qfinite);
     let unpolished_below = if n <= SMALL_N {
-        opts.unpolished_below.max(opts.small_unpolished_below)
-    } else {
         opts.unpolished_below
+    } else {
+        0.0
     };
     let mut sc = ws.scratch.take().unwrap_or_default();
     sc.sparse.reset();

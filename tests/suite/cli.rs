@@ -485,10 +485,11 @@ fn compare_replaces_only_its_own_case_folders_and_clears_its_stale_ones() {
 
 #[test]
 fn lcp_time_switches_the_small_problem_refinement() {
-    // `lcp DIR --time --small-unpolished-below 1e-13` keeps the small
-    // candidates within 1e-13 unrefined; the default refines every
-    // candidate: the same pivots on every dump, and residuals at least as
-    // small. A negative value is refused by name.
+    // `lcp DIR --time` (default `--unpolished-below 1e-13`) keeps the
+    // small candidates within 1e-13 unrefined; `--unpolished-below 0`
+    // refines every candidate: the same pivots on every dump, and residuals
+    // at least as small. The old name of the switch is still read. A
+    // negative value is refused by name.
     let dir = tempdir();
     let dumps = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/lcp");
     let rows = |extra: &[&str], name: &str| {
@@ -511,8 +512,12 @@ fn lcp_time_switches_the_small_problem_refinement() {
             })
             .collect::<Vec<_>>()
     };
-    let small = rows(&["--small-unpolished-below", "1e-13"], "small.csv");
-    let refined = rows(&[], "refined.csv");
+    let small = rows(&[], "small.csv");
+    assert_eq!(
+        small,
+        rows(&["--small-unpolished-below", "1e-13"], "old_name.csv")
+    );
+    let refined = rows(&["--unpolished-below", "0"], "refined.csv");
     assert_eq!(small.len(), refined.len());
     let mut differ = 0;
     for (a, b) in small.iter().zip(&refined) {
@@ -530,8 +535,8 @@ fn lcp_time_switches_the_small_problem_refinement() {
         "lcp".as_ref(),
         dumps.as_os_str(),
         "--time".as_ref(),
-        "--small-unpolished-below=-1".as_ref(),
+        "--unpolished-below=-1".as_ref(),
     ]);
     assert!(!ok);
-    assert!(stderr.contains("--small-unpolished-below"), "{stderr}");
+    assert!(stderr.contains("--unpolished-below"), "{stderr}");
 }

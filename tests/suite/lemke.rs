@@ -2478,7 +2478,7 @@ fn warm_lemke_counters_and_infeasible_problems() {
 
 // ---------------------------------------------------------------------------
 // Small problems (at most `SMALL_N` unknowns): Lemke's pivots, no refinement
-// of an accepted candidate already within `small_unpolished_below`
+// of an accepted candidate already within `unpolished_below`
 // ---------------------------------------------------------------------------
 
 /// The problems of the small-path tests: every path family at 1 to 48
@@ -2515,8 +2515,8 @@ fn small_path_problems(seed: u64) -> Vec<(String, Lcp)> {
 #[test]
 fn small_problems_take_the_same_pivots_and_skip_only_an_unneeded_refinement() {
     use floebench::lcp::solve::SMALL_N;
-    // The small-problem rule (`small_unpolished_below = 1e-13`) against the
-    // default driver (`0`: every candidate polished, as before):
+    // The small-problem rule (`unpolished_below = 1e-13`, the default)
+    // against the refining driver (`0`: every candidate polished, as before):
     // the same attempts with the same pivots and terminations on every
     // problem; an accepted candidate left unpolished is exactly Lemke's own
     // `z` (read from the tableau, no refinement) with a residual, recomputed
@@ -2524,12 +2524,12 @@ fn small_problems_take_the_same_pivots_and_skip_only_an_unneeded_refinement() {
     // same bits.
     let mut ws = Workspace::default();
     let mut ws_old = Workspace::default();
-    let new_opts = SolveOptions {
-        small_unpolished_below: 1e-13,
+    let new_opts = SolveOptions::default();
+    assert_eq!(new_opts.unpolished_below, 1e-13, "on by default");
+    let old_opts = SolveOptions {
+        unpolished_below: 0.0,
         ..SolveOptions::default()
     };
-    let old_opts = SolveOptions::default();
-    assert_eq!(old_opts.small_unpolished_below, 0.0, "off by default");
     let (mut skipped, mut large) = (0, 0);
     for (label, lcp) in small_path_problems(0x5EED_5A11_0001) {
         let new = solve_with(&mut ws, &lcp, &new_opts);
@@ -2578,11 +2578,8 @@ fn small_problems_one_by_one_and_nonnegative_q_on_the_direct_exits() {
     // 1×1: z = −q/a exactly (the scalings are powers of two and the one
     // division of the path is correctly rounded) when a > 0 > q; no
     // solution when a ≤ 0 > q (failed, z finite); q ≥ 0: z = 0, w = q,
-    // residual 0, no pivot. With the small-problem rule on.
-    let opts = SolveOptions {
-        small_unpolished_below: 1e-13,
-        ..SolveOptions::default()
-    };
+    // residual 0, no pivot. With the small-problem rule on (the default).
+    let opts = SolveOptions::default();
     for (label, lcp) in small_path_problems(0x5EED_5A11_0002) {
         let s = solve(&lcp, &opts);
         if lcp.q.iter().all(|&x| x >= 0.0) {
