@@ -45,10 +45,17 @@
 use super::lemke::ldexp;
 use super::path::{Basis, NONE};
 use super::sparse::csc_of_rows;
-use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::Lu;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Conj, MatMut};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::colamd;
+use faer::sparse::linalg::lu::simplicial::{
+    factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch, SimplicialLu,
+};
+use faer::sparse::linalg::triangular_solve::{
+    solve_unit_lower_triangular_in_place, solve_unit_lower_triangular_transpose_in_place,
+    solve_upper_triangular_in_place, solve_upper_triangular_transpose_in_place,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par};
 
 /// Pivots between two refactorisations of the basis. Each eta adds up to n
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
@@ -83,8 +90,26 @@ pub(crate) struct Revised {
     row_of: Vec<usize>,
     /// Basic values `B⁻¹ q'`.
     b: Vec<f64>,
-    /// LU of `B₀`; `None` while `B₀ = I`.
-    lu: Option<Lu<usize, f64>>,
+    /// LU of `B₀` (`P_r B₀ P_c = L U`), valid while `factorised`; `B₀ = I`
+    /// otherwise.
+    lu: SimplicialLu<usize, f64>,
+    factorised: bool,
+    /// Row permutation `P_r` of the LU (forward and inverse).
+    row_fwd: Vec<usize>,
+    row_inv: Vec<usize>,
+    /// Column ordering `P_c` of the LU (forward: slot eliminated at each
+    /// step; inverse).
+    col_fwd: Vec<usize>,
+    col_inv: Vec<usize>,
+    /// `B₀` in compressed sparse columns (one per slot).
+    bp: Vec<usize>,
+    bi: Vec<usize>,
+    bv: Vec<f64>,
+    /// Fill-reducing ordering of M's columns (COLAMD of M', once per
+    /// set-up): the order of the basic `z` columns in `P_c`.
+    m_order: Vec<usize>,
+    /// Scratch of the permutations of FTRAN/BTRAN.
+    tmp: Vec<f64>,
     /// Eta file: pivot row, pivot entry and the range of its other
     /// non-zeros in `eta_i`/`eta_v`, per pivot since the refactorisation.
     eta_r: Vec<usize>,
@@ -100,7 +125,6 @@ pub(crate) struct Revised {
     lex_rows: Vec<f64>,
     lex_pos: Vec<usize>,
     lex_list: Vec<usize>,
-    triplets: Vec<Triplet<usize, usize, f64>>,
     pivots: usize,
     /// The starting complementary basis (`start[k]`: `z_k` basic, else
     /// `w_k`), the reference of the lexicographic rule; all `false` after
@@ -114,7 +138,7 @@ impl std::fmt::Debug for Revised {
             .field("n", &self.n)
             .field("pivots", &self.pivots)
             .field("etas", &self.eta_r.len())
-            .field("factorised", &self.lu.is_some())
+            .field("factorised", &self.factorised)
             .finish()
     }
 }
@@ -153,7 +177,8 @@ impl Revised {
         self.row_of.resize(2 * n + 1, NONE);
         self.b.clear();
         self.b.extend_from_slice(&self.q);
-        self.lu = None;
+        self.factorised = false;
+        self.m_order.clear();
         self.clear_etas();
         self.c.clear();
         self.c.resize(n, 0.0);
@@ -268,12 +293,26 @@ impl Revised {
         }
     }
 
-    /// `x ← B⁻¹ x` (FTRAN): the LU of `B₀`, then the etas in order.
+    /// `x ← B⁻¹ x` (FTRAN), with its own scratch (the refinement of a
+    /// candidate: a few calls per solve).
     pub(crate) fn solve(&self, x: &mut [f64]) {
+        self.ftran(x, &mut Vec::new());
+    }
+
+    /// `x ← B⁻¹ x` (FTRAN): the LU of `B₀`, then the etas in order; `tmp`
+    /// is scratch.
+    fn ftran(&self, x: &mut [f64], tmp: &mut Vec<f64>) {
         let n = self.n;
-        if let Some(lu) = &self.lu {
-            let mat = MatMut::from_column_major_slice_mut(x, n, 1);
-            lu.solve_in_place_with_conj(Conj::No, mat);
+        if self.factorised {
+            tmp.clear();
+            tmp.extend(self.row_fwd.iter().map(|&i| x[i]));
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_unit_lower_triangular_in_place(self.lu.l_factor_unsorted(), Conj::No, mat, Par::Seq);
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_upper_triangular_in_place(self.lu.u_factor_unsorted(), Conj::No, mat, Par::Seq);
+            for (xi, &k) in x.iter_mut().zip(&self.col_inv) {
+                *xi = tmp[k];
+            }
         }
         for k in 0..self.eta_r.len() {
             let r = self.eta_r[k];
@@ -288,8 +327,9 @@ impl Revised {
     }
 
     /// `y ← B⁻ᵀ y` (BTRAN): the etas in reverse order, then the transposed
-    /// LU of `B₀`. With `y = e_i` on entry, `y` is row i of `B⁻¹`.
-    fn solve_transpose(&self, y: &mut [f64]) {
+    /// LU of `B₀`; `tmp` is scratch. With `y = e_i` on entry, `y` is row i
+    /// of `B⁻¹`.
+    fn btran(&self, y: &mut [f64], tmp: &mut Vec<f64>) {
         let n = self.n;
         for k in (0..self.eta_r.len()).rev() {
             let r = self.eta_r[k];
@@ -299,9 +339,16 @@ impl Revised {
             }
             y[r] = acc / self.eta_p[k];
         }
-        if let Some(lu) = &self.lu {
-            let mat = MatMut::from_column_major_slice_mut(y, n, 1);
-            lu.solve_transpose_in_place_with_conj(Conj::No, mat);
+        if self.factorised {
+            tmp.clear();
+            tmp.extend(self.col_fwd.iter().map(|&i| y[i]));
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_upper_triangular_transpose_in_place(self.lu.u_factor_unsorted(), Conj::No, mat, Par::Seq);
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_unit_lower_triangular_transpose_in_place(self.lu.l_factor_unsorted(), Conj::No, mat, Par::Seq);
+            for (yi, &k) in y.iter_mut().zip(&self.row_inv) {
+                *yi = tmp[k];
+            }
         }
     }
 
@@ -310,38 +357,141 @@ impl Revised {
     /// factorisation failed.
     fn refactor(&mut self) -> bool {
         let n = self.n;
-        self.triplets.clear();
-        for (slot, &v) in self.basis.iter().enumerate() {
+        let mode = order_mode();
+        if mode != 0 && self.m_order.len() != n && !self.order_m() {
+            return false;
+        }
+        self.bp.clear();
+        self.bp.push(0);
+        self.bi.clear();
+        self.bv.clear();
+        for &v in &self.basis {
             if v < n {
-                self.triplets.push(Triplet::new(v, slot, 1.0));
+                self.bi.push(v);
+                self.bv.push(1.0);
             } else if v < 2 * n {
                 let j = v - n;
                 for p in self.mp[j]..self.mp[j + 1] {
-                    self.triplets
-                        .push(Triplet::new(self.mi[p], slot, -self.mv[p]));
+                    self.bi.push(self.mi[p]);
+                    self.bv.push(-self.mv[p]);
                 }
             } else {
-                for (i, &d) in self.d.iter().enumerate() {
-                    self.triplets.push(Triplet::new(i, slot, -d));
+                self.bi.extend(0..n);
+                self.bv.extend(self.d.iter().map(|&d| -d));
+            }
+            self.bp.push(self.bi.len());
+        }
+        // Valid by construction: n + 1 increasing pointers, sorted rows.
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.bp, None, &self.bi);
+        self.col_fwd.resize(n, 0);
+        self.col_inv.resize(n, 0);
+        if mode == 0 {
+            let req = colamd::order_scratch::<usize>(n, n, self.bi.len());
+            let Ok(mut mem) = MemBuffer::try_new(req) else {
+                return false;
+            };
+            if colamd::order(
+                &mut self.col_fwd,
+                &mut self.col_inv,
+                sym,
+                colamd::Control::default(),
+                MemStack::new(&mut mem),
+            )
+            .is_err()
+            {
+                return false;
+            }
+        } else {
+            // Unit columns first (a pivot on their own row, no fill), then
+            // the basic z in M's order, then z0.
+            self.col_fwd.clear();
+            self.col_fwd.extend((0..n).filter(|&s| self.basis[s] < n));
+            for &j in &self.m_order {
+                let s = self.row_of[n + j];
+                if s != NONE {
+                    self.col_fwd.push(s);
                 }
             }
+            let s = self.row_of[2 * n];
+            if s != NONE {
+                self.col_fwd.push(s);
+            }
+            if self.col_fwd.len() != n {
+                return false;
+            }
+            for (k, &s) in self.col_fwd.iter().enumerate() {
+                self.col_inv[s] = k;
+            }
         }
-        let Ok(mat) = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &self.triplets)
-        else {
+        let col_perm = faer::perm::PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
+        self.row_fwd.resize(n, 0);
+        self.row_inv.resize(n, 0);
+        let req = factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n);
+        let Ok(mut mem) = MemBuffer::try_new(req) else {
             return false;
         };
-        let Ok(lu) = mat.sp_lu() else {
+        let mat = SparseColMatRef::new(sym, &self.bv);
+        self.factorised = false;
+        if factorize_simplicial_numeric_lu(
+            &mut self.row_fwd,
+            &mut self.row_inv,
+            &mut self.lu,
+            mat,
+            col_perm,
+            MemStack::new(&mut mem),
+        )
+        .is_err()
+        {
             return false;
-        };
-        self.lu = Some(lu);
+        }
+        self.factorised = true;
+        if stats_on() {
+            let nnz = self.lu.l_factor_unsorted().compute_nnz() + self.lu.u_factor_unsorted().compute_nnz();
+            eprintln!("REFSTAT n={n} nnzB={} nnzLU={nnz}", self.bi.len());
+        }
         self.clear_etas();
         let mut b = std::mem::take(&mut self.b);
+        let mut tmp = std::mem::take(&mut self.tmp);
         b.copy_from_slice(&self.q);
-        self.solve(&mut b);
+        self.ftran(&mut b, &mut tmp);
         let finite = b.iter().all(|x| x.is_finite());
         self.b = b;
+        self.tmp = tmp;
         finite
     }
+
+    /// COLAMD ordering of M's columns into `m_order`; `false` on failure.
+    fn order_m(&mut self) -> bool {
+        let n = self.n;
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.mp, None, &self.mi);
+        let mut inv = vec![0usize; n];
+        self.m_order.resize(n, 0);
+        let req = colamd::order_scratch::<usize>(n, n, self.mi.len());
+        let Ok(mut mem) = MemBuffer::try_new(req) else {
+            return false;
+        };
+        colamd::order(
+            &mut self.m_order,
+            &mut inv,
+            sym,
+            colamd::Control::default(),
+            MemStack::new(&mut mem),
+        )
+        .is_ok()
+    }
+}
+
+fn order_mode() -> u8 {
+    static M: std::sync::OnceLock<u8> = std::sync::OnceLock::new();
+    *M.get_or_init(|| std::env::var("FB_ORDER").ok().and_then(|v| v.parse().ok()).unwrap_or(0))
+}
+fn stats_on() -> bool {
+    static M: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+    *M.get_or_init(|| std::env::var("FB_STATS").is_ok())
+}
+fn refactor_every() -> usize {
+    static M: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *M.get_or_init(|| std::env::var("FB_REFACTOR").ok().and_then(|v| v.parse().ok()).unwrap_or(REFACTOR_EVERY))
 }
 
 impl Basis for Revised {
@@ -359,8 +509,10 @@ impl Basis for Revised {
 
     fn load(&mut self, v: usize) -> bool {
         let mut c = std::mem::take(&mut self.c);
+        let mut tmp = std::mem::take(&mut self.tmp);
         self.column(v, &mut c);
-        self.solve(&mut c);
+        self.ftran(&mut c, &mut tmp);
+        self.tmp = tmp;
         let finite = c.iter().all(|x| x.is_finite());
         self.c = c;
         self.entering = v;
@@ -385,6 +537,7 @@ impl Basis for Revised {
     fn prepare_rows(&mut self, rows: &[usize]) -> bool {
         let n = self.n;
         let mut buf = std::mem::take(&mut self.lex_rows);
+        let mut tmp = std::mem::take(&mut self.tmp);
         let mut finite = true;
         for &i in rows {
             if self.lex_pos[i] != NONE {
@@ -395,12 +548,13 @@ impl Basis for Revised {
             let y = &mut buf[at * n..(at + 1) * n];
             y.iter_mut().for_each(|x| *x = 0.0);
             y[i] = 1.0;
-            self.solve_transpose(y);
+            self.btran(y, &mut tmp);
             finite &= y.iter().all(|x| x.is_finite());
             self.lex_pos[i] = at;
             self.lex_list.push(i);
         }
         self.lex_rows = buf;
+        self.tmp = tmp;
         finite
     }
 
@@ -448,7 +602,7 @@ impl Basis for Revised {
         self.row_of[leaving] = NONE;
         self.entering = NONE;
         self.pivots += 1;
-        if self.eta_r.len() + 1 >= REFACTOR_EVERY {
+        if self.eta_r.len() + 1 >= refactor_every() {
             return self.refactor();
         }
         self.eta_r.push(r);
