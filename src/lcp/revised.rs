@@ -10,12 +10,14 @@
 //! 1983, ch. 7; Murty 1988, §2.4 for Lemke's method):
 //!
 //! * the basis `B` only implicitly, as `B = B₀ E₁ ⋯ E_k`: a sparse LU of the
-//!   basis `B₀` of the last refactorisation (faer's sparse LU with a
-//!   COLAMD ordering and partial pivoting; `B₀ = I` at the start, with no
-//!   factorisation) and the **eta matrices** `E_j` of the pivots since then
-//!   (product form of the inverse: `E_j` is the identity with its pivot
-//!   column replaced by the entering column `B_{j-1}⁻¹ a`, stored by its
-//!   non-zeros);
+//!   basis `B₀` of the last refactorisation (faer's simplicial sparse LU
+//!   with a COLAMD ordering and partial pivoting, called directly so that
+//!   its permutations and scratch are kept here and a solve allocates
+//!   nothing; `B₀ = I` at the start, with no factorisation) and the **eta
+//!   matrices** `E_j` of the pivots since then (product form of the
+//!   inverse: `E_j` is the identity with its pivot column replaced by the
+//!   entering column `B_{j-1}⁻¹ a`, stored dense: with z0 basic that column
+//!   has `B⁻¹ d` in it and is full);
 //! * the basic values `b = B⁻¹ q`, updated by each pivot like the tableau's
 //!   right-hand side and recomputed from the original (scaled) data at every
 //!   refactorisation;
