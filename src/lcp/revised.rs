@@ -59,10 +59,10 @@ use faer::sparse::linalg::triangular_solve::{
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par};
 
-/// Pivots between two refactorisations of the basis. Each eta adds up to n
+/// Pivots between two refactorisations of the basis. Each eta adds n (dense)
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
 /// contact group costs about as much as a few dozen such solves. Chosen,
-/// not yet tuned by measurement (an open point of docs/physics.md §3.3).
+/// not yet tuned: a change moves roundings and paths (docs/physics.md §3.3).
 pub(crate) const REFACTOR_EVERY: usize = 48;
 
 /// Smallest principal pivot of the crash of a guessed basis
