@@ -158,6 +158,12 @@ impl Revised {
     /// caller).
     pub(crate) fn setup(&mut self, m: &[f64], q: &[f64], d: &[f64], ea: i32, eb: i32) {
         let n = q.len();
+        if n != self.n {
+            // faer's simplicial LU keeps the column pointers of a larger
+            // previous matrix (it does not shrink them) and then fails its
+            // own shape check: start it afresh when the dimension changes.
+            self.lu = SimplicialLu::new();
+        }
         self.n = n;
         csc_of_rows(
             m,
