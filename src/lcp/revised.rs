@@ -10,12 +10,14 @@
 //! 1983, ch. 7; Murty 1988, §2.4 for Lemke's method):
 //!
 //! * the basis `B` only implicitly, as `B = B₀ E₁ ⋯ E_k`: a sparse LU of the
-//!   basis `B₀` of the last refactorisation (faer's sparse LU with a
-//!   COLAMD ordering and partial pivoting; `B₀ = I` at the start, with no
-//!   factorisation) and the **eta matrices** `E_j` of the pivots since then
-//!   (product form of the inverse: `E_j` is the identity with its pivot
-//!   column replaced by the entering column `B_{j-1}⁻¹ a`, stored by its
-//!   non-zeros);
+//!   basis `B₀` of the last refactorisation (faer's simplicial sparse LU
+//!   with a COLAMD ordering and partial pivoting, called directly so that
+//!   its permutations and scratch are kept here and a solve allocates
+//!   nothing; `B₀ = I` at the start, with no factorisation) and the **eta
+//!   matrices** `E_j` of the pivots since then (product form of the
+//!   inverse: `E_j` is the identity with its pivot column replaced by the
+//!   entering column `B_{j-1}⁻¹ a`, stored dense: with z0 basic that column
+//!   has `B⁻¹ d` in it and is full);
 //! * the basic values `b = B⁻¹ q`, updated by each pivot like the tableau's
 //!   right-hand side and recomputed from the original (scaled) data at every
 //!   refactorisation;
@@ -45,15 +47,22 @@
 use super::lemke::ldexp;
 use super::path::{Basis, NONE};
 use super::sparse::csc_of_rows;
-use faer::linalg::solvers::SolveCore;
-use faer::sparse::linalg::solvers::Lu;
-use faer::sparse::{SparseColMat, Triplet};
-use faer::{Conj, MatMut};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::colamd;
+use faer::sparse::linalg::lu::simplicial::{
+    factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch, SimplicialLu,
+};
+use faer::sparse::linalg::triangular_solve::{
+    solve_unit_lower_triangular_in_place, solve_unit_lower_triangular_transpose_in_place,
+    solve_upper_triangular_in_place, solve_upper_triangular_transpose_in_place,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, MatMut, Par};
 
-/// Pivots between two refactorisations of the basis. Each eta adds up to n
+/// Pivots between two refactorisations of the basis. Each eta adds n (dense)
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
 /// contact group costs about as much as a few dozen such solves. Chosen,
-/// not yet tuned by measurement (an open point of docs/physics.md §3.3).
+/// not yet tuned: a change moves roundings and paths (docs/physics.md §3.3).
 pub(crate) const REFACTOR_EVERY: usize = 48;
 
 /// Smallest principal pivot of the crash of a guessed basis
@@ -83,15 +92,32 @@ pub(crate) struct Revised {
     row_of: Vec<usize>,
     /// Basic values `B⁻¹ q'`.
     b: Vec<f64>,
-    /// LU of `B₀`; `None` while `B₀ = I`.
-    lu: Option<Lu<usize, f64>>,
-    /// Eta file: pivot row, pivot entry and the range of its other
-    /// non-zeros in `eta_i`/`eta_v`, per pivot since the refactorisation.
+    /// LU of `B₀` (`P_r B₀ P_c = L U`), valid while `factorised`; `B₀ = I`
+    /// otherwise.
+    lu: SimplicialLu<usize, f64>,
+    factorised: bool,
+    /// Row permutation `P_r` of the LU (forward and inverse).
+    row_fwd: Vec<usize>,
+    row_inv: Vec<usize>,
+    /// Column ordering `P_c` of the LU (forward: slot eliminated at each
+    /// step; inverse).
+    col_fwd: Vec<usize>,
+    col_inv: Vec<usize>,
+    /// `B₀` in compressed sparse columns (one per slot).
+    bp: Vec<usize>,
+    bi: Vec<usize>,
+    bv: Vec<f64>,
+    /// Scratch of the permutations of FTRAN/BTRAN.
+    tmp: Vec<f64>,
+    /// Eta file: pivot row and pivot entry per pivot since the
+    /// refactorisation, and its column stored dense (n entries per eta, 0
+    /// in the pivot row): the entering column `B⁻¹ a` has the dense
+    /// `B⁻¹ d` mixed in whenever z0 is basic, i.e. along the whole path
+    /// (n − 1 non-zeros of n in every eta of the bay-jam corpus), so a
+    /// dense axpy costs less than an indexed one.
     eta_r: Vec<usize>,
     eta_p: Vec<f64>,
-    eta_start: Vec<usize>,
-    eta_i: Vec<usize>,
-    eta_v: Vec<f64>,
+    eta_d: Vec<f64>,
     /// The loaded entering column and its variable.
     c: Vec<f64>,
     entering: usize,
@@ -100,7 +126,6 @@ pub(crate) struct Revised {
     lex_rows: Vec<f64>,
     lex_pos: Vec<usize>,
     lex_list: Vec<usize>,
-    triplets: Vec<Triplet<usize, usize, f64>>,
     pivots: usize,
     /// The starting complementary basis (`start[k]`: `z_k` basic, else
     /// `w_k`), the reference of the lexicographic rule; all `false` after
@@ -114,7 +139,7 @@ impl std::fmt::Debug for Revised {
             .field("n", &self.n)
             .field("pivots", &self.pivots)
             .field("etas", &self.eta_r.len())
-            .field("factorised", &self.lu.is_some())
+            .field("factorised", &self.factorised)
             .finish()
     }
 }
@@ -133,6 +158,12 @@ impl Revised {
     /// caller).
     pub(crate) fn setup(&mut self, m: &[f64], q: &[f64], d: &[f64], ea: i32, eb: i32) {
         let n = q.len();
+        if n != self.n {
+            // faer's simplicial LU keeps the column pointers of a larger
+            // previous matrix (it does not shrink them) and then fails its
+            // own shape check: start it afresh when the dimension changes.
+            self.lu = SimplicialLu::new();
+        }
         self.n = n;
         csc_of_rows(
             m,
@@ -153,7 +184,7 @@ impl Revised {
         self.row_of.resize(2 * n + 1, NONE);
         self.b.clear();
         self.b.extend_from_slice(&self.q);
-        self.lu = None;
+        self.factorised = false;
         self.clear_etas();
         self.c.clear();
         self.c.resize(n, 0.0);
@@ -243,10 +274,7 @@ impl Revised {
     fn clear_etas(&mut self) {
         self.eta_r.clear();
         self.eta_p.clear();
-        self.eta_start.clear();
-        self.eta_start.push(0);
-        self.eta_i.clear();
-        self.eta_v.clear();
+        self.eta_d.clear();
     }
 
     /// Writes the column of variable `v` of `[I | −M' | −d']` into `out`
@@ -268,40 +296,79 @@ impl Revised {
         }
     }
 
-    /// `x ← B⁻¹ x` (FTRAN): the LU of `B₀`, then the etas in order.
+    /// `x ← B⁻¹ x` (FTRAN), with its own scratch (the refinement of a
+    /// candidate: a few calls per solve).
     pub(crate) fn solve(&self, x: &mut [f64]) {
+        self.ftran(x, &mut Vec::new());
+    }
+
+    /// `x ← B⁻¹ x` (FTRAN): the LU of `B₀`, then the etas in order; `tmp`
+    /// is scratch.
+    fn ftran(&self, x: &mut [f64], tmp: &mut Vec<f64>) {
         let n = self.n;
-        if let Some(lu) = &self.lu {
-            let mat = MatMut::from_column_major_slice_mut(x, n, 1);
-            lu.solve_in_place_with_conj(Conj::No, mat);
+        if self.factorised {
+            tmp.clear();
+            tmp.extend(self.row_fwd.iter().map(|&i| x[i]));
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_unit_lower_triangular_in_place(
+                self.lu.l_factor_unsorted(),
+                Conj::No,
+                mat,
+                Par::Seq,
+            );
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_upper_triangular_in_place(self.lu.u_factor_unsorted(), Conj::No, mat, Par::Seq);
+            for (xi, &k) in x.iter_mut().zip(&self.col_inv) {
+                *xi = tmp[k];
+            }
         }
         for k in 0..self.eta_r.len() {
             let r = self.eta_r[k];
             let xr = x[r] / self.eta_p[k];
             x[r] = xr;
             if xr != 0.0 {
-                for p in self.eta_start[k]..self.eta_start[k + 1] {
-                    x[self.eta_i[p]] -= self.eta_v[p] * xr;
+                let eta = &self.eta_d[k * n..(k + 1) * n];
+                for (xi, &e) in x.iter_mut().zip(eta) {
+                    *xi -= e * xr;
                 }
             }
         }
     }
 
     /// `y ← B⁻ᵀ y` (BTRAN): the etas in reverse order, then the transposed
-    /// LU of `B₀`. With `y = e_i` on entry, `y` is row i of `B⁻¹`.
-    fn solve_transpose(&self, y: &mut [f64]) {
+    /// LU of `B₀`; `tmp` is scratch. With `y = e_i` on entry, `y` is row i
+    /// of `B⁻¹`.
+    fn btran(&self, y: &mut [f64], tmp: &mut Vec<f64>) {
         let n = self.n;
         for k in (0..self.eta_r.len()).rev() {
             let r = self.eta_r[k];
             let mut acc = y[r];
-            for p in self.eta_start[k]..self.eta_start[k + 1] {
-                acc -= self.eta_v[p] * y[self.eta_i[p]];
+            let eta = &self.eta_d[k * n..(k + 1) * n];
+            for (&e, &yi) in eta.iter().zip(y.iter()) {
+                acc -= e * yi;
             }
             y[r] = acc / self.eta_p[k];
         }
-        if let Some(lu) = &self.lu {
-            let mat = MatMut::from_column_major_slice_mut(y, n, 1);
-            lu.solve_transpose_in_place_with_conj(Conj::No, mat);
+        if self.factorised {
+            tmp.clear();
+            tmp.extend(self.col_fwd.iter().map(|&i| y[i]));
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_upper_triangular_transpose_in_place(
+                self.lu.u_factor_unsorted(),
+                Conj::No,
+                mat,
+                Par::Seq,
+            );
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_unit_lower_triangular_transpose_in_place(
+                self.lu.l_factor_unsorted(),
+                Conj::No,
+                mat,
+                Par::Seq,
+            );
+            for (yi, &k) in y.iter_mut().zip(&self.row_inv) {
+                *yi = tmp[k];
+            }
         }
     }
 
@@ -310,36 +377,78 @@ impl Revised {
     /// factorisation failed.
     fn refactor(&mut self) -> bool {
         let n = self.n;
-        self.triplets.clear();
-        for (slot, &v) in self.basis.iter().enumerate() {
+        self.bp.clear();
+        self.bp.push(0);
+        self.bi.clear();
+        self.bv.clear();
+        for &v in &self.basis {
             if v < n {
-                self.triplets.push(Triplet::new(v, slot, 1.0));
+                self.bi.push(v);
+                self.bv.push(1.0);
             } else if v < 2 * n {
                 let j = v - n;
                 for p in self.mp[j]..self.mp[j + 1] {
-                    self.triplets
-                        .push(Triplet::new(self.mi[p], slot, -self.mv[p]));
+                    self.bi.push(self.mi[p]);
+                    self.bv.push(-self.mv[p]);
                 }
             } else {
-                for (i, &d) in self.d.iter().enumerate() {
-                    self.triplets.push(Triplet::new(i, slot, -d));
-                }
+                self.bi.extend(0..n);
+                self.bv.extend(self.d.iter().map(|&d| -d));
             }
+            self.bp.push(self.bi.len());
         }
-        let Ok(mat) = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &self.triplets)
-        else {
+        // Valid by construction: n + 1 increasing pointers, sorted rows.
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.bp, None, &self.bi);
+        // Column ordering: COLAMD of the basis, as faer's own symbolic LU
+        // does before a simplicial factorisation (the factors of `sp_lu`,
+        // bit for bit).
+        self.col_fwd.resize(n, 0);
+        self.col_inv.resize(n, 0);
+        let req = colamd::order_scratch::<usize>(n, n, self.bi.len());
+        let Ok(mut mem) = MemBuffer::try_new(req) else {
             return false;
         };
-        let Ok(lu) = mat.sp_lu() else {
+        if colamd::order(
+            &mut self.col_fwd,
+            &mut self.col_inv,
+            sym,
+            colamd::Control::default(),
+            MemStack::new(&mut mem),
+        )
+        .is_err()
+        {
+            return false;
+        }
+        let col_perm = faer::perm::PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
+        self.row_fwd.resize(n, 0);
+        self.row_inv.resize(n, 0);
+        let req = factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n);
+        let Ok(mut mem) = MemBuffer::try_new(req) else {
             return false;
         };
-        self.lu = Some(lu);
+        let mat = SparseColMatRef::new(sym, &self.bv);
+        self.factorised = false;
+        if factorize_simplicial_numeric_lu(
+            &mut self.row_fwd,
+            &mut self.row_inv,
+            &mut self.lu,
+            mat,
+            col_perm,
+            MemStack::new(&mut mem),
+        )
+        .is_err()
+        {
+            return false;
+        }
+        self.factorised = true;
         self.clear_etas();
         let mut b = std::mem::take(&mut self.b);
+        let mut tmp = std::mem::take(&mut self.tmp);
         b.copy_from_slice(&self.q);
-        self.solve(&mut b);
+        self.ftran(&mut b, &mut tmp);
         let finite = b.iter().all(|x| x.is_finite());
         self.b = b;
+        self.tmp = tmp;
         finite
     }
 }
@@ -359,8 +468,10 @@ impl Basis for Revised {
 
     fn load(&mut self, v: usize) -> bool {
         let mut c = std::mem::take(&mut self.c);
+        let mut tmp = std::mem::take(&mut self.tmp);
         self.column(v, &mut c);
-        self.solve(&mut c);
+        self.ftran(&mut c, &mut tmp);
+        self.tmp = tmp;
         let finite = c.iter().all(|x| x.is_finite());
         self.c = c;
         self.entering = v;
@@ -385,6 +496,7 @@ impl Basis for Revised {
     fn prepare_rows(&mut self, rows: &[usize]) -> bool {
         let n = self.n;
         let mut buf = std::mem::take(&mut self.lex_rows);
+        let mut tmp = std::mem::take(&mut self.tmp);
         let mut finite = true;
         for &i in rows {
             if self.lex_pos[i] != NONE {
@@ -395,12 +507,13 @@ impl Basis for Revised {
             let y = &mut buf[at * n..(at + 1) * n];
             y.iter_mut().for_each(|x| *x = 0.0);
             y[i] = 1.0;
-            self.solve_transpose(y);
+            self.btran(y, &mut tmp);
             finite &= y.iter().all(|x| x.is_finite());
             self.lex_pos[i] = at;
             self.lex_list.push(i);
         }
         self.lex_rows = buf;
+        self.tmp = tmp;
         finite
     }
 
@@ -453,17 +566,114 @@ impl Basis for Revised {
         }
         self.eta_r.push(r);
         self.eta_p.push(p);
-        for (i, &ci) in self.c.iter().enumerate() {
-            if i != r && ci != 0.0 {
-                self.eta_i.push(i);
-                self.eta_v.push(ci);
-            }
-        }
-        self.eta_start.push(self.eta_i.len());
+        let at = self.eta_d.len();
+        self.eta_d.extend_from_slice(&self.c);
+        self.eta_d[at + r] = 0.0;
         theta.is_finite()
     }
 
     fn pivots(&self) -> usize {
         self.pivots
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// SplitMix64 in [-1, 1): the test data, reproducible.
+    fn uniform(state: &mut u64) -> f64 {
+        *state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = *state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^= z >> 31;
+        (z >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    }
+
+    /// `‖B x − a‖∞` for the current basis `B` of `e`, densely.
+    fn defect(e: &Revised, x: &[f64], a: &[f64]) -> f64 {
+        let n = e.n;
+        let mut col = vec![0.0; n];
+        let mut bx = vec![0.0; n];
+        for (s, &xs) in x.iter().enumerate() {
+            e.column(e.basis[s], &mut col);
+            for (o, &c) in bx.iter_mut().zip(&col) {
+                *o += c * xs;
+            }
+        }
+        bx.iter()
+            .zip(a)
+            .map(|(u, v)| (u - v).abs())
+            .fold(0.0, f64::max)
+    }
+
+    #[test]
+    fn ftran_and_btran_invert_the_basis_through_refactorisations() {
+        // A banded sparse M (n = 50), the covering column 1: z0 enters
+        // first (the dense column of every later basis), then z_j or w_j
+        // in turn on the row of the largest entry of the entering column,
+        // for 3 refactorisation periods. After every pivot FTRAN solves
+        // B x = a, BTRAN gives the rows of B⁻¹ (y · B = e_i), and b = B⁻¹ q,
+        // each to 1e-11, with the basis checked densely.
+        let n = 50;
+        let mut st = 0x5EED_F10E_0050_u64;
+        let mut m = vec![0.0; n * n];
+        for i in 0..n {
+            m[i * n + i] = 4.0 + uniform(&mut st);
+            for j in i.saturating_sub(3)..(i + 4).min(n) {
+                if j != i && uniform(&mut st) > 0.0 {
+                    m[i * n + j] = uniform(&mut st);
+                }
+            }
+        }
+        let q: Vec<f64> = (0..n).map(|_| uniform(&mut st)).collect();
+        let mut e = Revised::default();
+        e.setup(&m, &q, &vec![1.0; n], 0, 0);
+        let mut tmp = Vec::new();
+        let mut refactorised = 0;
+        let mut j = 0;
+        while e.pivots() < 3 * REFACTOR_EVERY + 5 {
+            let v = if e.pivots() == 0 {
+                2 * n
+            } else if e.row_of(n + j % n) == NONE {
+                n + j % n
+            } else {
+                j % n
+            };
+            j += 7;
+            if e.row_of(v) != NONE {
+                continue;
+            }
+            assert!(e.load(v));
+            let r = (0..n)
+                .max_by(|&a, &b| e.c(a).abs().total_cmp(&e.c(b).abs()))
+                .unwrap_or(0);
+            assert!(e.pivot(r), "pivot {}", e.pivots());
+            refactorised += usize::from(e.eta_r.is_empty());
+            let a: Vec<f64> = (0..n).map(|_| uniform(&mut st)).collect();
+            let mut x = a.clone();
+            e.ftran(&mut x, &mut tmp);
+            assert!(defect(&e, &x, &a) <= 1e-11, "FTRAN at pivot {}", e.pivots());
+            let b: Vec<f64> = (0..n).map(|i| e.b(i)).collect();
+            assert!(defect(&e, &b, &e.q) <= 1e-11, "b at pivot {}", e.pivots());
+            let mut col = vec![0.0; n];
+            for i in [0, n / 2, n - 1] {
+                let mut y = vec![0.0; n];
+                y[i] = 1.0;
+                e.btran(&mut y, &mut tmp);
+                for s in 0..n {
+                    e.column(e.basis[s], &mut col);
+                    let ys: f64 = y.iter().zip(&col).map(|(u, v)| u * v).sum();
+                    let want = if s == i { 1.0 } else { 0.0 };
+                    assert!(
+                        (ys - want).abs() <= 1e-11,
+                        "BTRAN row {i} at {}",
+                        e.pivots()
+                    );
+                }
+            }
+        }
+        assert!(refactorised >= 3, "{refactorised} refactorisations");
     }
 }
