@@ -307,20 +307,7 @@ impl Revised {
     fn ftran(&self, x: &mut [f64], tmp: &mut Vec<f64>) {
         let n = self.n;
         if self.factorised {
-            tmp.clear();
-            tmp.extend(self.row_fwd.iter().map(|&i| x[i]));
-            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_unit_lower_triangular_in_place(
-                self.lu.l_factor_unsorted(),
-                Conj::No,
-                mat,
-                Par::Seq,
-            );
-            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_upper_triangular_in_place(self.lu.u_factor_unsorted(), Conj::No, mat, Par::Seq);
-            for (xi, &k) in x.iter_mut().zip(&self.col_inv) {
-                *xi = tmp[k];
-            }
+            self.lu_solve(x, tmp, false);
         }
         for k in 0..self.eta_r.len() {
             let r = self.eta_r[k];
@@ -350,25 +337,36 @@ impl Revised {
             y[r] = acc / self.eta_p[k];
         }
         if self.factorised {
-            tmp.clear();
-            tmp.extend(self.col_fwd.iter().map(|&i| y[i]));
+            self.lu_solve(y, tmp, true);
+        }
+    }
+
+    /// `x ← B₀⁻¹ x`, or `x ← B₀⁻ᵀ x` when `transpose`, with the sparse LU
+    /// of `B₀` (`P B₀ Q = L U`): permute in, two triangular solves, permute
+    /// out; `tmp` is scratch.
+    fn lu_solve(&self, x: &mut [f64], tmp: &mut Vec<f64>, transpose: bool) {
+        let n = self.n;
+        let (fwd, inv) = if transpose {
+            (&self.col_fwd, &self.row_inv)
+        } else {
+            (&self.row_fwd, &self.col_inv)
+        };
+        tmp.clear();
+        tmp.extend(fwd.iter().map(|&i| x[i]));
+        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
+        if transpose {
             let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_upper_triangular_transpose_in_place(
-                self.lu.u_factor_unsorted(),
-                Conj::No,
-                mat,
-                Par::Seq,
-            );
+            solve_upper_triangular_transpose_in_place(u, Conj::No, mat, Par::Seq);
             let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_unit_lower_triangular_transpose_in_place(
-                self.lu.l_factor_unsorted(),
-                Conj::No,
-                mat,
-                Par::Seq,
-            );
-            for (yi, &k) in y.iter_mut().zip(&self.row_inv) {
-                *yi = tmp[k];
-            }
+            solve_unit_lower_triangular_transpose_in_place(l, Conj::No, mat, Par::Seq);
+        } else {
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_unit_lower_triangular_in_place(l, Conj::No, mat, Par::Seq);
+            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
+            solve_upper_triangular_in_place(u, Conj::No, mat, Par::Seq);
+        }
+        for (xi, &k) in x.iter_mut().zip(inv) {
+            *xi = tmp[k];
         }
     }
 
