@@ -181,6 +181,16 @@ enum Command {
             alias = "small-unpolished-below"
         )]
         unpolished_below: Option<f64>,
+        /// Pivot tolerance of the Lemke attempts (relative to the largest
+        /// entry of the entering column of the scaled tableau) [default:
+        /// the driver's, 1e-10]
+        #[arg(long, value_name = "T", requires = "time")]
+        pivot_tol: Option<f64>,
+        /// Problems of at least this many unknowns start with the Harris
+        /// attempt, before the lexicographic one; a large number never
+        /// [default: the driver's, 201]
+        #[arg(long, value_name = "N", requires = "time")]
+        harris_from: Option<usize>,
     },
     /// Run a sweep plan (docs/sweep-format.md): every point of cases x
     /// formulations x settings, measured against the reference; writes
@@ -395,6 +405,8 @@ fn main() -> ExitCode {
             csv,
             revised_from,
             unpolished_below,
+            pivot_tol,
+            harris_from,
         } => {
             if time {
                 let mut opts = floebench::lcp::timing::TimingOptions {
@@ -420,6 +432,16 @@ fn main() -> ExitCode {
                         return ExitCode::FAILURE;
                     }
                     opts.solve.unpolished_below = r;
+                }
+                if let Some(t) = pivot_tol {
+                    if !(t.is_finite() && t > 0.0 && t < 1.0) {
+                        eprintln!("error: --pivot-tol must be a number in (0, 1), got {t}");
+                        return ExitCode::FAILURE;
+                    }
+                    opts.solve.pivot_tol = t;
+                }
+                if let Some(k) = harris_from {
+                    opts.solve.harris_from = k;
                 }
                 time_lcps(&path, opts, csv.as_deref())
             } else if path.is_dir() {

@@ -224,6 +224,14 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
             }
         }
     }
+    if opts.rule == PivotRule::Harris {
+        let r = harris(e, thresh, r0, opts.prefer_z0);
+        return if r == NONE {
+            Step::TooSmall
+        } else {
+            Step::Pivot(r)
+        };
+    }
     cand.clear();
     let tol = opts.tie_tol * min.abs();
     if second > min + tol {
@@ -239,6 +247,36 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
         Some(r) => Step::Pivot(r),
         None => Step::TooSmall,
     }
+}
+
+/// The second pass of [`PivotRule::Harris`]: among the rows whose ratio is
+/// within the bound of the first pass, the largest blocking entry (`z0`'s
+/// row if it is among them and `prefer_z0`). At least one row blocks (the
+/// caller found a finite minimum ratio), and the minimiser is within the
+/// bound, so a row is returned ([`NONE`] only if rounding defeated that).
+fn harris<B: Basis>(e: &B, thresh: f64, r0: usize, prefer_z0: bool) -> usize {
+    let n = e.n();
+    let delta = super::lemke::HARRIS_FEASIBILITY;
+    let mut bound = f64::INFINITY;
+    for i in 0..n {
+        let c = e.c(i);
+        if c > thresh {
+            bound = bound.min((e.b(i).max(0.0) + delta) / c);
+        }
+    }
+    let (mut best, mut best_c) = (NONE, 0.0_f64);
+    for i in 0..n {
+        let c = e.c(i);
+        if c > thresh && e.b(i).max(0.0) / c <= bound {
+            if prefer_z0 && i == r0 {
+                return i;
+            }
+            if c > best_c {
+                (best, best_c) = (i, c);
+            }
+        }
+    }
+    best
 }
 
 /// Whether the step `theta` on the loaded column (the one that makes `z0`
@@ -316,7 +354,9 @@ fn select_among_ties<B: Basis>(
             }
         }
         PivotRule::MinRatioSmallestIndex => cand.iter().copied().min_by_key(|&i| e.basic(i)),
-        PivotRule::MinRatioLargestPivot => largest_pivot(cand, |i| sign * e.c(i)),
+        PivotRule::MinRatioLargestPivot | PivotRule::Harris => {
+            largest_pivot(cand, |i| sign * e.c(i))
+        }
     }
 }
 

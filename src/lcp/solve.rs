@@ -3,6 +3,12 @@
 //!
 //! Attempts, in order, stopping at the first accepted one:
 //!
+//! 0. [`Strategy::Harris`], on problems of at least
+//!    [`SolveOptions::harris_from`] unknowns only: Lemke with
+//!    [`PivotRule::Harris`], whose ratio test passes by the tiny blocking
+//!    entries on which the lexicographic path of a degenerate contact LCP
+//!    loses feasibility. It has no anti-cycling guarantee, which attempt 1
+//!    keeps.
 //! 1. [`Strategy::Lexicographic`]: Lemke with [`PivotRule::Lexicographic`].
 //! 2. [`Strategy::AlternativeRule`]: Lemke with
 //!    [`SolveOptions::alternative_rule`] (default
@@ -85,6 +91,10 @@ pub enum Strategy {
     /// rejected principal pivoting; [`SolveOptions::warm_lemke`]), on the
     /// factorised basis, before the cold attempts.
     WarmLemke,
+    /// Lemke with [`PivotRule::Harris`] on the original problem: the first
+    /// cold attempt on problems of at least [`SolveOptions::harris_from`]
+    /// unknowns, before the lexicographic one.
+    Harris,
 }
 
 /// Choice of the covering vector `d` of an attempt.
@@ -127,7 +137,9 @@ impl Covering {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum SolveStatus {
     /// The warm start ([`solve_warm`]: its principal pivoting or its Lemke
-    /// path) or the first cold Lemke attempt (lexicographic) was accepted.
+    /// path) or the first cold Lemke attempt (Harris on problems of at
+    /// least [`SolveOptions::harris_from`] unknowns, else lexicographic)
+    /// was accepted.
     Solved,
     /// A later attempt was accepted.
     SolvedByFallback,
@@ -242,6 +254,26 @@ pub struct SolveOptions {
     /// cost about half of a cold solve, which then follows.
     #[serde(default = "default_warm_lemke_pivots")]
     pub warm_lemke_pivots: f64,
+    /// Problems of at least this many unknowns start with a cold attempt
+    /// with [`PivotRule::Harris`] ([`Strategy::Harris`]) before the
+    /// lexicographic one; `usize::MAX` never, `0` always. Default
+    /// [`HARRIS_FROM`] (201): on the 40 LCPs of more than 800 unknowns of
+    /// the bay-jam corpus the lexicographic attempt failed on 9 (7 secondary
+    /// rays, 2 drift failures, after 669–7,413 pivots, each then solved by
+    /// a fallback after 1,900–19,500 pivots in all) and the Harris attempt
+    /// on none (docs/physics.md §3.3, "Harris ratio test"). Below it the
+    /// lexicographic attempt comes first, as before.
+    #[serde(default = "default_harris_from")]
+    pub harris_from: usize,
+}
+
+/// Default of [`SolveOptions::harris_from`], in unknowns: the 201–800 and
+/// more-than-800 buckets of the `lcp --time` summary, where the contact
+/// LCPs of packed floes are large and degenerate.
+pub const HARRIS_FROM: usize = 201;
+
+fn default_harris_from() -> usize {
+    HARRIS_FROM
 }
 
 /// Largest number of unknowns of a "small" problem, to which
@@ -292,6 +324,7 @@ impl Default for SolveOptions {
             unpolished_below: default_unpolished_below(),
             warm_lemke: default_warm_lemke(),
             warm_lemke_pivots: default_warm_lemke_pivots(),
+            harris_from: default_harris_from(),
         }
     }
 }
@@ -436,7 +469,7 @@ impl LcpSolution {
 pub struct SolveCounters {
     /// Number of solves recorded.
     pub solves: u64,
-    /// Solved by the first (lexicographic) attempt.
+    /// Solved by the first attempt (see [`SolveStatus::Solved`]).
     pub solved: u64,
     /// Solved by a fallback attempt.
     pub solved_by_fallback: u64,
@@ -473,6 +506,9 @@ pub struct SolveCounters {
     /// Pivots of the warm Lemke paths (included in `total_pivots`).
     #[serde(default)]
     pub warm_lemke_pivots: u64,
+    /// Solves accepted by [`Strategy::Harris`].
+    #[serde(default)]
+    pub by_harris: u64,
 }
 
 impl SolveCounters {
@@ -487,6 +523,7 @@ impl SolveCounters {
         match s.accepted_by {
             Some(Strategy::AlternativeRule) => self.by_alternative_rule += 1,
             Some(Strategy::Perturbed) => self.by_perturbed += 1,
+            Some(Strategy::Harris) => self.by_harris += 1,
             _ => {}
         }
         let p = s.pivots as u64;
@@ -530,10 +567,16 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
 }
 
 /// The attempts of the plan, in order: `(strategy, rule, ε_rel)`; with
-/// `warm`, the warm Lemke path first.
-fn plan(opts: &SolveOptions, warm: bool) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
+/// `warm`, the warm Lemke path first; then, on a problem of `n` unknowns,
+/// `n ≥` [`SolveOptions::harris_from`], the Harris attempt.
+fn plan(
+    opts: &SolveOptions,
+    warm: bool,
+    n: usize,
+) -> impl Iterator<Item = (Strategy, PivotRule, f64)> + '_ {
     warm.then_some((Strategy::WarmLemke, PivotRule::Lexicographic, 0.0))
         .into_iter()
+        .chain((n >= opts.harris_from).then_some((Strategy::Harris, PivotRule::Harris, 0.0)))
         .chain(std::iter::once((
             Strategy::Lexicographic,
             PivotRule::Lexicographic,
@@ -640,7 +683,7 @@ fn solve_plan(
     let mut pivots = 0usize;
     let mut best_r = f64::INFINITY;
     let mut have_best = false;
-    for (strategy, rule, eps_rel) in plan(opts, start.is_some()) {
+    for (strategy, rule, eps_rel) in plan(opts, start.is_some(), n) {
         let covering = if strategy == Strategy::AlternativeRule {
             &opts.alternative_covering
         } else {
@@ -767,8 +810,11 @@ fn solve_plan(
     }
 
     let accepted_by = attempts.iter().find(|a| a.accepted).map(|a| a.strategy);
+    // The first cold attempt is the Harris one when it ran.
+    let harris_first = attempts.iter().any(|a| a.strategy == Strategy::Harris);
     out.status = match accepted_by {
-        Some(Strategy::Lexicographic | Strategy::WarmLemke) => SolveStatus::Solved,
+        Some(Strategy::Lexicographic) if !harris_first => SolveStatus::Solved,
+        Some(Strategy::Harris | Strategy::WarmLemke) => SolveStatus::Solved,
         Some(_) => SolveStatus::SolvedByFallback,
         None => SolveStatus::Failed,
     };

@@ -104,7 +104,8 @@ pub struct TimedSolve {
     pub residual: f64,
     /// Median thread CPU time per solve, µs.
     pub cpu_us: f64,
-    /// What Lemke reported on the first (lexicographic) attempt
+    /// What Lemke reported on the first attempt (Harris from
+    /// [`crate::lcp::solve::HARRIS_FROM`] unknowns, else lexicographic)
     /// ([`Termination::Solved`] for `q >= 0`, which needs no attempt).
     pub first_termination: Termination,
     /// Pivots of the first attempt.
@@ -135,6 +136,7 @@ pub fn accepted_attempt_name(sol: &LcpSolution) -> String {
                 Strategy::Perturbed => format!("Perturbed:{:e}", a.epsilon_rel),
                 Strategy::WarmStart => String::from("WarmStart"),
                 Strategy::WarmLemke => String::from("WarmLemke"),
+                Strategy::Harris => String::from("Harris"),
             };
             if a.revised {
                 name + "/revised"

@@ -233,6 +233,7 @@ fn every_pivot_rule_and_custom_covering_vector_solve_p_matrix_lcps() {
             PivotRule::Lexicographic,
             PivotRule::MinRatioSmallestIndex,
             PivotRule::MinRatioLargestPivot,
+            PivotRule::Harris,
         ] {
             for covering in [None, Some(d.clone())] {
                 let opts = LemkeOptions {
@@ -1781,6 +1782,30 @@ fn check_every_path(
         revised.attempts
     );
 
+    // The Harris attempt first (the default above HARRIS_FROM unknowns),
+    // on the dense tableau and on the factorised basis; the lexicographic
+    // attempt follows when it is not accepted.
+    for revised_from in [usize::MAX, 0] {
+        let path = format!("cold, Harris first, revised_from = {revised_from}");
+        let s = solve_with(
+            ws,
+            lcp,
+            &SolveOptions {
+                harris_from: 0,
+                revised_from,
+                ..opts.clone()
+            },
+        );
+        judge(&s, &path);
+        same_as_cold(&s, &path);
+        if s.pivots > 0 {
+            assert_eq!(s.attempts[0].strategy, Strategy::Harris, "{label} {path}");
+            if !s.attempts[0].accepted {
+                assert_eq!(s.attempts[1].strategy, Strategy::Lexicographic, "{label}");
+            }
+        }
+    }
+
     let right = BasisGuess {
         basic: cold.z.iter().map(|&v| v > 0.0).collect(),
         z: cold.z.clone(),
@@ -2139,7 +2164,11 @@ fn revised_path_follows_the_dense_path_on_p_matrix_and_degenerate_lcps() {
         for k in 0..150 {
             let n = 1 + (rng.next_u64() % 60) as usize;
             let lcp = family_lcp(&mut rng, family, n);
-            for rule in [PivotRule::Lexicographic, PivotRule::MinRatioLargestPivot] {
+            for rule in [
+                PivotRule::Lexicographic,
+                PivotRule::MinRatioLargestPivot,
+                PivotRule::Harris,
+            ] {
                 let (dense, rev) = lemke_both(&lcp, rule);
                 let label = format!("{family:?} {k} (n = {n}) {rule:?}");
                 if rule == PivotRule::Lexicographic {
@@ -2631,4 +2660,67 @@ fn a_non_finite_entry_anywhere_is_refused_by_the_one_pass_scan() {
         let s = solve(&Lcp::new(n, m, q).expect("sizes"), &SolveOptions::default());
         assert_eq!(s.status, SolveStatus::Solved, "n = {n}");
     }
+}
+
+#[test]
+fn large_problems_start_with_the_harris_attempt_and_the_lexicographic_one_follows() {
+    // The 271-unknown bay-jam group is above HARRIS_FROM: the Harris
+    // attempt comes first and solves it; with `harris_from` above its size
+    // the plan is the lexicographic one as before.
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/lcp_bay/bay_jam_200_moreau_000064.json");
+    let lcp = LcpDump::read(&path)
+        .expect("read")
+        .to_lcp()
+        .expect("an LCP");
+    let opts = SolveOptions::default();
+    assert!(lcp.n >= opts.harris_from);
+    let s = solve(&lcp, &opts);
+    assert_eq!(s.attempts[0].strategy, Strategy::Harris);
+    assert_eq!(s.attempts[0].rule, PivotRule::Harris);
+    assert_eq!(s.status, SolveStatus::Solved, "{:?}", s.attempts);
+    assert_eq!(s.accepted_by, Some(Strategy::Harris));
+    assert!(residual(&lcp.m, &lcp.q, &s.z) <= opts.tolerance);
+    let mut counters = SolveCounters::default();
+    counters.record(&s);
+    assert_eq!((counters.by_harris, counters.solved), (1, 1));
+    let old = solve(
+        &lcp,
+        &SolveOptions {
+            harris_from: lcp.n + 1,
+            ..opts.clone()
+        },
+    );
+    assert_eq!(old.attempts[0].strategy, Strategy::Lexicographic);
+    assert!(old.attempts.iter().all(|a| a.strategy != Strategy::Harris));
+
+    // On the committed corpus with the Harris attempt first on every size:
+    // every dump is solved on the original data; where the Harris attempt
+    // is not accepted the lexicographic one follows, and an acceptance by
+    // it is then a fallback.
+    let harris_everywhere = SolveOptions {
+        harris_from: 0,
+        ..opts.clone()
+    };
+    let (mut by_harris, mut handed_over) = (0, 0);
+    for (name, lcp) in corpus() {
+        let s = solve(&lcp, &harris_everywhere);
+        assert!(s.status.is_solved(), "{name}: {:?}", s.attempts);
+        let r = residual(&lcp.m, &lcp.q, &s.z);
+        assert!(r <= opts.tolerance, "{name}: residual {r:e}");
+        if s.pivots == 0 {
+            continue;
+        }
+        assert_eq!(s.attempts[0].strategy, Strategy::Harris, "{name}");
+        if s.attempts[0].accepted {
+            by_harris += 1;
+            assert_eq!(s.status, SolveStatus::Solved, "{name}");
+        } else {
+            handed_over += 1;
+            assert_eq!(s.attempts[1].strategy, Strategy::Lexicographic, "{name}");
+            assert_eq!(s.status, SolveStatus::SolvedByFallback, "{name}");
+        }
+    }
+    eprintln!("committed corpus, Harris first: {by_harris} accepted, {handed_over} handed over");
+    assert!(by_harris > 0);
 }
