@@ -187,8 +187,8 @@ enum Command {
         #[arg(long, value_name = "T", requires = "time")]
         pivot_tol: Option<f64>,
         /// Problems of at least this many unknowns start with the Harris
-        /// attempt, before the lexicographic one; a large number never
-        /// [default: the driver's, 201]
+        /// attempt, before the lexicographic one; 0 always [default: the
+        /// driver's, never]
         #[arg(long, value_name = "N", requires = "time")]
         harris_from: Option<usize>,
     },

@@ -94,16 +94,18 @@ pub enum PivotRule {
     /// the lexicographic path pivots on it, the basis inverse grows to
     /// 1e16, basic values go to −0.3 and the path ends on a secondary ray
     /// or a drift failure; this test passes such a row by for one whose
-    /// ratio differs by at most `δ / c_i`. No anti-cycling guarantee: the
-    /// driver follows it with the lexicographic attempt
-    /// ([`super::solve`]).
+    /// ratio differs by at most `δ / c_i`. No anti-cycling guarantee, and
+    /// the infeasibility it allows (up to `δ` a step) can accumulate into a
+    /// drift failure: the driver follows it with the lexicographic attempt
+    /// ([`super::solve`]), and runs it only when asked
+    /// (`SolveOptions::harris_from`).
     Harris,
 }
 
 /// Feasibility tolerance `δ` of [`PivotRule::Harris`], on the scaled
 /// tableau (where `max|q'_i|` is within √2 of 1): `1e-12`, about 4,500
 /// ulps of 1, a thousandth of the drift clamp's `1e-9`. Measured on the 40
-/// LCPs of 1,520–1,552 unknowns of the bay-jam corpus: `1e-12` solves all
+/// LCPs of 1,520–1,552 unknowns of a bay-jam window: `1e-12` solves all
 /// 40 with residuals at most 1.6e-11 before the polish, `1e-10` solves
 /// them too but leaves 16 residuals above the driver's `1e-10`.
 pub const HARRIS_FEASIBILITY: f64 = 1e-12;

@@ -4,7 +4,7 @@
 //! Attempts, in order, stopping at the first accepted one:
 //!
 //! 0. [`Strategy::Harris`], on problems of at least
-//!    [`SolveOptions::harris_from`] unknowns only: Lemke with
+//!    [`SolveOptions::harris_from`] unknowns only (none by default): Lemke with
 //!    [`PivotRule::Harris`], whose ratio test passes by the tiny blocking
 //!    entries on which the lexicographic path of a degenerate contact LCP
 //!    loses feasibility. It has no anti-cycling guarantee, which attempt 1
@@ -137,9 +137,9 @@ impl Covering {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum SolveStatus {
     /// The warm start ([`solve_warm`]: its principal pivoting or its Lemke
-    /// path) or the first cold Lemke attempt (Harris on problems of at
-    /// least [`SolveOptions::harris_from`] unknowns, else lexicographic)
-    /// was accepted.
+    /// path) or the first cold Lemke attempt (lexicographic, or Harris on
+    /// problems of at least [`SolveOptions::harris_from`] unknowns) was
+    /// accepted.
     Solved,
     /// A later attempt was accepted.
     SolvedByFallback,
@@ -256,21 +256,19 @@ pub struct SolveOptions {
     pub warm_lemke_pivots: f64,
     /// Problems of at least this many unknowns start with a cold attempt
     /// with [`PivotRule::Harris`] ([`Strategy::Harris`]) before the
-    /// lexicographic one; `usize::MAX` never, `0` always. Default
-    /// [`HARRIS_FROM`] (201): on the 40 LCPs of more than 800 unknowns of
-    /// the bay-jam corpus the lexicographic attempt failed on 9 (7 secondary
-    /// rays, 2 drift failures, after 669–7,413 pivots, each then solved by
-    /// a fallback after 1,900–19,500 pivots in all) and the Harris attempt
-    /// on none (docs/physics.md §3.3, "Harris ratio test"). Below it the
-    /// lexicographic attempt comes first, as before.
+    /// lexicographic one; `usize::MAX` never (the default,
+    /// [`HARRIS_FROM`]), `0` always. Off by default because the measurement
+    /// is mixed (docs/physics.md §3.3, "Harris ratio test"): on the 40
+    /// LCPs of more than 800 unknowns of one bay-jam window it removed all
+    /// 9 fallbacks (32.5 s of CPU against 41.0 s), on the 6 of another
+    /// window it failed on 4 and cost 31.1 s against 25.8 s.
     #[serde(default = "default_harris_from")]
     pub harris_from: usize,
 }
 
-/// Default of [`SolveOptions::harris_from`], in unknowns: the 201–800 and
-/// more-than-800 buckets of the `lcp --time` summary, where the contact
-/// LCPs of packed floes are large and degenerate.
-pub const HARRIS_FROM: usize = 201;
+/// Default of [`SolveOptions::harris_from`]: `usize::MAX`, no Harris
+/// attempt (the plan as before it existed).
+pub const HARRIS_FROM: usize = usize::MAX;
 
 fn default_harris_from() -> usize {
     HARRIS_FROM

@@ -104,8 +104,8 @@ pub struct TimedSolve {
     pub residual: f64,
     /// Median thread CPU time per solve, µs.
     pub cpu_us: f64,
-    /// What Lemke reported on the first attempt (Harris from
-    /// [`crate::lcp::solve::HARRIS_FROM`] unknowns, else lexicographic)
+    /// What Lemke reported on the first attempt (lexicographic, or Harris
+    /// from [`crate::lcp::SolveOptions::harris_from`] unknowns)
     /// ([`Termination::Solved`] for `q >= 0`, which needs no attempt).
     pub first_termination: Termination,
     /// Pivots of the first attempt.

@@ -1782,8 +1782,8 @@ fn check_every_path(
         revised.attempts
     );
 
-    // The Harris attempt first (the default above HARRIS_FROM unknowns),
-    // on the dense tableau and on the factorised basis; the lexicographic
+    // The Harris attempt first (`harris_from`, off by default), on the
+    // dense tableau and on the factorised basis; the lexicographic
     // attempt follows when it is not accepted.
     for revised_from in [usize::MAX, 0] {
         let path = format!("cold, Harris first, revised_from = {revised_from}");
@@ -2664,16 +2664,24 @@ fn a_non_finite_entry_anywhere_is_refused_by_the_one_pass_scan() {
 
 #[test]
 fn large_problems_start_with_the_harris_attempt_and_the_lexicographic_one_follows() {
-    // The 271-unknown bay-jam group is above HARRIS_FROM: the Harris
-    // attempt comes first and solves it; with `harris_from` above its size
-    // the plan is the lexicographic one as before.
+    // By default there is no Harris attempt. With `harris_from = 201` the
+    // 271-unknown bay-jam group starts with it, and it solves it; with
+    // `harris_from` above its size the plan is the lexicographic one.
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/lcp_bay/bay_jam_200_moreau_000064.json");
     let lcp = LcpDump::read(&path)
         .expect("read")
         .to_lcp()
         .expect("an LCP");
-    let opts = SolveOptions::default();
+    let default = solve(&lcp, &SolveOptions::default());
+    assert!(default
+        .attempts
+        .iter()
+        .all(|a| a.strategy != Strategy::Harris));
+    let opts = SolveOptions {
+        harris_from: 201,
+        ..SolveOptions::default()
+    };
     assert!(lcp.n >= opts.harris_from);
     let s = solve(&lcp, &opts);
     assert_eq!(s.attempts[0].strategy, Strategy::Harris);
