@@ -2119,12 +2119,7 @@ fn a_dump_at_the_edge_of_the_f64_range_is_solved_and_judged_scaled() {
     // one q entry mutated to 1e308. The driver solves it; a check that
     // formed M z and zᵀw unscaled overflowed (zᵀw = NaN) and called it a
     // false solve. z/σ solves LCP(M, q/σ): judged that way it holds.
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/lcp_edge/fuzz_q_1e308.json");
-    let lcp = LcpDump::read(&path)
-        .expect("read")
-        .to_lcp()
-        .expect("an LCP");
+    let lcp = committed_dump("lcp_edge/fuzz_q_1e308.json");
     assert!(lcp.q.iter().any(|v| v.abs() == 1e308));
     let s = solve(&lcp, &SolveOptions::default());
     assert!(s.status.is_solved(), "{:?}", s.status);
@@ -2245,12 +2240,7 @@ fn a_bay_jam_dump_is_solved_by_the_revised_path_like_the_dense_path() {
     // cases/fields/bay_jam_200.toml started at t = 5000 s of a rapier run):
     // the driver picks the factorised basis by default at this size, and
     // both paths solve it by the first attempt to the rounding level.
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/lcp_bay/bay_jam_200_moreau_000064.json");
-    let lcp = LcpDump::read(&path)
-        .expect("read")
-        .to_lcp()
-        .expect("an LCP");
+    let lcp = committed_dump("lcp_bay/bay_jam_200_moreau_000064.json");
     assert_eq!(lcp.n, 271);
     let opts = SolveOptions::default();
     assert!(
@@ -2667,12 +2657,7 @@ fn large_problems_start_with_the_harris_attempt_and_the_lexicographic_one_follow
     // By default there is no Harris attempt. With `harris_from = 201` the
     // 271-unknown bay-jam group starts with it, and it solves it; with
     // `harris_from` above its size the plan is the lexicographic one.
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/data/lcp_bay/bay_jam_200_moreau_000064.json");
-    let lcp = LcpDump::read(&path)
-        .expect("read")
-        .to_lcp()
-        .expect("an LCP");
+    let lcp = committed_dump("lcp_bay/bay_jam_200_moreau_000064.json");
     let default = solve(&lcp, &SolveOptions::default());
     assert!(default
         .attempts
@@ -2731,4 +2716,15 @@ fn large_problems_start_with_the_harris_attempt_and_the_lexicographic_one_follow
     }
     eprintln!("committed corpus, Harris first: {by_harris} accepted, {handed_over} handed over");
     assert!(by_harris > 0);
+}
+
+/// The LCP of a committed dump, by its path under `tests/data/`.
+fn committed_dump(path: &str) -> Lcp {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(path);
+    LcpDump::read(&path)
+        .expect("read")
+        .to_lcp()
+        .expect("an LCP")
 }
