@@ -87,8 +87,8 @@ pub enum PivotRule {
     /// `δ =` [`HARRIS_FEASIBILITY`] on the scaled tableau, the second takes,
     /// among the rows whose ratio is at most `θ*`, the one with the largest
     /// pivot entry `c_i` (the lowest row among equal entries; `z0` if it is
-    /// one of them). Every basic variable stays above `−δ`, which the drift
-    /// clamp absorbs. On the degenerate contact LCPs of a jammed pack the
+    /// one of them). A step takes no basic variable that was non-negative
+    /// below `−δ`. On the degenerate contact LCPs of a jammed pack the
     /// exact minimum ratio is often taken by an entry of 1e-8 to 1e-10
     /// (nearly equal tangential columns of two points of facing edges):
     /// the lexicographic path pivots on it, the basis inverse grows to

@@ -808,11 +808,14 @@ fn solve_plan(
     }
 
     let accepted_by = attempts.iter().find(|a| a.accepted).map(|a| a.strategy);
-    // The first cold attempt is the Harris one when it ran.
-    let harris_first = attempts.iter().any(|a| a.strategy == Strategy::Harris);
+    // Solved: the warm Lemke path or the first cold attempt was accepted.
+    let first_cold = attempts
+        .iter()
+        .find(|a| a.strategy != Strategy::WarmLemke)
+        .map(|a| a.strategy);
     out.status = match accepted_by {
-        Some(Strategy::Lexicographic) if !harris_first => SolveStatus::Solved,
-        Some(Strategy::Harris | Strategy::WarmLemke) => SolveStatus::Solved,
+        Some(Strategy::WarmLemke) => SolveStatus::Solved,
+        Some(a) if Some(a) == first_cold => SolveStatus::Solved,
         Some(_) => SolveStatus::SolvedByFallback,
         None => SolveStatus::Failed,
     };
