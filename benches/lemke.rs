@@ -23,7 +23,7 @@
 //! `cargo bench --bench lemke`
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use floebench::contact::problem::{groups, ContactLcp, Gen};
+use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
 use floebench::contact::BroadPhase;
 use floebench::formulation::parse_case;
 use floebench::lcp::solve::SMALL_N;
@@ -76,7 +76,7 @@ fn impact_lcp(scn: &Scenario) -> Lcp {
     let centres = sys.centres();
     let w: Vec<Gen> = sys.velocities();
     let zeros = vec![0.0; contacts.len()];
-    ContactLcp::assemble(scn, &centres, &contacts, &g, &w, &zeros).lcp
+    ContactLcp::assemble(scn, &centres, &contacts, &g, &w, &zeros, Friction::Merged).lcp
 }
 
 fn lemke_on_impacts(c: &mut Criterion) {

@@ -23,6 +23,15 @@
 //! normal block is kept (size `m`): the friction unknowns would be zero and
 //! the slack `α` undetermined.
 //!
+//! **Flush edge pairs** ([`Friction::Merged`]). The two points of a
+//! nearly flush edge pair have tangential columns equal up to the angle
+//! between the edges; consecutive contacts of one body pair whose columns
+//! agree to [`FRICTION_MERGE_TOLERANCE`] form one friction group with one
+//! friction pair (along the mean of their columns) and one Coulomb row
+//! `σ_G = μ Σ_{j∈G} λ_j − β̃⁺_G − β̃⁻_G`: `z = (λ, β̃_G, α_G)` of size
+//! `m + 3G`. A lone contact keeps its own column and row, bit for bit
+//! (docs/physics.md §3.1, "Flush edge pairs").
+//!
 //! **Coulomb rows in velocity units.** Each Coulomb row
 //! `σ_j = μ λ_j − β̃⁺_j − β̃⁻_j` is assembled multiplied by the contact's
 //! scaled normal Delassus diagonal `(JᵀM⁻¹J)_jj / g` (left as it is if that
@@ -147,6 +156,13 @@ pub struct ContactLcp {
     pub v_scale: f64,
     /// Identity of each contact, in LCP order (for warm starts).
     pub keys: Vec<ContactKey>,
+    /// The friction group of each contact (length `m` with friction, empty
+    /// without): contacts of one body pair whose friction columns agree
+    /// share one friction resultant (see the module doc).
+    fgroup: Vec<usize>,
+    /// Number of friction groups `G` (`m` when nothing is merged, 0
+    /// without friction); `n = m + 3G`.
+    pub friction_groups: usize,
 }
 
 /// `HᵀM⁻¹H` by the dense faer product over every row of `H`
@@ -222,13 +238,65 @@ fn delassus_blocks_body(
     }
 }
 
+/// How friction enters the assembled LCP ([`ContactLcp::assemble`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Friction {
+    /// One friction resultant per group of contacts of one body pair whose
+    /// tangential columns agree to [`FRICTION_MERGE_TOLERANCE`] (the two
+    /// points of a flush edge pair), bounded by `μ` times the sum of their
+    /// normal impulses: the Lemke formulations (docs/physics.md §3.1,
+    /// "Flush edge pairs").
+    Merged,
+    /// One friction pair per contact point, whatever the columns: the cone
+    /// programs (one Coulomb cone per point) and the reference of the tests.
+    PerPoint,
+}
+
+/// Largest difference between the tangential Jacobian columns of two
+/// contacts of one body pair, per body, for one friction resultant to
+/// replace theirs ([`Friction::Merged`]): the tangents (unit vectors) and
+/// the lever terms `r × T` divided by the body's radius of gyration
+/// `√(I/m)` (m) differ by at most this. The two points of a flush edge
+/// pair differ by the angle between the edges and by their offset across
+/// the edge line (at most the contact distance, 1e-3 of the smallest floe
+/// radius by default) over the radius of gyration: 1e-10 to 1e-4 on the
+/// jammed bay (`bay_jam_200`), where near-equal columns made Lemke's pivots
+/// as small as 1e-10 and cost its feasibility (docs/physics.md §3.3). Two
+/// points of one body pair on different edges differ by order one.
+pub const FRICTION_MERGE_TOLERANCE: f64 = 1e-3;
+
+/// Whether two contacts of the body pair of `c` have the same friction
+/// column to [`FRICTION_MERGE_TOLERANCE`], from their per-body tangential
+/// Jacobians `jc`, `jo` (`None`: an obstacle, no rows).
+fn same_friction_column(
+    scn: &Scenario,
+    c: &Contact,
+    jc: &[Option<Gen>; 2],
+    jo: &[Option<Gen>; 2],
+) -> bool {
+    [c.a, c.b].iter().enumerate().all(|(slot, &body)| {
+        let (Some(x), Some(y)) = (jc[slot], jo[slot]) else {
+            return jc[slot].is_none() && jo[slot].is_none();
+        };
+        let Some(f) = scn.floes.get(body) else {
+            return false;
+        };
+        let gyration = (f.inertia / f.mass).sqrt();
+        let dt = (x[0] - y[0]).abs().max((x[1] - y[1]).abs());
+        let dr = (x[2] - y[2]).abs() / gyration;
+        dt.max(dr) <= FRICTION_MERGE_TOLERANCE
+    })
+}
+
 /// One Jacobian column block: `(n, r × n)` for a direction `n` at lever arm `r`.
 fn jac(n: &Vec2, r: &Vec2) -> Gen {
     [n.x, n.y, cross(r, n)]
 }
 
 impl ContactLcp {
-    /// Assembles the LCP of `group`.
+    /// Assembles the LCP of `group`, with one friction resultant per flush
+    /// edge pair ([`Friction::Merged`], the Lemke formulations) or one per
+    /// contact point ([`Friction::PerPoint`]).
     ///
     /// - `centres[i]`: centre of mass of floe `i` (m), for the lever arms;
     /// - `w_free[i]`: free velocity of floe `i`;
@@ -240,32 +308,77 @@ impl ContactLcp {
         group: &ContactGroup,
         w_free: &[Gen],
         offset: &[f64],
+        layout: Friction,
     ) -> ContactLcp {
         let n_floes = scn.floes.len();
         let mu = scn.contact.friction;
         let friction = mu > 0.0;
         let m = group.contacts.len();
         let ng = group.floes.len();
-        let cols = if friction { 3 * m } else { m };
         let local = |i: usize| group.floes.binary_search(&i).ok();
+        // The tangential Jacobian of each contact, per body (`None` for an
+        // obstacle): `(T, r × T)` at its lever arm.
+        let jt_of = |c: &Contact| -> [Option<Gen>; 2] {
+            [c.a, c.b].map(|body| {
+                (body < n_floes && local(body).is_some())
+                    .then(|| jac(&c.geom.tangent, &(c.geom.point - centres[body])))
+            })
+        };
+        // Friction groups: a contact joins the group of the previous
+        // contact of its body pair whose tangential columns it matches
+        // (`same_friction_column`), else starts one.
+        let mut fgroup: Vec<usize> = Vec::with_capacity(if friction { m } else { 0 });
+        let mut first: Vec<usize> = Vec::new();
+        if friction {
+            for (j, &k) in group.contacts.iter().enumerate() {
+                let c = &contacts[k];
+                let joined = (layout == Friction::Merged)
+                    .then(|| {
+                        first.iter().rposition(|&f| {
+                            let o = &contacts[group.contacts[f]];
+                            (o.a, o.b) == (c.a, c.b)
+                                && same_friction_column(scn, c, &jt_of(c), &jt_of(o))
+                        })
+                    })
+                    .flatten();
+                match joined {
+                    Some(g) => fgroup.push(g),
+                    None => {
+                        fgroup.push(first.len());
+                        first.push(j);
+                    }
+                }
+            }
+        }
+        let nf = first.len();
+        let cols = m + 2 * nf;
+        let mut members = vec![0usize; nf];
+        for &g in &fgroup {
+            members[g] += 1;
+        }
         let mut h = Mat::<f64>::zeros(3 * ng, cols);
         for (j, &k) in group.contacts.iter().enumerate() {
             let c = &contacts[k];
             let n = c.geom.normal;
-            let t = c.geom.tangent;
-            for (body, sign) in [(c.a, -1.0), (c.b, 1.0)] {
+            let jt = jt_of(c);
+            for (slot, (body, sign)) in [(c.a, -1.0), (c.b, 1.0)].into_iter().enumerate() {
                 if body >= n_floes {
                     continue;
                 }
                 let Some(l) = local(body) else { continue };
                 let r = c.geom.point - centres[body];
                 let jn = jac(&n, &r);
-                let jt = jac(&t, &r);
                 for d in 0..3 {
                     h[(3 * l + d, j)] += sign * jn[d];
-                    if friction {
-                        h[(3 * l + d, m + 2 * j)] += sign * jt[d];
-                        h[(3 * l + d, m + 2 * j + 1)] -= sign * jt[d];
+                }
+                if let (true, Some(jt)) = (friction, jt[slot]) {
+                    // The group's column: the mean of its members' columns
+                    // (a lone contact's own column, exactly).
+                    let g = fgroup[j];
+                    let k = members[g] as f64;
+                    for d in 0..3 {
+                        h[(3 * l + d, m + 2 * g)] += sign * jt[d] / k;
+                        h[(3 * l + d, m + 2 * g + 1)] -= sign * jt[d] / k;
                     }
                 }
             }
@@ -288,13 +401,15 @@ impl ContactLcp {
                 if let Some(l) = *l {
                     col_floes[j][slot] = l;
                     touching[l].push(j);
-                    if friction {
-                        touching[l].extend([m + 2 * j, m + 2 * j + 1]);
+                    // A group's columns once, with its first member.
+                    if friction && first[fgroup[j]] == j {
+                        let g = fgroup[j];
+                        touching[l].extend([m + 2 * g, m + 2 * g + 1]);
                     }
                 }
             }
         }
-        let n = if friction { 4 * m } else { m };
+        let n = if friction { m + 3 * nf } else { m };
         let mut a = vec![0.0; n * n];
         delassus_blocks(&h, &minv, &touching, n, &mut a);
         let scale = {
@@ -321,7 +436,7 @@ impl ContactLcp {
             // Rows of H non-zero in column r: the blocks of its floes, in
             // increasing order (the same sum as over every row: the others
             // add exact zeros).
-            let j = if r < m { r } else { (r - m) / 2 };
+            let j = if r < m { r } else { first[(r - m) / 2] };
             let mut hw = 0.0;
             for &l in col_floes[j].iter().filter(|&&l| l != usize::MAX) {
                 for k in 3 * l..3 * l + 3 {
@@ -337,18 +452,33 @@ impl ContactLcp {
             v_scale = v_scale.max(offset[k].abs());
         }
         if friction {
-            for j in 0..m {
+            for g in 0..nf {
                 // γ rows: + E α.
-                a[(m + 2 * j) * n + 3 * m + j] = 1.0;
-                a[(m + 2 * j + 1) * n + 3 * m + j] = 1.0;
-                // σ row: μ λ − Eᵀ β̃, in velocity units (see the module
-                // doc): times the contact's scaled normal diagonal.
-                let g = a[j * n + j];
-                let f = if g > 0.0 && g.is_finite() { g } else { 1.0 };
-                let s = 3 * m + j;
-                a[s * n + j] = mu * f;
-                a[s * n + m + 2 * j] = -f;
-                a[s * n + m + 2 * j + 1] = -f;
+                a[(m + 2 * g) * n + m + 2 * nf + g] = 1.0;
+                a[(m + 2 * g + 1) * n + m + 2 * nf + g] = 1.0;
+            }
+            // σ row of group g: μ Σ_j λ_j − Eᵀ β̃, in velocity units (see
+            // the module doc): times the mean scaled normal diagonal of its
+            // members (a lone contact's own).
+            let mut diag = vec![0.0; nf];
+            for (j, &g) in fgroup.iter().enumerate() {
+                diag[g] += a[j * n + j];
+            }
+            let f_of = |g: usize| {
+                let d = diag[g] / members[g] as f64;
+                if d > 0.0 && d.is_finite() {
+                    d
+                } else {
+                    1.0
+                }
+            };
+            for (j, &g) in fgroup.iter().enumerate() {
+                a[(m + 2 * nf + g) * n + j] = mu * f_of(g);
+            }
+            for g in 0..nf {
+                let s = m + 2 * nf + g;
+                a[s * n + m + 2 * g] = -f_of(g);
+                a[s * n + m + 2 * g + 1] = -f_of(g);
             }
         }
         ContactLcp {
@@ -362,7 +492,48 @@ impl ContactLcp {
             floes: group.floes.clone(),
             v_scale,
             keys: group.contacts.iter().map(|&k| contacts[k].key()).collect(),
+            fgroup,
+            friction_groups: nf,
         }
+    }
+
+    /// The number of friction groups when some contacts share one
+    /// (`n = m + 3G`), `None` when each contact has its own or there is no
+    /// friction (what an LCP dump records, [`crate::lcp::LcpDump`]).
+    pub fn merged_groups(&self) -> Option<usize> {
+        (self.friction && self.friction_groups != self.m).then_some(self.friction_groups)
+    }
+
+    /// The friction group of contact `j` (`j` itself without merging).
+    pub fn friction_group(&self, j: usize) -> usize {
+        self.fgroup.get(j).copied().unwrap_or(j)
+    }
+
+    /// The indices of contact `j`'s unknowns `(λ_j, β̃⁺, β̃⁻, α)` (the last
+    /// three its friction group's; only `λ_j` without friction).
+    pub fn unknowns(&self, j: usize) -> impl Iterator<Item = usize> {
+        let (m, nf, g) = (self.m, self.friction_groups, self.friction_group(j));
+        [j, m + 2 * g, m + 2 * g + 1, m + 2 * nf + g]
+            .into_iter()
+            .take(if self.friction { 4 } else { 1 })
+    }
+
+    /// The unknowns of each friction group (its members' `λ`, then its
+    /// `β̃⁺`, `β̃⁻`, `α`), or of each contact (`λ_j`) without friction: the
+    /// blocks of a block Gauss–Seidel sweep.
+    pub fn blocks(&self) -> Vec<Vec<usize>> {
+        if !self.friction {
+            return (0..self.m).map(|j| vec![j]).collect();
+        }
+        let (m, nf) = (self.m, self.friction_groups);
+        let mut out: Vec<Vec<usize>> = vec![Vec::new(); nf];
+        for (j, &g) in self.fgroup.iter().enumerate() {
+            out[g].push(j);
+        }
+        for (g, b) in out.iter_mut().enumerate() {
+            b.extend([m + 2 * g, m + 2 * g + 1, m + 2 * nf + g]);
+        }
+        out
     }
 
     /// The scaled Delassus block `HᵀM⁻¹H / g` (`cols × cols`, row-major,
@@ -448,24 +619,44 @@ impl ContactLcp {
     }
 
     /// Signed tangential impulses `β_j = β̃⁺_j − β̃⁻_j` along `T_j` (N·s).
+    /// A merged friction group's resultant is shared among its members in
+    /// proportion to their normal impulses (equally if none pushes), which
+    /// keeps each member within its own cone `|β_j| ≤ μ λ_j`.
     pub fn tangential(&self, z: &[f64]) -> Vec<f64> {
-        if !self.friction || z.len() < 3 * self.m {
-            return vec![0.0; self.m];
+        let (m, nf) = (self.m, self.friction_groups);
+        if !self.friction || z.len() < m + 2 * nf {
+            return vec![0.0; m];
         }
-        (0..self.m)
-            .map(|j| (z[self.m + 2 * j] - z[self.m + 2 * j + 1]) / self.scale)
+        let mut lam = vec![0.0; nf];
+        let mut count = vec![0usize; nf];
+        for (j, &g) in self.fgroup.iter().enumerate() {
+            lam[g] += z[j].max(0.0);
+            count[g] += 1;
+        }
+        (0..m)
+            .map(|j| {
+                let g = self.fgroup[j];
+                let b = (z[m + 2 * g] - z[m + 2 * g + 1]) / self.scale;
+                if count[g] == 1 {
+                    b
+                } else if lam[g] > 0.0 {
+                    b * (z[j].max(0.0) / lam[g])
+                } else {
+                    b / count[g] as f64
+                }
+            })
             .collect()
     }
 
     /// The tangential compliance of contact `j`: the change of its
     /// tangential relative velocity per unit tangential impulse at it,
     /// `T_jᵀ M⁻¹ T_j` over the floes of the group (1/kg; 0 without
-    /// friction).
+    /// friction). For a merged friction group, that of its resultant.
     pub fn tangential_compliance(&self, j: usize) -> f64 {
         if !self.friction {
             return 0.0;
         }
-        let (n, r) = (self.lcp.n, self.m + 2 * j);
+        let (n, r) = (self.lcp.n, self.m + 2 * self.friction_group(j));
         self.lcp.m[r * n + r] * self.scale
     }
 
@@ -501,6 +692,8 @@ impl ContactLcp {
             floes: self.floes.clone(),
             v_scale: self.v_scale,
             keys: self.keys.clone(),
+            fgroup: Vec::new(),
+            friction_groups: 0,
         }
     }
 }
@@ -555,7 +748,9 @@ impl ContactLcp {
         let m = self.m;
         let n = self.lcp.n;
         let idx: Vec<usize> = if self.friction {
-            (0..m).chain((0..m).map(|j| m + 2 * j)).collect()
+            (0..m)
+                .chain((0..m).map(|j| m + 2 * self.friction_group(j)))
+                .collect()
         } else {
             (0..m).collect()
         };
@@ -581,16 +776,22 @@ impl ContactLcp {
     /// impulses `λ`, `β` (N·s; `β` ignored without friction; `α = 0`, it does
     /// not enter the impulses), for [`ContactLcp::impulses`] and
     /// [`ContactLcp::velocity_changes`].
+    ///
+    /// A merged friction group takes the sum of its members' `β`.
     pub fn z_from_impulses(&self, lambda: &[f64], beta: &[f64]) -> Vec<f64> {
-        let m = self.m;
+        let (m, nf) = (self.m, self.friction_groups);
         let mut z = vec![0.0; self.lcp.n];
+        let mut bsum = vec![0.0; nf];
         for j in 0..m {
             z[j] = lambda.get(j).copied().unwrap_or(0.0) * self.scale;
             if self.friction {
-                let b = beta.get(j).copied().unwrap_or(0.0) * self.scale;
-                z[m + 2 * j] = b.max(0.0);
-                z[m + 2 * j + 1] = (-b).max(0.0);
+                bsum[self.fgroup[j]] += beta.get(j).copied().unwrap_or(0.0);
             }
+        }
+        for (g, b) in bsum.into_iter().enumerate() {
+            let b = b * self.scale;
+            z[m + 2 * g] = b.max(0.0);
+            z[m + 2 * g + 1] = (-b).max(0.0);
         }
         z
     }

@@ -60,7 +60,7 @@
 //! timing.
 
 use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
-use crate::contact::problem::ContactLcp;
+use crate::contact::problem::{ContactLcp, Friction};
 use crate::contact::ContactKey;
 use crate::lcp::predict::{basis_mismatch, solve_predicted, Blocks, PredictOptions, Prediction};
 use crate::lcp::SolveStatus;
@@ -485,12 +485,6 @@ struct ContactBasis {
     z: [f64; 4],
 }
 
-/// The indices of contact `j`'s unknowns in an LCP of `m` contacts.
-fn unknowns(j: usize, m: usize, friction: bool) -> impl Iterator<Item = usize> {
-    let all = [j, m + 2 * j, m + 2 * j + 1, 3 * m + j];
-    all.into_iter().take(if friction { 4 } else { 1 })
-}
-
 /// The bases of the contacts of the last solves, by contact identity
 /// ([`ContactKey`]: bodies and features). Entries of the current time and
 /// of the previous one are kept; a contact seen at neither has no guess.
@@ -526,7 +520,7 @@ impl WarmCache {
                 continue;
             };
             matched = true;
-            for (k, i) in unknowns(j, lcp.m, lcp.friction).enumerate() {
+            for (k, i) in lcp.unknowns(j).enumerate() {
                 if i < n {
                     g.basic[i] = b.basic[k];
                     g.z[i] = b.z[k];
@@ -543,7 +537,7 @@ impl WarmCache {
                 basic: [false; 4],
                 z: [0.0; 4],
             };
-            for (k, i) in unknowns(j, lcp.m, lcp.friction).enumerate() {
+            for (k, i) in lcp.unknowns(j).enumerate() {
                 let v = z.get(i).copied().unwrap_or(0.0);
                 b.basic[k] = v > 0.0;
                 b.z[k] = v;
@@ -584,7 +578,18 @@ pub struct ContactSolver {
     predict_from: Option<usize>,
     /// Options of the prediction.
     predict: PredictOptions,
+    /// Whether the LCPs merge the friction of flush edge pairs
+    /// ([`ContactSolver::with_merge_friction`]).
+    merge_friction: bool,
 }
+
+/// Default of `merge_friction` ([`ContactSolver::with_merge_friction`]):
+/// on. The two points of a flush edge pair have tangential columns equal up
+/// to the angle between the edges; kept apart, they make Lemke's method
+/// degenerate (pivots of 1e-10, lost feasibility, ray terminations: 9 of the
+/// 40 LCPs of more than 800 unknowns of the jammed bay) and add three
+/// unknowns per pair (docs/physics.md §3.1, "Flush edge pairs").
+pub const DEFAULT_MERGE_FRICTION: bool = true;
 
 impl ContactSolver {
     /// A solver of `kind` with the default [`SolveOptions`] and
@@ -631,6 +636,28 @@ impl ContactSolver {
             warm_check: false,
             predict_from: DEFAULT_PREDICT_FROM,
             predict: PredictOptions::default(),
+            merge_friction: DEFAULT_MERGE_FRICTION,
+        }
+    }
+
+    /// This solver with the friction of flush edge pairs merged or not
+    /// ([`Friction::Merged`]: one friction resultant per group of contacts
+    /// of one body pair with equal tangential columns, in the LCPs this
+    /// solver is given by [`ContactSolver::friction_layout`]).
+    pub fn with_merge_friction(mut self, on: bool) -> ContactSolver {
+        self.merge_friction = on;
+        self
+    }
+
+    /// The friction layout the formulation assembles its problems with: an
+    /// impact's compression LCP (`impact`) or the sustained problem of a
+    /// Lemke solver merges flush edge pairs (when on); the cone program
+    /// keeps one Coulomb cone per point.
+    pub fn friction_layout(&self, impact: bool) -> Friction {
+        if self.merge_friction && (impact || self.kind == SolverKind::Lcp) {
+            Friction::Merged
+        } else {
+            Friction::PerPoint
         }
     }
 
@@ -682,6 +709,14 @@ impl ContactSolver {
     pub fn settings(&self, settings: Settings) -> Settings {
         let s = settings
             .text("solver", self.kind.name())
+            .text(
+                "merge_friction",
+                match (self.merge_friction, self.kind) {
+                    (false, _) => "off",
+                    (true, SolverKind::Lcp) => "on",
+                    (true, SolverKind::Cone) => "impact LCPs only",
+                },
+            )
             .text("warm_start", if self.warm_start() { "on" } else { "off" });
         let s = match self.predict_from {
             Some(k) => s.text("predict_from", &k.to_string()),
@@ -710,7 +745,7 @@ impl ContactSolver {
         let k = bucket_of(lcp.lcp.n);
         let started = self.timer.begin(k);
         let blocks = match (guess, self.predict_from) {
-            (None, Some(from)) if lcp.lcp.n >= from => Blocks::contacts(lcp.lcp.n, lcp.m),
+            (None, Some(from)) if lcp.lcp.n >= from => Blocks::new(lcp.lcp.n, lcp.blocks()),
             _ => None,
         };
         let (sol, prediction) = match (guess, &blocks) {
@@ -961,7 +996,7 @@ impl ContactSolver {
         if let Some(dir) = &self.dump {
             let path = dir.join(format!("{:06}.json", self.dump_seq));
             self.dump_seq += 1;
-            if LcpDump::from_solution(&lcp.lcp, sol, t, lcp.m)
+            if LcpDump::from_solution(&lcp.lcp, sol, t, lcp.m, lcp.merged_groups())
                 .write(&path)
                 .is_err()
             {

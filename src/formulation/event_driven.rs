@@ -95,7 +95,8 @@
 //!   Contacts* (Poisson's impact law).
 
 use super::contact_solver::{
-    ContactSolver, SolverKind, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START,
+    ContactSolver, SolverKind, DEFAULT_MERGE_FRICTION, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE,
+    DEFAULT_WARM_START,
 };
 use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
@@ -191,6 +192,14 @@ pub struct EventDrivenSettings {
     /// Gauss–Seidel (default [`DEFAULT_PREDICT_FROM`]: absent, off; see
     /// [`ContactSolver::with_predict_from`]).
     pub predict_from: Option<usize>,
+    /// `merge_friction`: one friction resultant per flush edge pair (the
+    /// contacts of one body pair whose tangential columns agree to
+    /// [`crate::contact::problem::FRICTION_MERGE_TOLERANCE`]) in the LCPs,
+    /// bounded by `μ` times the sum of their normal impulses (default
+    /// [`DEFAULT_MERGE_FRICTION`]: on; see
+    /// [`ContactSolver::with_merge_friction`] and docs/physics.md §3.1).
+    /// The cone program keeps one cone per point either way.
+    pub merge_friction: bool,
 }
 
 impl EventDrivenSettings {
@@ -202,6 +211,9 @@ impl EventDrivenSettings {
             solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
             warm_start: r.boolean("warm_start")?.unwrap_or(DEFAULT_WARM_START),
             warm_lemke: r.boolean("warm_lemke")?.unwrap_or(DEFAULT_WARM_LEMKE),
+            merge_friction: r
+                .boolean("merge_friction")?
+                .unwrap_or(DEFAULT_MERGE_FRICTION),
             predict_from: r
                 .integer(&PREDICT_FROM)?
                 .map_or(DEFAULT_PREDICT_FROM, |k| usize::try_from(k).ok()),
@@ -755,6 +767,7 @@ impl EventDriven {
                 settings.warm_start,
             )
             .with_warm_lemke(settings.warm_lemke)
+            .with_merge_friction(settings.merge_friction)
             .with_predict_from(settings.predict_from)
             .with_warm_check(opts.warm_check),
             bp: BroadPhase::new(),
@@ -845,7 +858,8 @@ impl EventDriven {
             if !g.contacts.iter().any(|&k| approaching[k]) {
                 continue;
             }
-            let lcp = ContactLcp::assemble(scn, &centres, contacts, &g, &w, &zeros);
+            let layout = self.solver.friction_layout(true);
+            let lcp = ContactLcp::assemble(scn, &centres, contacts, &g, &w, &zeros, layout);
             // The compression LCP of Poisson's law, whatever the solver of
             // the sustained contacts.
             let z = self.solver.solve_lcp(&lcp, sys.t);
@@ -1130,7 +1144,8 @@ impl EventDriven {
         let mut end_bodies = free_bodies;
         let solve_start = clock.start(Stage::Solve);
         for g in &gs {
-            let lcp = ContactLcp::assemble(scn, &centres, &closed, g, &w_free, &offsets);
+            let layout = self.solver.friction_layout(false);
+            let lcp = ContactLcp::assemble(scn, &centres, &closed, g, &w_free, &offsets, layout);
             let z = self.solver.solve(&lcp, t);
             let (l, b) = (lcp.normal(&z), lcp.tangential(&z));
             for (j, &k) in g.contacts.iter().enumerate() {
@@ -1594,6 +1609,10 @@ impl EventDriven {
         // Stick adjustments of this step (estimate, then linear correction),
         // allowed while no other cut has shortened it.
         let mut stick_moves = 0;
+        // The shortest length at which a pair was found to stick: a
+        // correction never lengthens the step back to it (it would find
+        // the same stick and cut again: a cycle of re-solves).
+        let mut stuck_at = f64::INFINITY;
         let mut other_cut = false;
         loop {
             let sustained = self.sustained_wrenches(scn, sys, &contacts, h, bound, clock)?;
@@ -1608,8 +1627,15 @@ impl EventDriven {
             }
             if !other_cut && rejections == 0 && stick_moves < MAX_STICK_MOVES {
                 let moved = match (sustained.stick, sustained.slide_stop) {
-                    (Some(s), _) if s < (1.0 - MIN_CUT_FRACTION) * h => Some(s),
-                    (None, Some(s)) if stick_moves > 0 && s > (1.0 + MIN_CUT_FRACTION) * h => {
+                    (Some(s), _) if s < (1.0 - MIN_CUT_FRACTION) * h => {
+                        stuck_at = stuck_at.min(h);
+                        Some(s)
+                    }
+                    (None, Some(s))
+                        if stick_moves > 0
+                            && s > (1.0 + MIN_CUT_FRACTION) * h
+                            && s.min(bound) < (1.0 - MIN_CUT_FRACTION) * stuck_at =>
+                    {
                         Some(s.min(bound))
                     }
                     _ => None,

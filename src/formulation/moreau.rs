@@ -120,7 +120,8 @@
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
 use super::contact_solver::{
-    ContactSolver, SolverKind, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE, DEFAULT_WARM_START,
+    ContactSolver, SolverKind, DEFAULT_MERGE_FRICTION, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE,
+    DEFAULT_WARM_START,
 };
 use super::{
     check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
@@ -262,6 +263,14 @@ pub struct MoreauSettings {
     /// Gauss–Seidel (default [`DEFAULT_PREDICT_FROM`]: absent, off; see
     /// [`ContactSolver::with_predict_from`]).
     pub predict_from: Option<usize>,
+    /// `merge_friction`: one friction resultant per flush edge pair (the
+    /// contacts of one body pair whose tangential columns agree to
+    /// [`crate::contact::problem::FRICTION_MERGE_TOLERANCE`]) in the LCPs,
+    /// bounded by `μ` times the sum of their normal impulses (default
+    /// [`DEFAULT_MERGE_FRICTION`]: on; see
+    /// [`ContactSolver::with_merge_friction`] and docs/physics.md §3.1).
+    /// The cone program keeps one cone per point either way.
+    pub merge_friction: bool,
 }
 
 impl Default for MoreauSettings {
@@ -274,6 +283,7 @@ impl Default for MoreauSettings {
             warm_start: DEFAULT_WARM_START,
             warm_lemke: DEFAULT_WARM_LEMKE,
             predict_from: DEFAULT_PREDICT_FROM,
+            merge_friction: DEFAULT_MERGE_FRICTION,
         }
     }
 }
@@ -290,6 +300,7 @@ impl MoreauSettings {
             solver: r.choice("solver")?.unwrap_or(d.solver),
             warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
             warm_lemke: r.boolean("warm_lemke")?.unwrap_or(d.warm_lemke),
+            merge_friction: r.boolean("merge_friction")?.unwrap_or(d.merge_friction),
             predict_from: r
                 .integer(&PREDICT_FROM)?
                 .map_or(d.predict_from, |k| usize::try_from(k).ok()),
@@ -436,6 +447,7 @@ impl Moreau {
                 s.warm_start,
             )
             .with_warm_lemke(s.warm_lemke)
+            .with_merge_friction(s.merge_friction)
             .with_predict_from(s.predict_from)
             .with_warm_check(opts.warm_check),
             counters: Counters::new(COUNTERS),
@@ -595,7 +607,8 @@ impl Moreau {
         let mut any = false;
         let (mut e_before, mut e_after) = (0.0, 0.0);
         for g in &gs {
-            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets);
+            let layout = self.solver.friction_layout(false);
+            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets, layout);
             let z = self.solver.solve(&lcp, sys.t);
             let dv = lcp.velocity_changes(&z);
             let v_scale = g

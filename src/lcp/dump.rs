@@ -7,6 +7,9 @@
 //! * `"z"`, `"w"`: the returned solution (or best candidate) and `M z + q`;
 //! * `"t"`: simulation time (number);
 //! * `"contacts"`: number of contacts (integer);
+//! * `"friction_groups"` (optional): number of friction groups G of an LCP
+//!   whose flush edge pairs share one friction resultant (docs/physics.md
+//!   §3.1), written only when G differs from the number of contacts;
 //! * `"pivots"`: total pivots (integer);
 //! * `"status"`: string, e.g. `"Solved"`, `"SolvedByFallback"`, `"Failed"`.
 //!
@@ -21,10 +24,11 @@
 //! Reading is strict, and every error names the file and the key:
 //!
 //! * exactly the keys above, each once (an unknown, missing or repeated key
-//!   is an error);
+//!   is an error; only `friction_groups` may be absent);
 //! * `M` is n×n and `q`, `z`, `w` have n entries;
 //! * `contacts` = m is consistent with the unknowns of the contact layer
-//!   (README "LCP dumps"): n = 4m with friction, n = m without;
+//!   (README "LCP dumps"): n = 4m with friction, n = m without, and
+//!   n = m + 3G with `friction_groups` = G (1 ≤ G ≤ m);
 //! * `status` is one of [`super::SolveStatus::as_str`]; a solved status
 //!   requires finite `M`, `q` and a finite `z >= 0`;
 //! * numbers are JSON numbers; the only strings accepted for a number are
@@ -63,6 +67,10 @@ pub struct LcpDump {
     /// Number of contacts behind this LCP.
     #[serde(with = "json_f64::count")]
     pub contacts: usize,
+    /// Number of friction groups when some contacts share a friction
+    /// resultant (`n = contacts + 3 G`); `None` otherwise.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub friction_groups: Option<usize>,
     /// Total pivots of the solve.
     #[serde(with = "json_f64::count")]
     pub pivots: usize,
@@ -147,7 +155,7 @@ pub enum DumpError {
         source: serde_json::Error,
     },
     /// `contacts` does not match the number of unknowns.
-    #[error("{}: key \"contacts\" = {contacts} does not match n = {n} unknowns (expected n = 4 × contacts with friction, n = contacts without)", path.display())]
+    #[error("{}: key \"contacts\" = {contacts} does not match n = {n} unknowns (expected n = 4 × contacts with friction, n = contacts without, n = contacts + 3 × friction_groups with that key)", path.display())]
     Contacts {
         /// File concerned.
         path: PathBuf,
@@ -183,8 +191,16 @@ pub enum DumpError {
 static TMP_COUNTER: AtomicU64 = AtomicU64::new(0);
 
 impl LcpDump {
-    /// Builds a dump from a problem and the driver's solution.
-    pub fn from_solution(lcp: &Lcp, sol: &LcpSolution, t: f64, contacts: usize) -> Self {
+    /// Builds a dump from a problem and the driver's solution, of
+    /// `contacts` contacts in `friction_groups` friction groups (`None`:
+    /// one per contact, or no friction).
+    pub fn from_solution(
+        lcp: &Lcp,
+        sol: &LcpSolution,
+        t: f64,
+        contacts: usize,
+        friction_groups: Option<usize>,
+    ) -> Self {
         let n = lcp.q.len();
         let m = if n > 0 && lcp.m.len() == n * n {
             lcp.m.chunks_exact(n).map(<[f64]>::to_vec).collect()
@@ -198,6 +214,7 @@ impl LcpDump {
             w: sol.w.clone(),
             t,
             contacts,
+            friction_groups,
             pivots: sol.pivots,
             status: sol.status.as_str().to_string(),
         }
@@ -247,7 +264,11 @@ impl LcpDump {
             }
         }
         let m = self.contacts;
-        if n != m && Some(n) != m.checked_mul(4) {
+        let consistent = match self.friction_groups {
+            Some(g) => (1..=m).contains(&g) && Some(n) == g.checked_mul(3).map(|x| x + m),
+            None => n == m || Some(n) == m.checked_mul(4),
+        };
+        if !consistent {
             return Err(DumpError::Contacts {
                 path: path_buf(),
                 contacts: m,
@@ -292,6 +313,9 @@ impl LcpDump {
             serde_json::to_string(&json_f64::Num(self.t))?
         ));
         s.push_str(&format!("  \"contacts\": {},\n", self.contacts));
+        if let Some(g) = self.friction_groups {
+            s.push_str(&format!("  \"friction_groups\": {g},\n"));
+        }
         s.push_str(&format!("  \"pivots\": {},\n", self.pivots));
         s.push_str(&format!(
             "  \"status\": {},\n",
@@ -323,8 +347,18 @@ impl LcpDump {
                 path: path.to_path_buf(),
                 source,
             })?;
-        const KEYS: [&str; 8] = ["M", "q", "z", "w", "t", "contacts", "pivots", "status"];
-        let mut values: [Option<serde_json::Value>; 8] = Default::default();
+        const KEYS: [&str; 9] = [
+            "M",
+            "q",
+            "z",
+            "w",
+            "t",
+            "contacts",
+            "pivots",
+            "status",
+            "friction_groups",
+        ];
+        let mut values: [Option<serde_json::Value>; 9] = Default::default();
         for (key, value) in entries.0 {
             let Some(k) = KEYS.iter().position(|&x| x == key) else {
                 return Err(DumpError::UnknownKey {
@@ -340,6 +374,7 @@ impl LcpDump {
             }
             values[k] = Some(value);
         }
+        let groups = values[8].take();
         let mut take = |k: usize| -> Result<serde_json::Value, DumpError> {
             values[k].take().ok_or(DumpError::MissingKey {
                 path: path.to_path_buf(),
@@ -360,6 +395,10 @@ impl LcpDump {
             w: json_f64::vector::deserialize(take(3)?).map_err(err(3))?,
             t: json_f64::scalar::deserialize(take(4)?).map_err(err(4))?,
             contacts: json_f64::count::deserialize(take(5)?).map_err(err(5))?,
+            friction_groups: match groups {
+                Some(v) => Some(json_f64::count::deserialize(v).map_err(err(8))?),
+                None => None,
+            },
             pivots: json_f64::count::deserialize(take(6)?).map_err(err(6))?,
             status: String::deserialize(take(7)?).map_err(err(7))?,
         };

@@ -82,8 +82,10 @@
 use super::solve::BasisGuess;
 use super::{Lcp, ResidualScale};
 
-/// Largest block handled by the local enumeration (2^4 = 16 bases).
-pub const MAX_BLOCK: usize = 4;
+/// Largest block handled by the local enumeration (2^8 = 256 bases): a
+/// contact is 4 unknowns, a flush edge pair with merged friction 5
+/// (docs/physics.md §3.1), three points of one pair 6.
+pub const MAX_BLOCK: usize = 8;
 
 /// Relative feasibility tolerance of a local basic solution: `z_k` and
 /// `w_k` may be as low as `−LOCAL_FEASIBILITY · max|r_a|` (rounding of a

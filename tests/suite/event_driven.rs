@@ -285,7 +285,15 @@ fn every_lcp_can_be_dumped_and_re_solved() {
     for f in &files {
         let d = LcpDump::read(f).unwrap();
         let lcp = d.to_lcp().unwrap();
-        assert_eq!(lcp.n, 4 * d.contacts, "Stewart–Trinkle size 4m");
+        // Stewart–Trinkle: 4 unknowns per contact, 3 fewer per extra member
+        // of a friction group (flush edge pairs, docs/physics.md §3.1).
+        let groups = d.friction_groups.unwrap_or(d.contacts);
+        assert!(groups <= d.contacts);
+        assert_eq!(
+            lcp.n,
+            d.contacts + 3 * groups,
+            "Stewart–Trinkle size m + 3G"
+        );
         assert!(residual(&lcp.m, &lcp.q, &d.z) < 1e-10);
     }
 }

@@ -960,7 +960,7 @@ fn dump_round_trip_is_bit_exact() {
         } else {
             n
         };
-        let dump = LcpDump::from_solution(&lcp, &sol, 12.5 + k as f64 / 3.0, contacts);
+        let dump = LcpDump::from_solution(&lcp, &sol, 12.5 + k as f64 / 3.0, contacts, None);
         let path = dir.join(format!("lcp_{k}.json"));
         dump.write(&path).expect("write");
         let back = LcpDump::read(&path).expect("read");
@@ -980,6 +980,7 @@ fn dump_round_trip_is_bit_exact() {
         w: vec![f64::NAN, -1.0],
         t: 0.0,
         contacts: 2,
+        friction_groups: None,
         pivots: 0,
         status: "Failed".into(),
     };
@@ -1084,6 +1085,7 @@ fn malformed_dumps_give_errors_naming_the_problem() {
         w: vec![1.0],
         t: 0.0,
         contacts: 0,
+        friction_groups: None,
         pivots: 0,
         status: String::new(),
     };
