@@ -61,8 +61,15 @@ use faer::{Conj, MatMut, Par};
 
 /// Pivots between two refactorisations of the basis. Each eta adds n (dense)
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
-/// contact group costs about as much as a few dozen such solves. Chosen,
-/// not yet tuned: a change moves roundings and paths (docs/physics.md §3.3).
+/// contact group costs about as much as a few dozen such solves. Measured
+/// on the 40 bay-jam LCPs of more than 800 unknowns with merged flush-pair
+/// friction (`floebench lcp DIR --time`, one binary per value): 24: 25.3 s,
+/// 48: 17.5–19.1 s, 96: 14.8–16.0 s, 192: 16.5 s, the same pivots (the
+/// refactorisation takes about 40 % of the time at 48); but on the corpus
+/// of the same window without the merge (degenerate, near-equal columns)
+/// 96 took 48.0 s against 39.7 s and left one LCP unsolved by every
+/// attempt (residual 2.4e-7): a longer eta file drifts more on degenerate
+/// paths. Kept at 48 (docs/physics.md §3.3).
 pub(crate) const REFACTOR_EVERY: usize = 48;
 
 /// Smallest principal pivot of the crash of a guessed basis
