@@ -25,7 +25,7 @@
 //!
 //! **Flush edge pairs** ([`Friction::Merged`]). The two points of a
 //! nearly flush edge pair have tangential columns equal up to the angle
-//! between the edges; consecutive contacts of one body pair whose columns
+//! between the edges; the contacts of one body pair whose columns
 //! agree to [`FRICTION_MERGE_TOLERANCE`] form one friction group with one
 //! friction pair (along the mean of their columns) and one Coulomb row
 //! `σ_G = μ Σ_{j∈G} λ_j − β̃⁺_G − β̃⁻_G`: `z = (λ, β̃_G, α_G)` of size
