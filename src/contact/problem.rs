@@ -324,8 +324,8 @@ impl ContactLcp {
                     .then(|| jac(&c.geom.tangent, &(c.geom.point - centres[body])))
             })
         };
-        // Friction groups: a contact joins the group of the previous
-        // contact of its body pair whose tangential columns it matches
+        // Friction groups: a contact joins the latest group of its body
+        // pair whose first member's tangential columns it matches
         // (`same_friction_column`), else starts one.
         let mut fgroup: Vec<usize> = Vec::with_capacity(if friction { m } else { 0 });
         let mut first: Vec<usize> = Vec::new();
