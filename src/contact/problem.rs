@@ -317,13 +317,19 @@ impl ContactLcp {
         let ng = group.floes.len();
         let local = |i: usize| group.floes.binary_search(&i).ok();
         // The tangential Jacobian of each contact, per body (`None` for an
-        // obstacle): `(T, r × T)` at its lever arm.
-        let jt_of = |c: &Contact| -> [Option<Gen>; 2] {
-            [c.a, c.b].map(|body| {
-                (body < n_floes && local(body).is_some())
-                    .then(|| jac(&c.geom.tangent, &(c.geom.point - centres[body])))
+        // obstacle): `(T, r × T)` at its lever arm; computed once, for the
+        // grouping and for `H`.
+        let jts: Vec<[Option<Gen>; 2]> = group
+            .contacts
+            .iter()
+            .map(|&k| {
+                let c = &contacts[k];
+                [c.a, c.b].map(|body| {
+                    (friction && body < n_floes && local(body).is_some())
+                        .then(|| jac(&c.geom.tangent, &(c.geom.point - centres[body])))
+                })
             })
-        };
+            .collect();
         // Friction groups: a contact joins the latest group of its body
         // pair whose first member's tangential columns it matches
         // (`same_friction_column`), else starts one.
@@ -337,7 +343,7 @@ impl ContactLcp {
                         first.iter().rposition(|&f| {
                             let o = &contacts[group.contacts[f]];
                             (o.a, o.b) == (c.a, c.b)
-                                && same_friction_column(scn, c, &jt_of(c), &jt_of(o))
+                                && same_friction_column(scn, c, &jts[j], &jts[f])
                         })
                     })
                     .flatten();
@@ -360,7 +366,7 @@ impl ContactLcp {
         for (j, &k) in group.contacts.iter().enumerate() {
             let c = &contacts[k];
             let n = c.geom.normal;
-            let jt = jt_of(c);
+            let jt = jts[j];
             for (slot, (body, sign)) in [(c.a, -1.0), (c.b, 1.0)].into_iter().enumerate() {
                 if body >= n_floes {
                     continue;
