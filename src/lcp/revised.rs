@@ -9,11 +9,17 @@
 //! This module keeps instead, as in the revised simplex method (Chvátal
 //! 1983, ch. 7; Murty 1988, §2.4 for Lemke's method):
 //!
-//! * the basis `B` only implicitly, as `B = B₀ E₁ ⋯ E_k`: a sparse LU of the
-//!   basis `B₀` of the last refactorisation (faer's simplicial sparse LU
-//!   with a COLAMD ordering and partial pivoting, called directly so that
-//!   its permutations and scratch are kept here and a solve allocates
-//!   nothing; `B₀ = I` at the start, with no factorisation) and the **eta
+//! * the basis `B` only implicitly, as `B = B₀ E₁ ⋯ E_k`: the basis `B₀` of
+//!   the last refactorisation in reduced form (its unit columns, those of
+//!   the basic `w_i`, are eliminated exactly, and only the square block `K`
+//!   of its `z` and `z0` columns on the rows whose `w` is not basic is
+//!   factorised: about half the order on a jammed pack's path; see
+//!   [`Revised::refactor`]) by a sparse LU (faer's simplicial LU with a
+//!   COLAMD ordering and partial pivoting, called directly so that its
+//!   permutations and scratch are kept here; the triangular solves are
+//!   this module's own, skipping the columns whose entry is zero, and a
+//!   solve allocates nothing; `B₀ = I` at the start, with no
+//!   factorisation) and the **eta
 //!   matrices** `E_j` of the pivots since then (product form of the
 //!   inverse: `E_j` is the identity with its pivot column replaced by the
 //!   entering column `B_{j-1}⁻¹ a`, stored dense: with z0 basic that column
@@ -52,12 +58,7 @@ use faer::sparse::linalg::colamd;
 use faer::sparse::linalg::lu::simplicial::{
     factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch, SimplicialLu,
 };
-use faer::sparse::linalg::triangular_solve::{
-    solve_unit_lower_triangular_in_place, solve_unit_lower_triangular_transpose_in_place,
-    solve_upper_triangular_in_place, solve_upper_triangular_transpose_in_place,
-};
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par};
 
 /// Pivots between two refactorisations of the basis. Each eta adds n (dense)
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
@@ -99,22 +100,58 @@ pub(crate) struct Revised {
     row_of: Vec<usize>,
     /// Basic values `B⁻¹ q'`.
     b: Vec<f64>,
-    /// LU of `B₀` (`P_r B₀ P_c = L U`), valid while `factorised`; `B₀ = I`
-    /// otherwise.
-    lu: SimplicialLu<usize, f64>,
+    /// `B₀` is kept in reduced form (see [`Revised::refactor`]), valid
+    /// while `factorised`; `B₀ = I` otherwise.
     factorised: bool,
-    /// Row permutation `P_r` of the LU (forward and inverse).
+    /// Order `k` of the reduced block `K` of `B₀`: the slots of `B₀` whose
+    /// variable is a `z_j` or `z0`.
+    k: usize,
+    /// LU of `K` (`P_r K P_c = L U`) as faer factorises it; empty when
+    /// `k = 0`.
+    lu: SimplicialLu<usize, f64>,
+    /// The strictly lower part of `L` (unit diagonal), in compressed sparse
+    /// columns, copied from `lu` at each factorisation.
+    lp: Vec<usize>,
+    li: Vec<usize>,
+    lv: Vec<f64>,
+    /// The strictly upper part of `U` in compressed sparse columns, and the
+    /// reciprocals of its diagonal.
+    up: Vec<usize>,
+    ui: Vec<usize>,
+    uv: Vec<f64>,
+    u_inv_diag: Vec<f64>,
+    /// Order of the matrix `lu` was last factorised for.
+    lu_order: usize,
+    /// Row permutation `P_r` of the LU (forward and inverse), over `K`'s
+    /// rows.
     row_fwd: Vec<usize>,
     row_inv: Vec<usize>,
-    /// Column ordering `P_c` of the LU (forward: slot eliminated at each
-    /// step; inverse).
+    /// Column ordering `P_c` of the LU (forward: column eliminated at each
+    /// step; inverse), over `K`'s columns.
     col_fwd: Vec<usize>,
     col_inv: Vec<usize>,
-    /// `B₀` in compressed sparse columns (one per slot).
+    /// Original row of each row of `K` (the rows whose `w` is not basic in
+    /// `B₀`), increasing.
+    k_rows: Vec<usize>,
+    /// Slot of each column of `K`.
+    k_slots: Vec<usize>,
+    /// Slot of `w_i` in `B₀` for each row i, [`NONE`] for the rows of `K`.
+    w_slot: Vec<usize>,
+    /// `K` in compressed sparse columns.
     bp: Vec<usize>,
     bi: Vec<usize>,
     bv: Vec<f64>,
-    /// Scratch of the permutations of FTRAN/BTRAN.
+    /// The rows of `B₀`'s `z` columns outside `K` (the coupling `C`, rows
+    /// whose `w` is basic), in compressed sparse columns over `K`'s
+    /// columns, with original row indices.
+    cp: Vec<usize>,
+    ci: Vec<usize>,
+    cv: Vec<f64>,
+    /// Position in `K` of each original row ([`NONE`]: a row whose `w` is
+    /// basic); scratch of [`Revised::refactor`].
+    k_pos: Vec<usize>,
+    /// Scratch of FTRAN/BTRAN: the input of a reduced solve (n), then the
+    /// permuted right-hand side of `K` (k).
     tmp: Vec<f64>,
     /// Eta file: pivot row and pivot entry per pivot since the
     /// refactorisation, and its column stored dense (n entries per eta, 0
@@ -165,12 +202,6 @@ impl Revised {
     /// caller).
     pub(crate) fn setup(&mut self, m: &[f64], q: &[f64], d: &[f64], ea: i32, eb: i32) {
         let n = q.len();
-        if n != self.n {
-            // faer's simplicial LU keeps the column pointers of a larger
-            // previous matrix (it does not shrink them) and then fails its
-            // own shape check: start it afresh when the dimension changes.
-            self.lu = SimplicialLu::new();
-        }
         self.n = n;
         csc_of_rows(
             m,
@@ -348,68 +379,209 @@ impl Revised {
         }
     }
 
-    /// `x ← B₀⁻¹ x`, or `x ← B₀⁻ᵀ x` when `transpose`, with the sparse LU
-    /// of `B₀` (`P B₀ Q = L U`): permute in, two triangular solves, permute
-    /// out; `tmp` is scratch.
+    /// `x ← B₀⁻¹ x`, or `x ← B₀⁻ᵀ x` when `transpose`, by the reduced form
+    /// of [`Revised::refactor`]; `tmp` is scratch.
+    ///
+    /// Forward (`x` by rows in, by slots out): `K x_K = a_R` by the LU, then
+    /// `x_{slot(w_i)} = a_i − (C x_K)_i` for the rows i whose `w_i` is
+    /// basic. Transposed (`y` by slots in, by rows out): `y_i = c_{slot(w_i)}`
+    /// for those rows, then `Kᵀ y_R = c_K − Cᵀ y_W` by the LU.
     fn lu_solve(&self, x: &mut [f64], tmp: &mut Vec<f64>, transpose: bool) {
-        let n = self.n;
-        let (fwd, inv) = if transpose {
-            (&self.col_fwd, &self.row_inv)
-        } else {
-            (&self.row_fwd, &self.col_inv)
-        };
+        let (n, k) = (self.n, self.k);
+        // The input, read while `x` is overwritten by the output.
         tmp.clear();
-        tmp.extend(fwd.iter().map(|&i| x[i]));
-        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
+        tmp.extend_from_slice(x);
+        tmp.resize(n + k, 0.0);
+        let (xin, tmp) = tmp.split_at_mut(n);
         if transpose {
-            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_upper_triangular_transpose_in_place(u, Conj::No, mat, Par::Seq);
-            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_unit_lower_triangular_transpose_in_place(l, Conj::No, mat, Par::Seq);
+            for (i, &s) in self.w_slot.iter().enumerate() {
+                if s != NONE {
+                    x[i] = xin[s];
+                }
+            }
+            if k == 0 {
+                return;
+            }
+            // r_c = c_{slot(c)} − Σ C_ic y_i, in the LU's column order.
+            for (t, &c) in tmp.iter_mut().zip(&self.col_fwd) {
+                let mut r = xin[self.k_slots[c]];
+                for p in self.cp[c]..self.cp[c + 1] {
+                    r -= self.cv[p] * x[self.ci[p]];
+                }
+                *t = r;
+            }
+            // Uᵀ, then Lᵀ: each entry is a dot product with its column.
+            for j in 0..k {
+                let mut acc = tmp[j];
+                for p in self.up[j]..self.up[j + 1] {
+                    acc -= self.uv[p] * tmp[self.ui[p]];
+                }
+                tmp[j] = acc * self.u_inv_diag[j];
+            }
+            for j in (0..k).rev() {
+                let mut acc = tmp[j];
+                for p in self.lp[j]..self.lp[j + 1] {
+                    acc -= self.lv[p] * tmp[self.li[p]];
+                }
+                tmp[j] = acc;
+            }
+            for (&i, &t) in self.k_rows.iter().zip(&self.row_inv) {
+                x[i] = tmp[t];
+            }
         } else {
-            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_unit_lower_triangular_in_place(l, Conj::No, mat, Par::Seq);
-            let mat = MatMut::from_column_major_slice_mut(tmp, n, 1);
-            solve_upper_triangular_in_place(u, Conj::No, mat, Par::Seq);
-        }
-        for (xi, &k) in x.iter_mut().zip(inv) {
-            *xi = tmp[k];
+            if k > 0 {
+                for (t, &r) in tmp.iter_mut().zip(&self.row_fwd) {
+                    *t = xin[self.k_rows[r]];
+                }
+                // L, then U, by columns: a column whose entry is 0 is
+                // skipped (the entering column −M'_{·j} is sparse, and so
+                // stays much of L⁻¹ of it).
+                for j in 0..k {
+                    let xj = tmp[j];
+                    if xj != 0.0 {
+                        for p in self.lp[j]..self.lp[j + 1] {
+                            tmp[self.li[p]] -= self.lv[p] * xj;
+                        }
+                    }
+                }
+                for j in (0..k).rev() {
+                    if tmp[j] != 0.0 {
+                        let xj = tmp[j] * self.u_inv_diag[j];
+                        tmp[j] = xj;
+                        for p in self.up[j]..self.up[j + 1] {
+                            tmp[self.ui[p]] -= self.uv[p] * xj;
+                        }
+                    }
+                }
+                for (&s, &t) in self.k_slots.iter().zip(&self.col_inv) {
+                    x[s] = tmp[t];
+                }
+            }
+            for (i, &s) in self.w_slot.iter().enumerate() {
+                if s != NONE {
+                    x[s] = xin[i];
+                }
+            }
+            for (c, &s) in self.k_slots.iter().enumerate() {
+                let xs = x[s];
+                if xs != 0.0 {
+                    for p in self.cp[c]..self.cp[c + 1] {
+                        x[self.w_slot[self.ci[p]]] -= self.cv[p] * xs;
+                    }
+                }
+            }
         }
     }
 
     /// Factorises the current basis as the new `B₀`, empties the eta file and
     /// recomputes `b = B⁻¹ q'`. `false` if the basis is singular or the
     /// factorisation failed.
+    ///
+    /// Only the block of `B₀` that is not an identity is factorised. A slot
+    /// whose variable is `w_i` holds the unit column `e_i`; the other `k`
+    /// slots (`z_j`: `−M'_{·j}`, `z0`: `−d'`) and the `k` rows whose `w` is
+    /// not basic form the square block `K`, and the rows of the `z` columns
+    /// whose `w` is basic form the coupling `C`. Up to a permutation `B₀`
+    /// is block triangular, `[[I, C], [0, K]]`, so a solve with `B₀` is a
+    /// solve with `K` and a product with `C` ([`Revised::lu_solve`]). On the
+    /// bases of a jammed pack's Lemke path about half of the slots are `w`:
+    /// the ordering, the LU and the triangular solves work on about half the
+    /// order and fewer non-zeros.
     fn refactor(&mut self) -> bool {
         let n = self.n;
+        self.factorised = false;
+        self.w_slot.clear();
+        self.w_slot.resize(n, NONE);
+        self.k_slots.clear();
+        for (s, &v) in self.basis.iter().enumerate() {
+            if v < n {
+                self.w_slot[v] = s;
+            } else {
+                self.k_slots.push(s);
+            }
+        }
+        let mut k_pos = std::mem::take(&mut self.k_pos);
+        k_pos.clear();
+        k_pos.resize(n, NONE);
+        self.k_rows.clear();
+        for (i, (pos, &ws)) in k_pos.iter_mut().zip(&self.w_slot).enumerate() {
+            if ws == NONE {
+                *pos = self.k_rows.len();
+                self.k_rows.push(i);
+            }
+        }
+        let k = self.k_slots.len();
+        if self.k_rows.len() != k {
+            self.k_pos = k_pos;
+            return false;
+        }
+        self.k = k;
         self.bp.clear();
         self.bp.push(0);
         self.bi.clear();
         self.bv.clear();
-        for &v in &self.basis {
-            if v < n {
-                self.bi.push(v);
-                self.bv.push(1.0);
-            } else if v < 2 * n {
+        self.cp.clear();
+        self.cp.push(0);
+        self.ci.clear();
+        self.cv.clear();
+        for &s in &self.k_slots {
+            let v = self.basis[s];
+            let mut put = |i: usize, a: f64| {
+                if k_pos[i] == NONE {
+                    self.ci.push(i);
+                    self.cv.push(a);
+                } else {
+                    self.bi.push(k_pos[i]);
+                    self.bv.push(a);
+                }
+            };
+            if v < 2 * n {
                 let j = v - n;
                 for p in self.mp[j]..self.mp[j + 1] {
-                    self.bi.push(self.mi[p]);
-                    self.bv.push(-self.mv[p]);
+                    put(self.mi[p], -self.mv[p]);
                 }
             } else {
-                self.bi.extend(0..n);
-                self.bv.extend(self.d.iter().map(|&d| -d));
+                for (i, &d) in self.d.iter().enumerate() {
+                    put(i, -d);
+                }
             }
             self.bp.push(self.bi.len());
+            self.cp.push(self.ci.len());
         }
-        // Valid by construction: n + 1 increasing pointers, sorted rows.
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.bp, None, &self.bi);
-        // Column ordering: COLAMD of the basis, as faer's own symbolic LU
-        // does before a simplicial factorisation (the factors of `sp_lu`,
-        // bit for bit).
-        self.col_fwd.resize(n, 0);
-        self.col_inv.resize(n, 0);
-        let req = colamd::order_scratch::<usize>(n, n, self.bi.len());
+        self.k_pos = k_pos;
+        if k > 0 && !self.factorise_k() {
+            return false;
+        }
+        self.factorised = true;
+        self.clear_etas();
+        let mut b = std::mem::take(&mut self.b);
+        let mut tmp = std::mem::take(&mut self.tmp);
+        b.copy_from_slice(&self.q);
+        self.ftran(&mut b, &mut tmp);
+        let finite = b.iter().all(|x| x.is_finite());
+        self.b = b;
+        self.tmp = tmp;
+        finite
+    }
+
+    /// The sparse LU of `K` (order `self.k > 0`, in `bp`/`bi`/`bv`): COLAMD
+    /// column ordering, as faer's own symbolic LU does before a simplicial
+    /// factorisation, then the numeric LU with partial pivoting.
+    fn factorise_k(&mut self) -> bool {
+        let k = self.k;
+        if k != self.lu_order {
+            // faer's simplicial LU keeps the column pointers of a larger
+            // previous matrix (it does not shrink them) and then fails its
+            // own shape check: start it afresh when the order changes.
+            self.lu = SimplicialLu::new();
+            self.lu_order = k;
+        }
+        // Valid by construction: k + 1 increasing pointers, sorted rows
+        // (K's rows keep the original order).
+        let sym = SymbolicSparseColMatRef::new_checked(k, k, &self.bp, None, &self.bi);
+        self.col_fwd.resize(k, 0);
+        self.col_inv.resize(k, 0);
+        let req = colamd::order_scratch::<usize>(k, k, self.bi.len());
         let Ok(mut mem) = MemBuffer::try_new(req) else {
             return false;
         };
@@ -424,15 +596,14 @@ impl Revised {
         {
             return false;
         }
-        let col_perm = faer::perm::PermRef::new_checked(&self.col_fwd, &self.col_inv, n);
-        self.row_fwd.resize(n, 0);
-        self.row_inv.resize(n, 0);
-        let req = factorize_simplicial_numeric_lu_scratch::<usize, f64>(n, n);
+        let col_perm = faer::perm::PermRef::new_checked(&self.col_fwd, &self.col_inv, k);
+        self.row_fwd.resize(k, 0);
+        self.row_inv.resize(k, 0);
+        let req = factorize_simplicial_numeric_lu_scratch::<usize, f64>(k, k);
         let Ok(mut mem) = MemBuffer::try_new(req) else {
             return false;
         };
         let mat = SparseColMatRef::new(sym, &self.bv);
-        self.factorised = false;
         if factorize_simplicial_numeric_lu(
             &mut self.row_fwd,
             &mut self.row_inv,
@@ -445,16 +616,39 @@ impl Revised {
         {
             return false;
         }
-        self.factorised = true;
-        self.clear_etas();
-        let mut b = std::mem::take(&mut self.b);
-        let mut tmp = std::mem::take(&mut self.tmp);
-        b.copy_from_slice(&self.q);
-        self.ftran(&mut b, &mut tmp);
-        let finite = b.iter().all(|x| x.is_finite());
-        self.b = b;
-        self.tmp = tmp;
-        finite
+        // The factors without their diagonals, for the solves of
+        // `lu_solve`, and U's diagonal as reciprocals (as faer's own
+        // triangular solve applies it).
+        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
+        self.lp.clear();
+        self.lp.push(0);
+        self.li.clear();
+        self.lv.clear();
+        self.up.clear();
+        self.up.push(0);
+        self.ui.clear();
+        self.uv.clear();
+        self.u_inv_diag.clear();
+        self.u_inv_diag.resize(k, 0.0);
+        for j in 0..k {
+            for (&i, &v) in l.row_idx_of_col_raw(j).iter().zip(l.val_of_col(j)) {
+                if i != j {
+                    self.li.push(i);
+                    self.lv.push(v);
+                }
+            }
+            self.lp.push(self.li.len());
+            for (&i, &v) in u.row_idx_of_col_raw(j).iter().zip(u.val_of_col(j)) {
+                if i == j {
+                    self.u_inv_diag[j] = v.recip();
+                } else {
+                    self.ui.push(i);
+                    self.uv.push(v);
+                }
+            }
+            self.up.push(self.ui.len());
+        }
+        self.u_inv_diag.iter().all(|d| d.is_finite())
     }
 }
 
@@ -611,6 +805,56 @@ mod tests {
             .zip(a)
             .map(|(u, v)| (u - v).abs())
             .fold(0.0, f64::max)
+    }
+
+    /// A dense random M with a dominant diagonal (n = 12) and the basis whose
+    /// slot s holds variable `vars[s]`, refactorised; FTRAN and BTRAN are
+    /// then checked against the basis densely.
+    fn check_basis(vars: &[usize]) {
+        let n = vars.len();
+        let mut st = 0x0B5E_55ED_u64;
+        let mut m: Vec<f64> = (0..n * n).map(|_| uniform(&mut st)).collect();
+        for i in 0..n {
+            m[i * n + i] += 2.0 * n as f64;
+        }
+        let q: Vec<f64> = (0..n).map(|_| uniform(&mut st)).collect();
+        let mut e = Revised::default();
+        e.setup(&m, &q, &vec![1.0; n], 0, 0);
+        e.row_of.iter_mut().for_each(|r| *r = NONE);
+        for (s, &v) in vars.iter().enumerate() {
+            e.basis[s] = v;
+            e.row_of[v] = s;
+        }
+        assert!(e.refactor(), "{vars:?}");
+        let mut tmp = Vec::new();
+        let a: Vec<f64> = (0..n).map(|_| uniform(&mut st)).collect();
+        let mut x = a.clone();
+        e.ftran(&mut x, &mut tmp);
+        assert!(defect(&e, &x, &a) <= 1e-12, "FTRAN {vars:?}");
+        let mut col = vec![0.0; n];
+        for i in 0..n {
+            let mut y = vec![0.0; n];
+            y[i] = 1.0;
+            e.btran(&mut y, &mut tmp);
+            for s in 0..n {
+                e.column(e.basis[s], &mut col);
+                let ys: f64 = y.iter().zip(&col).map(|(u, v)| u * v).sum();
+                let want = if s == i { 1.0 } else { 0.0 };
+                assert!((ys - want).abs() <= 1e-12, "BTRAN row {i} {vars:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_reduced_factorisation_inverts_bases_of_any_mix_of_w_and_z_columns() {
+        let n = 12;
+        // Only w columns, permuted among the slots: K is empty (k = 0).
+        check_basis(&(0..n).map(|s| (s * 5) % n).collect::<Vec<_>>());
+        // Only z columns, permuted: K is the whole basis (k = n).
+        check_basis(&(0..n).map(|s| n + (s * 7) % n).collect::<Vec<_>>());
+        // z0 and a mix, w_i in slots other than i: K of order 5.
+        let vars = [2 * n, 3, n + 1, 0, n + 5, 7, 8, n + 11, 2, 10, n + 4, 6];
+        check_basis(&vars);
     }
 
     #[test]
