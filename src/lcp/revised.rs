@@ -70,7 +70,9 @@ use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 /// of the same window without the merge (degenerate, near-equal columns)
 /// 96 took 48.0 s against 39.7 s and left one LCP unsolved by every
 /// attempt (residual 2.4e-7): a longer eta file drifts more on degenerate
-/// paths. Kept at 48 (docs/physics.md §3.3).
+/// paths. Kept at 48 (docs/physics.md §3.3). These figures predate the
+/// reduced factorisation of [`Revised::refactor`], which makes a
+/// refactorisation cheaper; the period was not re-tuned for it.
 pub(crate) const REFACTOR_EVERY: usize = 48;
 
 /// Smallest principal pivot of the crash of a guessed basis
