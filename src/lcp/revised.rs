@@ -84,6 +84,45 @@ pub(crate) const REFACTOR_EVERY: usize = 48;
 /// chosen, not tuned.
 pub(crate) const CRASH_PIVOT_TOL: f64 = 1e-7;
 
+/// A sparse matrix in compressed columns, filled column by column:
+/// [`Csc::push`] the entries of a column, then [`Csc::end_column`].
+#[derive(Default)]
+struct Csc {
+    /// Start of each column in `i`/`v`, and the end of the last one.
+    p: Vec<usize>,
+    /// Row index of each entry.
+    i: Vec<usize>,
+    /// Value of each entry.
+    v: Vec<f64>,
+}
+
+impl Csc {
+    /// Empties the matrix, keeping its allocations.
+    fn clear(&mut self) {
+        self.p.clear();
+        self.p.push(0);
+        self.i.clear();
+        self.v.clear();
+    }
+
+    /// Appends the entry `(row, value)` to the current column.
+    fn push(&mut self, row: usize, value: f64) {
+        self.i.push(row);
+        self.v.push(value);
+    }
+
+    /// Closes the current column.
+    fn end_column(&mut self) {
+        self.p.push(self.i.len());
+    }
+
+    /// The `(row, value)` entries of column `j`.
+    fn column(&self, j: usize) -> impl Iterator<Item = (&usize, &f64)> {
+        let range = self.p[j]..self.p[j + 1];
+        self.i[range.clone()].iter().zip(&self.v[range])
+    }
+}
+
 /// The factorised basis; see the module doc.
 #[derive(Default)]
 pub(crate) struct Revised {
@@ -113,14 +152,10 @@ pub(crate) struct Revised {
     lu: SimplicialLu<usize, f64>,
     /// The strictly lower part of `L` (unit diagonal), in compressed sparse
     /// columns, copied from `lu` at each factorisation.
-    lp: Vec<usize>,
-    li: Vec<usize>,
-    lv: Vec<f64>,
+    l: Csc,
     /// The strictly upper part of `U` in compressed sparse columns, and the
     /// reciprocals of its diagonal.
-    up: Vec<usize>,
-    ui: Vec<usize>,
-    uv: Vec<f64>,
+    u: Csc,
     u_inv_diag: Vec<f64>,
     /// Rank of each index j in a fill-reducing column ordering of M' (COLAMD
     /// of M', computed once per solve at its first factorisation): `K`'s
@@ -146,15 +181,11 @@ pub(crate) struct Revised {
     /// Slot of `w_i` in `B₀` for each row i, [`NONE`] for the rows of `K`.
     w_slot: Vec<usize>,
     /// `K` in compressed sparse columns.
-    bp: Vec<usize>,
-    bi: Vec<usize>,
-    bv: Vec<f64>,
+    kmat: Csc,
     /// The rows of `B₀`'s `z` columns outside `K` (the coupling `C`, rows
     /// whose `w` is basic), in compressed sparse columns over `K`'s
     /// columns, with original row indices.
-    cp: Vec<usize>,
-    ci: Vec<usize>,
-    cv: Vec<f64>,
+    cmat: Csc,
     /// Position in `K` of each original row ([`NONE`]: a row whose `w` is
     /// basic); scratch of [`Revised::refactor`].
     k_pos: Vec<usize>,
@@ -414,23 +445,23 @@ impl Revised {
             // r_c = c_{slot(c)} − Σ C_ic y_i, in the LU's column order.
             for (t, &c) in tmp.iter_mut().zip(&self.col_fwd) {
                 let mut r = xin[self.k_slots[c]];
-                for p in self.cp[c]..self.cp[c + 1] {
-                    r -= self.cv[p] * x[self.ci[p]];
+                for (&i, &a) in self.cmat.column(c) {
+                    r -= a * x[i];
                 }
                 *t = r;
             }
             // Uᵀ, then Lᵀ: each entry is a dot product with its column.
             for j in 0..k {
                 let mut acc = tmp[j];
-                for p in self.up[j]..self.up[j + 1] {
-                    acc -= self.uv[p] * tmp[self.ui[p]];
+                for (&i, &a) in self.u.column(j) {
+                    acc -= a * tmp[i];
                 }
                 tmp[j] = acc * self.u_inv_diag[j];
             }
             for j in (0..k).rev() {
                 let mut acc = tmp[j];
-                for p in self.lp[j]..self.lp[j + 1] {
-                    acc -= self.lv[p] * tmp[self.li[p]];
+                for (&i, &a) in self.l.column(j) {
+                    acc -= a * tmp[i];
                 }
                 tmp[j] = acc;
             }
@@ -448,8 +479,8 @@ impl Revised {
                 for j in 0..k {
                     let xj = tmp[j];
                     if xj != 0.0 {
-                        for p in self.lp[j]..self.lp[j + 1] {
-                            tmp[self.li[p]] -= self.lv[p] * xj;
+                        for (&i, &a) in self.l.column(j) {
+                            tmp[i] -= a * xj;
                         }
                     }
                 }
@@ -457,8 +488,8 @@ impl Revised {
                     if tmp[j] != 0.0 {
                         let xj = tmp[j] * self.u_inv_diag[j];
                         tmp[j] = xj;
-                        for p in self.up[j]..self.up[j + 1] {
-                            tmp[self.ui[p]] -= self.uv[p] * xj;
+                        for (&i, &a) in self.u.column(j) {
+                            tmp[i] -= a * xj;
                         }
                     }
                 }
@@ -474,8 +505,8 @@ impl Revised {
             for (c, &s) in self.k_slots.iter().enumerate() {
                 let xs = x[s];
                 if xs != 0.0 {
-                    for p in self.cp[c]..self.cp[c + 1] {
-                        x[self.w_slot[self.ci[p]]] -= self.cv[p] * xs;
+                    for (&i, &a) in self.cmat.column(c) {
+                        x[self.w_slot[i]] -= a * xs;
                     }
                 }
             }
@@ -525,23 +556,15 @@ impl Revised {
             return false;
         }
         self.k = k;
-        self.bp.clear();
-        self.bp.push(0);
-        self.bi.clear();
-        self.bv.clear();
-        self.cp.clear();
-        self.cp.push(0);
-        self.ci.clear();
-        self.cv.clear();
+        self.kmat.clear();
+        self.cmat.clear();
         for &s in &self.k_slots {
             let v = self.basis[s];
             let mut put = |i: usize, a: f64| {
                 if k_pos[i] == NONE {
-                    self.ci.push(i);
-                    self.cv.push(a);
+                    self.cmat.push(i, a);
                 } else {
-                    self.bi.push(k_pos[i]);
-                    self.bv.push(a);
+                    self.kmat.push(k_pos[i], a);
                 }
             };
             if v < 2 * n {
@@ -554,8 +577,8 @@ impl Revised {
                     put(i, -d);
                 }
             }
-            self.bp.push(self.bi.len());
-            self.cp.push(self.ci.len());
+            self.kmat.end_column();
+            self.cmat.end_column();
         }
         self.k_pos = k_pos;
         if k > 0 && !self.factorise_k() {
@@ -597,7 +620,7 @@ impl Revised {
         ok
     }
 
-    /// The sparse LU of `K` (order `self.k > 0`, in `bp`/`bi`/`bv`), with
+    /// The sparse LU of `K` (order `self.k > 0`, in `kmat`), with
     /// partial pivoting. Its columns are ordered by one COLAMD ordering of
     /// M's columns per solve rather than an ordering of each `K`: `K` is
     /// nearly a principal submatrix of M (its rows are those of the basic
@@ -634,7 +657,7 @@ impl Revised {
         }
         // Valid by construction: k + 1 increasing pointers, sorted rows
         // (K's rows keep the original order).
-        let sym = SymbolicSparseColMatRef::new_checked(k, k, &self.bp, None, &self.bi);
+        let sym = SymbolicSparseColMatRef::new_checked(k, k, &self.kmat.p, None, &self.kmat.i);
         let col_perm = faer::perm::PermRef::new_checked(&self.col_fwd, &self.col_inv, k);
         self.row_fwd.resize(k, 0);
         self.row_inv.resize(k, 0);
@@ -642,7 +665,7 @@ impl Revised {
         let Ok(mut mem) = MemBuffer::try_new(req) else {
             return false;
         };
-        let mat = SparseColMatRef::new(sym, &self.bv);
+        let mat = SparseColMatRef::new(sym, &self.kmat.v);
         if factorize_simplicial_numeric_lu(
             &mut self.row_fwd,
             &mut self.row_inv,
@@ -659,33 +682,25 @@ impl Revised {
         // `lu_solve`, and U's diagonal as reciprocals (as faer's own
         // triangular solve applies it).
         let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
-        self.lp.clear();
-        self.lp.push(0);
-        self.li.clear();
-        self.lv.clear();
-        self.up.clear();
-        self.up.push(0);
-        self.ui.clear();
-        self.uv.clear();
+        self.l.clear();
+        self.u.clear();
         self.u_inv_diag.clear();
         self.u_inv_diag.resize(k, 0.0);
         for j in 0..k {
             for (&i, &v) in l.row_idx_of_col_raw(j).iter().zip(l.val_of_col(j)) {
                 if i != j {
-                    self.li.push(i);
-                    self.lv.push(v);
+                    self.l.push(i, v);
                 }
             }
-            self.lp.push(self.li.len());
+            self.l.end_column();
             for (&i, &v) in u.row_idx_of_col_raw(j).iter().zip(u.val_of_col(j)) {
                 if i == j {
                     self.u_inv_diag[j] = v.recip();
                 } else {
-                    self.ui.push(i);
-                    self.uv.push(v);
+                    self.u.push(i, v);
                 }
             }
-            self.up.push(self.ui.len());
+            self.u.end_column();
         }
         self.u_inv_diag.iter().all(|d| d.is_finite())
     }
