@@ -56,6 +56,7 @@
 use super::path::{self, Basis, NONE};
 use super::residual_with_w;
 use super::revised::Revised;
+use super::sparse::Columns;
 use std::cell::RefCell;
 
 /// Default iteration cap per unit of dimension: `max_pivots` defaults to
@@ -407,7 +408,8 @@ impl Workspace {
 
     /// [`Workspace::run`] for data the caller has already scanned:
     /// `maxima = (max|M_ij|, max|q_i|)` of a finite `M` and `q` (as
-    /// [`max_abs`] computes them), so that the set-up does not read the
+    /// [`max_abs`] computes them) and, if that scan built them, M's columns
+    /// (for the factorised basis), so that the set-up does not read the
     /// data a second time. The same run as [`Workspace::run`].
     pub(crate) fn run_scanned(
         &mut self,
@@ -415,8 +417,9 @@ impl Workspace {
         q: &[f64],
         opts: &LemkeOptions,
         maxima: (f64, f64),
+        cols: Option<&Columns>,
     ) -> Run {
-        self.run_from(m, q, opts, None, Some(maxima))
+        self.run_from(m, q, opts, None, Some((maxima, cols)))
     }
 
     /// Runs the method from the guessed complementary basis `start`
@@ -451,7 +454,7 @@ impl Workspace {
         q: &[f64],
         opts: &LemkeOptions,
         start: Option<&[bool]>,
-        maxima: Option<(f64, f64)>,
+        scanned: Option<((f64, f64), Option<&Columns>)>,
     ) -> Run {
         let n = q.len();
         let early = |termination, detail| Run {
@@ -470,9 +473,9 @@ impl Workspace {
                 "invalid tolerance in LemkeOptions",
             );
         }
-        let ((mmax, mfinite), (qmax, qfinite)) = match maxima {
-            Some((mmax, qmax)) => ((mmax, true), (qmax, true)),
-            None => (max_abs_finite(m), max_abs_finite(q)),
+        let ((mmax, mfinite), (qmax, qfinite), cols) = match scanned {
+            Some(((mmax, qmax), cols)) => ((mmax, true), (qmax, true), cols),
+            None => (max_abs_finite(m), max_abs_finite(q), None),
         };
         if !(mfinite && qfinite) {
             return early(Termination::NumericalFailure, "non-finite entry in M or q");
@@ -523,7 +526,7 @@ impl Workspace {
             let out = path::run(&mut self.rev, &mut cand, opts, max_pivots);
             (out.0, out.1, self.rev.pivots())
         } else if self.revised {
-            self.rev.setup(m, q, &self.d, self.ea, self.eb);
+            self.rev.setup(m, q, &self.d, (self.ea, self.eb), cols);
             let out = path::run(&mut self.rev, &mut cand, opts, max_pivots);
             (out.0, out.1, self.rev.pivots())
         } else {

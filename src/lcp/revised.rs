@@ -52,7 +52,7 @@
 
 use super::lemke::ldexp;
 use super::path::{Basis, NONE};
-use super::sparse::csc_of_rows;
+use super::sparse::Columns;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::colamd;
 use faer::sparse::linalg::lu::simplicial::{
@@ -131,6 +131,8 @@ pub(crate) struct Revised {
     mp: Vec<usize>,
     mi: Vec<usize>,
     mv: Vec<f64>,
+    /// The columns of M when the caller has not built them.
+    own: Columns,
     /// Scaled covering vector d'.
     d: Vec<f64>,
     /// Scaled q' = q / 2^eb.
@@ -238,18 +240,31 @@ impl Clone for Revised {
 impl Revised {
     /// Sets up `B = I` for the problem `(m, q)` scaled by `2^-ea`, `2^-eb`,
     /// with the scaled covering vector `d` (all finite, checked by the
-    /// caller).
-    pub(crate) fn setup(&mut self, m: &[f64], q: &[f64], d: &[f64], ea: i32, eb: i32) {
+    /// caller); `cols`: M's columns if the caller has built them
+    /// ([`Columns::scan`] of this `m`), else they are built here.
+    pub(crate) fn setup(
+        &mut self,
+        m: &[f64],
+        q: &[f64],
+        d: &[f64],
+        (ea, eb): (i32, i32),
+        cols: Option<&Columns>,
+    ) {
         let n = q.len();
         self.n = n;
-        csc_of_rows(
-            m,
-            n,
-            |a| ldexp(a, -ea),
-            &mut self.mp,
-            &mut self.mi,
-            &mut self.mv,
-        );
+        // M's columns: the caller's (built by its scan of M), else built
+        // here; then scaled.
+        let cols = match cols {
+            Some(c) => c,
+            None => {
+                self.own.scan(m, n);
+                &self.own
+            }
+        };
+        self.mp.clone_from(&cols.ptr);
+        self.mi.clone_from(&cols.idx);
+        self.mv.clear();
+        self.mv.extend(cols.val.iter().map(|&a| ldexp(a, -ea)));
         self.d.clear();
         self.d.extend_from_slice(d);
         self.q.clear();
@@ -308,7 +323,7 @@ impl Revised {
         let mut d = std::mem::take(&mut self.d);
         d.clear();
         d.resize(n, 1.0);
-        self.setup(m, q, &d, ea, eb);
+        self.setup(m, q, &d, (ea, eb), None);
         self.d = d;
         let mut dropped = 0;
         for k in (0..n).filter(|&k| start[k]) {
@@ -873,7 +888,7 @@ mod tests {
         }
         let q: Vec<f64> = (0..n).map(|_| uniform(&mut st)).collect();
         let mut e = Revised::default();
-        e.setup(&m, &q, &vec![1.0; n], 0, 0);
+        e.setup(&m, &q, &vec![1.0; n], (0, 0), None);
         e.row_of.iter_mut().for_each(|r| *r = NONE);
         for (s, &v) in vars.iter().enumerate() {
             e.basis[s] = v;
@@ -932,7 +947,7 @@ mod tests {
         }
         let q: Vec<f64> = (0..n).map(|_| uniform(&mut st)).collect();
         let mut e = Revised::default();
-        e.setup(&m, &q, &vec![1.0; n], 0, 0);
+        e.setup(&m, &q, &vec![1.0; n], (0, 0), None);
         let mut tmp = Vec::new();
         let mut refactorised = 0;
         let mut j = 0;

@@ -72,7 +72,7 @@ use super::lemke::{
     max_abs, max_abs_finite, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination,
     Workspace, REVISED_FROM,
 };
-use super::{w_into, Lcp, ResidualScale};
+use super::{w_into, Lcp, ResidualScale, SUPPORT_MAX_N};
 use serde::{Deserialize, Serialize};
 
 /// Which strategy of the driver produced an attempt.
@@ -637,12 +637,20 @@ fn solve_plan(
         out.status = SolveStatus::Failed;
         return;
     }
+    let mut sc = ws.scratch.take().unwrap_or_default();
+    sc.sparse.reset();
     // One pass over the data: the maxima the set-up scales by, finiteness
-    // and the sign of q.
-    let (mmax, mfinite) = max_abs_finite(m);
+    // and the sign of q; for a large M, the same pass builds its compressed
+    // columns, which the factorised basis and the residual then share.
+    let (mmax, mfinite) = if n > SUPPORT_MAX_N || n >= opts.revised_from {
+        sc.sparse.scan(m, n)
+    } else {
+        max_abs_finite(m)
+    };
     let (qmax, qfinite) = max_abs_finite(q);
     let finite = mfinite && qfinite;
     if finite && q.iter().all(|&x| x >= 0.0) {
+        ws.scratch = Some(sc);
         set_vec(&mut out.z, n, |_| 0.0);
         set_vec(&mut out.w, n, |i| q[i]);
         out.residual = 0.0;
@@ -669,8 +677,6 @@ fn solve_plan(
     } else {
         0.0
     };
-    let mut sc = ws.scratch.take().unwrap_or_default();
-    sc.sparse.reset();
     for v in [&mut sc.z, &mut sc.w, &mut sc.best_z, &mut sc.best_w] {
         v.clear();
         v.resize(n, 0.0);
@@ -737,7 +743,7 @@ fn solve_plan(
         } else if let Some(s) = warm {
             ws.run_warm(m, q, &lopts, s)
         } else if finite {
-            ws.run_scanned(m, q, &lopts, (mmax, qmax))
+            ws.run_scanned(m, q, &lopts, (mmax, qmax), sc.sparse.columns())
         } else {
             ws.run(m, q, &lopts)
         };

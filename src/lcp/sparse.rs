@@ -26,63 +26,100 @@
 //! * T. A. Davis, *Direct Methods for Sparse Linear Systems*, SIAM, 2006,
 //!   ch. 2 (compressed sparse columns).
 
+use super::lemke::max_abs_finite;
 use super::{dot2_plus, two_prod, two_sum, SUPPORT_MAX_N};
 
-/// Fills the compressed sparse columns (`ptr`, `idx`, `val`) of the
-/// non-zero entries of the row-major `n × n` matrix `m`, each value mapped
-/// by `f`, rows increasing within each column. Two passes in row order
-/// (count per column, then place): the matrix is read along its rows, not
-/// down its columns.
-pub(crate) fn csc_of_rows(
-    m: &[f64],
-    n: usize,
-    f: impl Fn(f64) -> f64,
-    ptr: &mut Vec<usize>,
-    idx: &mut Vec<usize>,
-    val: &mut Vec<f64>,
-) {
-    ptr.clear();
-    ptr.resize(n + 1, 0);
-    for row in m.chunks_exact(n.max(1)).take(n) {
-        for (j, &a) in row.iter().enumerate() {
-            ptr[j + 1] += usize::from(a != 0.0);
+/// The compressed sparse columns of the non-zero entries of a row-major
+/// `n × n` matrix (`ptr`, `idx`, `val`; rows increasing within each
+/// column), with the scratch of the one pass that builds them.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct Columns {
+    /// Start of each column in `idx` and `val`; `n + 1` entries.
+    pub(crate) ptr: Vec<usize>,
+    /// Row of each stored entry.
+    pub(crate) idx: Vec<usize>,
+    /// Value of each stored entry.
+    pub(crate) val: Vec<f64>,
+    /// The non-zeros gathered row by row (start of each row, column,
+    /// value), transposed into the columns.
+    row_ptr: Vec<usize>,
+    row_col: Vec<usize>,
+    row_val: Vec<f64>,
+}
+
+impl Columns {
+    /// Builds the columns of the row-major `n × n` matrix `m` by **one**
+    /// pass over its entries, and returns what the driver needs of that
+    /// pass too: `max|M_ij|` (the number [`max_abs`] gives: NaN entries
+    /// skipped) and whether every entry is finite. The pass gathers each
+    /// row's non-zeros (and, row by row, the maxima); the transposition
+    /// into columns then reads only the non-zeros. A NaN entry is stored
+    /// (it is not `== 0`).
+    ///
+    /// [`max_abs`]: super::lemke::max_abs
+    pub(crate) fn scan(&mut self, m: &[f64], n: usize) -> (f64, bool) {
+        self.row_ptr.clear();
+        self.row_ptr.push(0);
+        self.row_col.clear();
+        self.row_val.clear();
+        let mut mmax = 0.0_f64;
+        let mut finite = true;
+        for row in m.chunks_exact(n.max(1)).take(n) {
+            let (a, f) = max_abs_finite(row);
+            if a > mmax {
+                mmax = a;
+            }
+            finite &= f;
+            for (j, &a) in row.iter().enumerate() {
+                if a != 0.0 {
+                    self.row_col.push(j);
+                    self.row_val.push(a);
+                }
+            }
+            self.row_ptr.push(self.row_col.len());
         }
-    }
-    for j in 0..n {
-        ptr[j + 1] += ptr[j];
-    }
-    let nnz = ptr[n];
-    idx.clear();
-    idx.resize(nnz, 0);
-    val.clear();
-    val.resize(nnz, 0.0);
-    // ptr[j] is the next free slot of column j while placing, and ends as
-    // the start of column j + 1; shifted back below.
-    for (i, row) in m.chunks_exact(n.max(1)).take(n).enumerate() {
-        for (j, &a) in row.iter().enumerate() {
-            if a != 0.0 {
-                let at = ptr[j];
-                idx[at] = i;
-                val[at] = f(a);
-                ptr[j] = at + 1;
+        let ptr = &mut self.ptr;
+        ptr.clear();
+        ptr.resize(n + 1, 0);
+        for &j in &self.row_col {
+            ptr[j + 1] += 1;
+        }
+        for j in 0..n {
+            ptr[j + 1] += ptr[j];
+        }
+        let nnz = ptr[n];
+        self.idx.clear();
+        self.idx.resize(nnz, 0);
+        self.val.clear();
+        self.val.resize(nnz, 0.0);
+        // ptr[j] is the next free slot of column j while placing, and ends
+        // as the start of column j + 1; shifted back below. Rows are placed
+        // in increasing order.
+        for (i, w) in self.row_ptr.windows(2).enumerate() {
+            for at in w[0]..w[1] {
+                let j = self.row_col[at];
+                let to = ptr[j];
+                self.idx[to] = i;
+                self.val[to] = self.row_val[at];
+                ptr[j] = to + 1;
             }
         }
+        for j in (1..=n).rev() {
+            ptr[j] = ptr[j - 1];
+        }
+        ptr[0] = 0;
+        (mmax, finite)
     }
-    for j in (1..=n).rev() {
-        ptr[j] = ptr[j - 1];
-    }
-    ptr[0] = 0;
 }
 
 /// The driver's residual `w = M z + q` on the compressed columns of `M`,
-/// built at the first evaluation of a solve ([`SparseResidual::reset`]
-/// starts a solve); the buffers are kept across solves. See the module doc.
+/// built by [`SparseResidual::scan`] or at the first evaluation of a solve
+/// ([`SparseResidual::reset`] starts a solve); the buffers are kept across
+/// solves. See the module doc.
 #[derive(Debug, Clone, Default)]
 pub(crate) struct SparseResidual {
     built: bool,
-    ptr: Vec<usize>,
-    idx: Vec<usize>,
-    val: Vec<f64>,
+    cols: Columns,
     /// Running Dot2 sums and compensations per row.
     p: Vec<f64>,
     s: Vec<f64>,
@@ -92,6 +129,20 @@ impl SparseResidual {
     /// Forgets the matrix of the previous solve.
     pub(crate) fn reset(&mut self) {
         self.built = false;
+    }
+
+    /// Builds the columns of this solve's `m` (`n × n`) now, by
+    /// [`Columns::scan`], and returns the maximum and finiteness that scan
+    /// reads on the way; the driver's one pass over a large `M`.
+    pub(crate) fn scan(&mut self, m: &[f64], n: usize) -> (f64, bool) {
+        let out = self.cols.scan(m, n);
+        self.built = true;
+        out
+    }
+
+    /// The columns of this solve's `M`, if built.
+    pub(crate) fn columns(&self) -> Option<&Columns> {
+        self.built.then_some(&self.cols)
     }
 
     /// `w = M z + q` for the `M` of this solve (the same `m` at every call
@@ -113,7 +164,7 @@ impl SparseResidual {
             return;
         }
         if !self.built {
-            csc_of_rows(m, n, |a| a, &mut self.ptr, &mut self.idx, &mut self.val);
+            self.cols.scan(m, n);
             self.built = true;
         }
         #[cfg(target_arch = "x86_64")]
@@ -151,9 +202,10 @@ impl SparseResidual {
             if zj == 0.0 {
                 continue;
             }
-            for at in self.ptr[j]..self.ptr[j + 1] {
-                let i = self.idx[at];
-                let (h, r) = prod(self.val[at], zj);
+            let c = &self.cols;
+            for at in c.ptr[j]..c.ptr[j + 1] {
+                let i = c.idx[at];
+                let (h, r) = prod(c.val[at], zj);
                 let (np, t) = two_sum(self.p[i], h);
                 self.p[i] = np;
                 self.s[i] += t + r;
@@ -248,16 +300,30 @@ mod tests {
     fn compressed_columns_hold_every_non_zero_in_row_order() {
         let mut rng = SplitMix64::new(3);
         let (m, _, _) = problem(&mut rng, 70, 0.1);
-        let (mut p, mut i, mut v) = (Vec::new(), Vec::new(), Vec::new());
-        csc_of_rows(&m, 70, |a| 2.0 * a, &mut p, &mut i, &mut v);
-        let mut back = vec![0.0; 70 * 70];
-        for j in 0..70 {
-            assert!(i[p[j]..p[j + 1]].windows(2).all(|w| w[0] < w[1]));
-            for at in p[j]..p[j + 1] {
-                back[i[at] * 70 + j] = v[at] / 2.0;
+        let mut c = Columns::default();
+        // Twice: the second scan reuses the buffers of the first.
+        for _ in 0..2 {
+            let (mmax, finite) = c.scan(&m, 70);
+            assert!(finite);
+            assert_eq!(mmax, crate::lcp::lemke::max_abs(&m));
+            let (p, i, v) = (&c.ptr, &c.idx, &c.val);
+            let mut back = vec![0.0; 70 * 70];
+            for j in 0..70 {
+                assert!(i[p[j]..p[j + 1]].windows(2).all(|w| w[0] < w[1]));
+                for at in p[j]..p[j + 1] {
+                    back[i[at] * 70 + j] = v[at];
+                }
             }
+            assert_eq!(back, m);
+            assert_eq!(p[70], m.iter().filter(|x| **x != 0.0).count());
         }
-        assert_eq!(back, m);
-        assert_eq!(p[70], m.iter().filter(|x| **x != 0.0).count());
+        // A non-finite entry is reported (and stored); the maximum skips a NaN.
+        let mut bad = m.clone();
+        bad[5] = f64::NAN;
+        bad[7] = f64::INFINITY;
+        let (mmax, finite) = c.scan(&bad, 70);
+        assert!(!finite);
+        assert_eq!(mmax, f64::INFINITY);
+        assert!(c.val.iter().any(|x| x.is_nan()));
     }
 }
