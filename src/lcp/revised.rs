@@ -402,6 +402,30 @@ impl Revised {
         if self.factorised {
             self.lu_solve(x, tmp, false);
         }
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: the CPU supports AVX2, checked just above.
+                unsafe { self.etas_forward_avx2(x, n) };
+                return;
+            }
+        }
+        self.etas_forward(x, n);
+    }
+
+    /// [`Revised::etas_forward`] compiled for AVX2: the same multiplies and
+    /// subtracts (no fused multiply–add: bit for bit the same results),
+    /// four to a vector instead of two.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn etas_forward_avx2(&self, x: &mut [f64], n: usize) {
+        self.etas_forward(x, n);
+    }
+
+    /// `x ← E_k⁻¹ ⋯ E_1⁻¹ x`: the eta file in order, each a dense update of
+    /// `x` by its stored column (the hottest loop of a large solve).
+    #[inline(always)]
+    fn etas_forward(&self, x: &mut [f64], n: usize) {
         for k in 0..self.eta_r.len() {
             let r = self.eta_r[k];
             let xr = x[r] / self.eta_p[k];
