@@ -149,6 +149,9 @@ pub struct ContactLcp {
     h: Mat<f64>,
     /// Inverse mass per generalised coordinate of the group (`3 n_g`).
     minv: Vec<f64>,
+    /// The columns of `H` that may be non-zero in the rows of each floe of
+    /// the group (those of its contacts), in increasing order.
+    touching: Vec<Vec<usize>>,
     /// Floe indices of the group.
     pub floes: Vec<usize>,
     /// Largest term of the free relative velocities `q` (a single body's
@@ -395,8 +398,8 @@ impl ContactLcp {
             minv.extend([1.0 / f.mass, 1.0 / f.mass, 1.0 / f.inertia]);
         }
         // Block-sparse Delassus matrix: the columns of H touching each floe
-        // (in increasing order), and for each floe the products of those
-        // columns' 3-row blocks only (docs/physics.md §3.1).
+        // (sorted below), and for each floe the products of those columns'
+        // 3-row blocks only (docs/physics.md §3.1).
         let mut touching: Vec<Vec<usize>> = vec![Vec::new(); ng];
         let mut col_floes: Vec<[usize; 2]> = vec![[usize::MAX; 2]; m];
         for (j, &k) in group.contacts.iter().enumerate() {
@@ -415,6 +418,10 @@ impl ContactLcp {
                 }
             }
         }
+        // Increasing order: what `impulses` sums in (the order does not
+        // matter to `delassus_blocks`, which writes each entry once per
+        // floe).
+        touching.iter_mut().for_each(|t| t.sort_unstable());
         let n = if friction { m + 3 * nf } else { m };
         let mut a = vec![0.0; n * n];
         delassus_blocks(&h, &minv, &touching, n, &mut a);
@@ -495,6 +502,7 @@ impl ContactLcp {
             scale,
             h,
             minv,
+            touching,
             floes: group.floes.clone(),
             v_scale,
             keys: group.contacts.iter().map(|&k| contacts[k].key()).collect(),
@@ -559,6 +567,28 @@ impl ContactLcp {
         out
     }
 
+    /// The generalised impulses `H (λ, β̃)` per floe by the row sums over
+    /// every column of `H` (what [`ContactLcp::impulses`] computed before it
+    /// summed over each floe's own columns). A reference for its tests only.
+    #[doc(hidden)]
+    pub fn dense_impulses_reference(&self, z: &[f64]) -> Vec<Gen> {
+        let cols = self.h.ncols();
+        let zp = self.physical(z);
+        let mut out = vec![[0.0; 3]; self.floes.len()];
+        for (l, o) in out.iter_mut().enumerate() {
+            for (d, od) in o.iter_mut().enumerate() {
+                let r = 3 * l + d;
+                *od = zp
+                    .iter()
+                    .take(cols)
+                    .enumerate()
+                    .map(|(c, zc)| self.h[(r, c)] * zc)
+                    .sum();
+            }
+        }
+        out
+    }
+
     /// The scaled Delassus block `HᵀM⁻¹H / g` (`cols × cols`, row-major)
     /// by the block-sparse sum ([`delassus_blocks`], what the assembly
     /// computes), recomputed from `H` alone, for its tests.
@@ -590,19 +620,18 @@ impl ContactLcp {
 
     /// The generalised impulses `H (λ, β̃)` per floe of the group, in group
     /// order, from an LCP solution `z'`.
+    ///
+    /// Each floe's sums run over the columns of its own contacts, in
+    /// increasing order: the terms of the other columns are exact zeros
+    /// (`H` is zero there and `z'` finite), so this is the row sum over
+    /// every column, up to the sign of a zero.
     pub fn impulses(&self, z: &[f64]) -> Vec<Gen> {
-        let cols = self.h.ncols();
         let zp = self.physical(z);
         let mut out = vec![[0.0; 3]; self.floes.len()];
-        for (l, o) in out.iter_mut().enumerate() {
+        for ((l, o), cols) in out.iter_mut().enumerate().zip(&self.touching) {
             for (d, od) in o.iter_mut().enumerate() {
                 let r = 3 * l + d;
-                *od = zp
-                    .iter()
-                    .take(cols)
-                    .enumerate()
-                    .map(|(c, zc)| self.h[(r, c)] * zc)
-                    .sum();
+                *od = cols.iter().map(|&c| self.h[(r, c)] * zp[c]).sum();
             }
         }
         out
@@ -695,6 +724,12 @@ impl ContactLcp {
             scale: self.scale,
             h,
             minv: self.minv.clone(),
+            // The normal columns only.
+            touching: self
+                .touching
+                .iter()
+                .map(|t| t.iter().copied().filter(|&c| c < m).collect())
+                .collect(),
             floes: self.floes.clone(),
             v_scale: self.v_scale,
             keys: self.keys.clone(),

@@ -575,6 +575,7 @@ fn block_sparse_assembly_equals_the_dense_product() {
     let mut with_obstacle = 0;
     let mut coupled_entries = 0usize;
     let mut large_differing = 0usize;
+    let mut impulse_entries = 0usize;
     for (name, distance, frictionless) in [
         ("elastic_pool", 12.0, true),
         ("narrow_channel", 6.0, false),
@@ -612,6 +613,31 @@ fn block_sparse_assembly_equals_the_dense_product() {
                     coupled_entries += usize::from(r != c && want != 0.0);
                 }
             }
+            // The impulses summed over each floe's own columns against the
+            // row sums over every column, for a z with zeros and spread
+            // magnitudes, and for the frictionless sub-problem.
+            for sub in [lcp.clone(), lcp.frictionless()] {
+                let z: Vec<f64> = (0..sub.lcp.n)
+                    .map(|k| {
+                        if k % 3 == 1 {
+                            0.0
+                        } else {
+                            10f64.powi((k % 7) as i32 - 3) * (1.0 + k as f64)
+                        }
+                    })
+                    .collect();
+                let got = sub.impulses(&z);
+                let want = sub.dense_impulses_reference(&z);
+                assert_eq!(got.len(), want.len());
+                for (g, w) in got.iter().zip(&want) {
+                    for d in 0..3 {
+                        // The same number (a zero may differ in sign).
+                        assert!(g[d] == w[d], "{name}: {g:?} vs {w:?}");
+                        assert!(g[d] == 0.0 || g[d].to_bits() == w[d].to_bits());
+                    }
+                    impulse_entries += g.iter().filter(|x| **x != 0.0).count();
+                }
+            }
             groups_checked += 1;
             multi_floe += usize::from(lcp.floes.len() >= 3);
             with_obstacle += usize::from(
@@ -633,6 +659,10 @@ fn block_sparse_assembly_equals_the_dense_product() {
     assert!(
         coupled_entries >= 100_000,
         "{coupled_entries} coupled entries"
+    );
+    assert!(
+        impulse_entries >= 2_000,
+        "{impulse_entries} non-zero impulse entries"
     );
     eprintln!("{large_differing} entries of the large groups differ by one rounding");
 }
