@@ -359,6 +359,11 @@ pub struct Workspace {
     prow: Vec<f64>,
     /// Non-zero positions of the pivot row.
     nz: Vec<usize>,
+    /// An upper bound on `|t_ij|` over the tableau (scaled units), kept
+    /// by every exchange; while the bound after an exchange is below
+    /// [`OVERFLOW_FREE_BOUND`] no entry can overflow, and the elimination
+    /// skips its per-entry finiteness test.
+    tbound: f64,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
     /// Column of the entering variable (set by [`Basis::load`]).
@@ -605,6 +610,9 @@ impl Workspace {
         self.prow.resize(cols, 0.0);
         self.nz.clear();
         self.cand.clear();
+        // The scaled M', q' and d' are below √2 in magnitude (scaled by the
+        // power of two nearest their largest entry, `pow2_exponent`).
+        self.tbound = INITIAL_TABLEAU_BOUND;
     }
 
     /// Exchange step on row `r`, column `s`; returns `false` if a non-finite
@@ -616,6 +624,7 @@ impl Workspace {
             return false;
         }
         let mut finite = true;
+        let mut pmax = 0.0_f64;
         {
             let row = &mut self.t[r * cols..(r + 1) * cols];
             // The pivot row divided by p, copied as it goes (an element
@@ -626,12 +635,20 @@ impl Workspace {
                 *x = v;
                 *pr = v;
                 finite &= v.is_finite();
+                pmax = pmax.max(v.abs());
             }
             let inv = 1.0 / p;
             row[s] = inv;
             self.prow[s] = inv;
             finite &= inv.is_finite();
+            pmax = pmax.max(inv.abs());
         }
+        // Every other row becomes `row − f · prow` with |row|, |f| at most
+        // the bound: at most bound · (1 + pmax), with a margin for the two
+        // roundings. Below the overflow-free bound the elimination cannot
+        // produce a non-finite entry from these finite ones.
+        let bound = (self.tbound * (1.0 + pmax)).max(pmax) * BOUND_ROUNDING_MARGIN;
+        let check = !(finite && bound < OVERFLOW_FREE_BOUND);
         // The non-zero positions of the pivot row, for a sparse elimination;
         // not worth listing in a short row (the dense loop is as fast).
         self.nz.clear();
@@ -649,8 +666,18 @@ impl Workspace {
             s,
             prow: &self.prow,
             nz: &self.nz,
+            check,
         };
         finite &= rows.run();
+        self.tbound = if check {
+            // The entries themselves, if finite: the bound starts again
+            // from the largest.
+            let (tmax, all_finite) = max_abs_finite(&self.t[..n * cols]);
+            finite &= all_finite;
+            tmax
+        } else {
+            bound
+        };
         let entering = self.nonbasic[s];
         let leaving = self.basis[r];
         self.basis[r] = entering;
@@ -880,10 +907,24 @@ impl Basis for Workspace {
 /// but, at most, the sign of a zero entry).
 const SPARSE_ROW_FROM: usize = 16;
 
+/// Bound on the scaled entries of a fresh tableau (they are below √2).
+const INITIAL_TABLEAU_BOUND: f64 = 1.5;
+
+/// Below this bound on the tableau's entries an exchange cannot overflow
+/// (the largest finite `f64` is about 1.8e308), so its elimination need
+/// not test every entry for finiteness.
+const OVERFLOW_FREE_BOUND: f64 = 1e300;
+
+/// Margin of the bound of an exchange for the roundings of `row − f · prow`
+/// (two roundings of relative size 2⁻⁵³ each; generously).
+const BOUND_ROUNDING_MARGIN: f64 = 1.0 + 1e-10;
+
 /// The elimination of a pivot: every row `i ≠ r` of the tableau `t`
 /// (rows of `cols` entries) becomes `row − row[s] · prow`, with `row[s]`
 /// set to 0 first (the exchanged column; `prow[s] = 1/p`), over the
-/// non-zero positions `nz` of the pivot row when they are few.
+/// non-zero positions `nz` of the pivot row when they are few. With
+/// `check`, every new entry is tested for finiteness; without, the caller
+/// has proved that none can overflow (`Workspace::tbound`).
 struct Eliminate<'a> {
     t: &'a mut [f64],
     cols: usize,
@@ -891,6 +932,7 @@ struct Eliminate<'a> {
     s: usize,
     prow: &'a [f64],
     nz: &'a [usize],
+    check: bool,
 }
 
 impl Eliminate<'_> {
@@ -920,16 +962,20 @@ impl Eliminate<'_> {
     /// others by the general loop. The same operations in the same order.
     #[inline(always)]
     fn dispatch(self) -> bool {
-        match self.cols {
-            6 => self.body::<6>(),
-            10 => self.body::<10>(),
-            _ => self.body::<0>(),
+        match (self.cols, self.check) {
+            (6, false) => self.body::<6, false>(),
+            (10, false) => self.body::<10, false>(),
+            (_, false) => self.body::<0, false>(),
+            (6, true) => self.body::<6, true>(),
+            (10, true) => self.body::<10, true>(),
+            (_, true) => self.body::<0, true>(),
         }
     }
 
-    /// The elimination with rows of `C` entries (`C` = 0: `self.cols`).
+    /// The elimination with rows of `C` entries (`C` = 0: `self.cols`),
+    /// testing every new entry for finiteness when `CHECK`.
     #[inline(always)]
-    fn body<const C: usize>(self) -> bool {
+    fn body<const C: usize, const CHECK: bool>(self) -> bool {
         let Eliminate {
             t,
             cols,
@@ -937,6 +983,7 @@ impl Eliminate<'_> {
             s,
             prow,
             nz,
+            check: _,
         } = self;
         let cols = if C == 0 { cols } else { C };
         let Some(prow) = prow.get(..cols) else {
@@ -958,13 +1005,17 @@ impl Eliminate<'_> {
                 for &k in nz {
                     let v = row[k] - f * prow[k];
                     row[k] = v;
-                    ok &= v.is_finite();
+                    if CHECK {
+                        ok &= v.is_finite();
+                    }
                 }
             } else {
                 for (x, &pr) in row.iter_mut().zip(prow) {
                     let v = *x - f * pr;
                     *x = v;
-                    ok &= v.is_finite();
+                    if CHECK {
+                        ok &= v.is_finite();
+                    }
                 }
             }
             finite &= ok;
@@ -1063,4 +1114,94 @@ pub fn pow2_exponent(x: f64) -> i32 {
         e
     };
     e - shift
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::SplitMix64;
+
+    /// A random `n × n` matrix with entries over six binades, a dominant
+    /// diagonal when `dominant`, and a `q` with negative entries.
+    fn problem(rng: &mut SplitMix64, n: usize, dominant: bool) -> (Vec<f64>, Vec<f64>) {
+        let mut m: Vec<f64> = (0..n * n)
+            .map(|_| (rng.uniform() - 0.5) * 10f64.powf(6.0 * rng.uniform() - 3.0))
+            .collect();
+        if dominant {
+            for i in 0..n {
+                m[i * n + i] = m[i * n..(i + 1) * n].iter().map(|x| x.abs()).sum::<f64>() + 1.0;
+            }
+        }
+        let q = (0..n).map(|_| rng.uniform() - 0.7).collect();
+        (m, q)
+    }
+
+    #[test]
+    fn the_tableau_bound_holds_after_every_exchange() {
+        // The bound that lets an exchange skip the finiteness test must be
+        // an upper bound of every entry after every exchange, on paths with
+        // small pivots (entries over six binades, not dominant) and without.
+        let mut rng = SplitMix64::new(0x7AB1_EA00);
+        let mut exchanges = 0;
+        let mut grown = 0;
+        for trial in 0..200 {
+            let n = 1 + trial % 24;
+            let (m, q) = problem(&mut rng, n, trial % 3 == 0);
+            let mut ws = Workspace::default();
+            let (mmax, _) = max_abs_finite(&m);
+            let (qmax, _) = max_abs_finite(&q);
+            ws.scale(n, None, mmax, qmax);
+            ws.setup(&m, &q);
+            assert!(max_abs(&ws.t) <= ws.tbound);
+            // Lemke's pivots are not needed for the bound: any sequence of
+            // exchanges on the largest entry of a column keeps it.
+            for step in 0..2 * n {
+                let s = step % (n + 1);
+                let col: Vec<f64> = (0..n).map(|i| ws.t[i * ws.cols + s].abs()).collect();
+                let (r, &c) = col
+                    .iter()
+                    .enumerate()
+                    .fold((0, &0.0), |a, b| if b.1 > a.1 { b } else { a });
+                if c < 1e-12 {
+                    continue;
+                }
+                assert!(ws.exchange(r, s));
+                exchanges += 1;
+                let tmax = max_abs(&ws.t[..n * ws.cols]);
+                assert!(
+                    tmax <= ws.tbound,
+                    "n = {n}: {tmax:e} > bound {:e}",
+                    ws.tbound
+                );
+                grown += usize::from(ws.tbound > 10.0);
+            }
+        }
+        assert!(exchanges > 2000, "{exchanges}");
+        assert!(grown > 100, "{grown}");
+    }
+
+    #[test]
+    fn an_exchange_past_the_overflow_free_bound_tests_every_entry() {
+        // With the bound forced past the overflow-free limit, the exchange
+        // runs the checked elimination: an overflow is reported, and
+        // without one the bound restarts from the largest entry.
+        let n = 2;
+        let m = vec![1.0, 1e-3, 1.0, 1.0];
+        let q = vec![-1.0, -1.0];
+        let mut ws = Workspace::default();
+        ws.scale(n, None, 1.0, 1.0);
+        ws.setup(&m, &q);
+        ws.tbound = 1e305;
+        assert!(ws.exchange(0, 0));
+        assert_eq!(ws.tbound, max_abs(&ws.t[..n * ws.cols]));
+        // Entries near the largest f64 (the pivot is t[0] = −1): row 1
+        // becomes 0.75 MAX − 1 · (−0.5 MAX), which overflows and is
+        // reported.
+        ws.setup(&m, &q);
+        ws.t[ws.cols] = 1.0;
+        ws.t[ws.cols + 1] = 0.75 * f64::MAX;
+        ws.t[1] = 0.5 * f64::MAX;
+        ws.tbound = f64::MAX;
+        assert!(!ws.exchange(0, 0));
+    }
 }
