@@ -70,6 +70,7 @@
 
 use super::{Contact, ContactKey};
 use crate::geometry::{cross, Vec2};
+use crate::lcp::sparse::Columns;
 use crate::lcp::Lcp;
 use crate::model::Scenario;
 use faer::Mat;
@@ -152,6 +153,10 @@ pub struct ContactLcp {
     /// The columns of `H` that may be non-zero in the rows of each floe of
     /// the group (those of its contacts), in increasing order.
     touching: Vec<Vec<usize>>,
+    /// The compressed columns of `lcp.m`, built from the known pattern for
+    /// a large LCP (at least [`COLUMNS_FROM`] unknowns), so that the solver
+    /// does not read all of `M` to find its non-zeros.
+    columns: Option<Columns>,
     /// Floe indices of the group.
     pub floes: Vec<usize>,
     /// Largest term of the free relative velocities `q` (a single body's
@@ -166,6 +171,45 @@ pub struct ContactLcp {
     /// Number of friction groups `G` (`m` when nothing is merged, 0
     /// without friction); `n = m + 3G`.
     pub friction_groups: usize,
+}
+
+/// Unknowns from which the assembly builds the compressed columns of the
+/// LCP's matrix for the solver: where the solver uses them (the factorised
+/// basis, [`crate::lcp::lemke::REVISED_FROM`]).
+const COLUMNS_FROM: usize = crate::lcp::lemke::REVISED_FROM;
+
+/// The compressed columns of the assembled matrix `a` (`n × n`, row-major;
+/// `m` contacts, `nf` friction groups, `nf = 0` without friction) from its
+/// pattern: the Delassus entry `(r, c)` can be non-zero only if columns `r`
+/// and `c` of `H` touch a common floe (`touching`), the γ entries are in
+/// the rows of the two friction columns of a group and its σ column, and
+/// a σ row holds its group's normal and friction columns.
+fn columns_of(
+    a: &[f64],
+    n: usize,
+    m: usize,
+    nf: usize,
+    touching: &[Vec<usize>],
+    fgroup: &[usize],
+) -> Columns {
+    let mut cand: Vec<Vec<usize>> = vec![Vec::new(); n];
+    for t in touching {
+        for &c in t {
+            cand[c].extend_from_slice(t);
+        }
+    }
+    for (j, &g) in fgroup.iter().enumerate() {
+        cand[j].push(m + 2 * nf + g);
+    }
+    for g in 0..nf {
+        let s = m + 2 * nf + g;
+        cand[m + 2 * g].push(s);
+        cand[m + 2 * g + 1].push(s);
+        cand[s].extend([m + 2 * g, m + 2 * g + 1]);
+    }
+    let mut cols = Columns::default();
+    cols.fill_from_candidates(a, n, |j| &cand[j], &mut Vec::new());
+    cols
 }
 
 /// `HᵀM⁻¹H` by the dense faer product over every row of `H`
@@ -494,6 +538,7 @@ impl ContactLcp {
                 a[s * n + m + 2 * g + 1] = -f_of(g);
             }
         }
+        let columns = (n >= COLUMNS_FROM).then(|| columns_of(&a, n, m, nf, &touching, &fgroup));
         ContactLcp {
             lcp: Lcp { n, m: a, q },
             m,
@@ -503,6 +548,7 @@ impl ContactLcp {
             h,
             minv,
             touching,
+            columns,
             floes: group.floes.clone(),
             v_scale,
             keys: group.contacts.iter().map(|&k| contacts[k].key()).collect(),
@@ -565,6 +611,23 @@ impl ContactLcp {
             }
         }
         out
+    }
+
+    /// The compressed columns of `lcp.m` built at assembly, if the LCP is
+    /// large enough to have them.
+    pub(crate) fn columns(&self) -> Option<&Columns> {
+        self.columns.as_ref()
+    }
+
+    /// Whether the columns built at assembly from the pattern (if any) are
+    /// those of a scan of every entry of `lcp.m`, bit for bit; `None` if
+    /// this LCP has none. For the tests of the pattern.
+    #[doc(hidden)]
+    pub fn columns_match_a_full_scan(&self) -> Option<bool> {
+        let built = self.columns.as_ref()?;
+        let mut scanned = Columns::default();
+        scanned.scan(&self.lcp.m, self.lcp.n);
+        Some(built.same_as(&scanned))
     }
 
     /// The generalised impulses `H (λ, β̃)` per floe by the row sums over
@@ -730,6 +793,7 @@ impl ContactLcp {
                 .iter()
                 .map(|t| t.iter().copied().filter(|&c| c < m).collect())
                 .collect(),
+            columns: None,
             floes: self.floes.clone(),
             v_scale: self.v_scale,
             keys: self.keys.clone(),

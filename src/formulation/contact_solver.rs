@@ -63,6 +63,7 @@ use crate::contact::cone::{solve_cone, ConeOptions, ConeStatus};
 use crate::contact::problem::{ContactLcp, Friction};
 use crate::contact::ContactKey;
 use crate::lcp::predict::{basis_mismatch, solve_predicted, Blocks, PredictOptions, Prediction};
+use crate::lcp::solve::solve_with_columns;
 use crate::lcp::SolveStatus;
 use crate::lcp::Strategy;
 use crate::lcp::{
@@ -751,7 +752,10 @@ impl ContactSolver {
         let (sol, prediction) = match (guess, &blocks) {
             (Some(g), _) => (solve_warm(&lcp.lcp, &self.opts, g), None),
             (None, Some(b)) => solve_predicted(&lcp.lcp, &self.opts, b, &self.predict),
-            (None, None) => (solve(&lcp.lcp, &self.opts), None),
+            (None, None) => match lcp.columns() {
+                Some(cols) => (solve_with_columns(&lcp.lcp, cols, &self.opts), None),
+                None => (solve(&lcp.lcp, &self.opts), None),
+            },
         };
         let seconds = self.timer.end(k, started);
         if let Some(p) = &prediction {

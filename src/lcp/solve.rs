@@ -72,6 +72,7 @@ use super::lemke::{
     max_abs, max_abs_finite, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination,
     Workspace, REVISED_FROM,
 };
+use super::sparse::Columns;
 use super::{w_into, Lcp, ResidualScale, SUPPORT_MAX_N};
 use serde::{Deserialize, Serialize};
 
@@ -564,6 +565,18 @@ pub fn solve(lcp: &Lcp, opts: &SolveOptions) -> LcpSolution {
     with_thread_workspace(|ws| solve_with(ws, lcp, opts))
 }
 
+/// [`solve`] given the compressed columns of `lcp.m` (what
+/// [`Columns::scan`] of it builds, e.g. by [`Columns::fill_from_candidates`]
+/// from a known pattern): the driver then does not read all of `M` to
+/// build them. The same solution as [`solve`].
+pub(crate) fn solve_with_columns(lcp: &Lcp, cols: &Columns, opts: &SolveOptions) -> LcpSolution {
+    with_thread_workspace(|ws| {
+        let mut out = LcpSolution::empty();
+        solve_plan(ws, lcp, opts, &mut out, None, Some(cols));
+        out
+    })
+}
+
 /// The attempts of the plan, in order: `(strategy, rule, ε_rel)`; with
 /// `warm`, the warm Lemke path first; then, on a problem of `n` unknowns,
 /// `n ≥` [`SolveOptions::harris_from`], the Harris attempt.
@@ -611,7 +624,7 @@ pub fn solve_with(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions) -> LcpSolu
 /// recorded as an accepted lexicographic attempt of 0 pivots, as Lemke's
 /// method would report it (it stops before its first pivot).
 pub fn solve_into(ws: &mut Workspace, lcp: &Lcp, opts: &SolveOptions, out: &mut LcpSolution) {
-    solve_plan(ws, lcp, opts, out, None);
+    solve_plan(ws, lcp, opts, out, None, None);
 }
 
 /// [`solve_into`], with the warm Lemke path from the guessed basis `start`
@@ -623,6 +636,7 @@ fn solve_plan(
     opts: &SolveOptions,
     out: &mut LcpSolution,
     start: Option<&[bool]>,
+    cols: Option<&Columns>,
 ) {
     let (m, q) = (&lcp.m[..], &lcp.q[..]);
     let n = q.len();
@@ -642,8 +656,13 @@ fn solve_plan(
     // One pass over the data: the maxima the set-up scales by, finiteness
     // and the sign of q; for a large M, the same pass builds its compressed
     // columns, which the factorised basis and the residual then share.
+    // The caller's columns (the assembly, which knows the pattern) spare
+    // that pass.
     let (mmax, mfinite) = if n > SUPPORT_MAX_N || n >= opts.revised_from {
-        sc.sparse.scan(m, n)
+        match cols {
+            Some(c) => sc.sparse.adopt(c),
+            None => sc.sparse.scan(m, n),
+        }
     } else {
         max_abs_finite(m)
     };
@@ -905,7 +924,7 @@ pub fn solve_warm_into(
     }
     let start = opts.warm_lemke.then_some(&guess.basic[..]);
     if opts.warm_solves == 0 {
-        solve_plan(ws, lcp, opts, out, start);
+        solve_plan(ws, lcp, opts, out, start, None);
         return;
     }
     let pv = &mut ws.scratch.get_or_insert_with(Box::default).pivoting;
@@ -930,7 +949,7 @@ pub fn solve_warm_into(
         out.status = SolveStatus::Solved;
         return;
     }
-    solve_plan(ws, lcp, opts, out, start);
+    solve_plan(ws, lcp, opts, out, start, None);
     out.warm = Some(warm);
 }
 

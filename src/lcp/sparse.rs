@@ -112,6 +112,61 @@ impl Columns {
     }
 }
 
+impl Columns {
+    /// The columns of the row-major `n × n` matrix `m` from a superset of
+    /// its non-zero pattern: `candidates(j)` lists rows (in any order,
+    /// repeats allowed) outside which column `j` of `m` is zero. Only the
+    /// candidates are read, so a caller that knows the pattern (the contact
+    /// assembly) saves the pass over all `n²` entries; the result is what
+    /// [`Columns::scan`] builds (the candidates that hold a zero are
+    /// dropped, rows increasing). `rows` is scratch.
+    pub(crate) fn fill_from_candidates<'a>(
+        &mut self,
+        m: &[f64],
+        n: usize,
+        candidates: impl Fn(usize) -> &'a [usize],
+        rows: &mut Vec<usize>,
+    ) {
+        self.ptr.clear();
+        self.ptr.push(0);
+        self.idx.clear();
+        self.val.clear();
+        for j in 0..n {
+            rows.clear();
+            rows.extend_from_slice(candidates(j));
+            rows.sort_unstable();
+            rows.dedup();
+            for &i in rows.iter() {
+                let a = m[i * n + j];
+                if a != 0.0 {
+                    self.idx.push(i);
+                    self.val.push(a);
+                }
+            }
+            self.ptr.push(self.idx.len());
+        }
+    }
+
+    /// The largest `|M_ij|` of the stored entries (NaN skipped) and whether
+    /// they are all finite: those of the whole matrix, the others being
+    /// zeros.
+    pub(crate) fn max_abs_finite(&self) -> (f64, bool) {
+        max_abs_finite(&self.val)
+    }
+
+    /// Whether `self` and `other` hold the same entries, bit for bit.
+    pub(crate) fn same_as(&self, other: &Columns) -> bool {
+        self.ptr == other.ptr
+            && self.idx == other.idx
+            && self.val.len() == other.val.len()
+            && self
+                .val
+                .iter()
+                .zip(&other.val)
+                .all(|(a, b)| a.to_bits() == b.to_bits())
+    }
+}
+
 /// The driver's residual `w = M z + q` on the compressed columns of `M`,
 /// built by [`SparseResidual::scan`] or at the first evaluation of a solve
 /// ([`SparseResidual::reset`] starts a solve); the buffers are kept across
@@ -138,6 +193,17 @@ impl SparseResidual {
         let out = self.cols.scan(m, n);
         self.built = true;
         out
+    }
+
+    /// Takes the columns of this solve's `M` from a caller that built them
+    /// (a copy of their non-zeros), and returns `max|M_ij|` and whether `M`
+    /// is finite, as [`SparseResidual::scan`] would.
+    pub(crate) fn adopt(&mut self, cols: &Columns) -> (f64, bool) {
+        self.cols.ptr.clone_from(&cols.ptr);
+        self.cols.idx.clone_from(&cols.idx);
+        self.cols.val.clone_from(&cols.val);
+        self.built = true;
+        cols.max_abs_finite()
     }
 
     /// The columns of this solve's `M`, if built.

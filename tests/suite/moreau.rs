@@ -576,6 +576,7 @@ fn block_sparse_assembly_equals_the_dense_product() {
     let mut coupled_entries = 0usize;
     let mut large_differing = 0usize;
     let mut impulse_entries = 0usize;
+    let mut with_columns = 0usize;
     for (name, distance, frictionless) in [
         ("elastic_pool", 12.0, true),
         ("narrow_channel", 6.0, false),
@@ -612,6 +613,12 @@ fn block_sparse_assembly_equals_the_dense_product() {
                     large_differing += usize::from(!same);
                     coupled_entries += usize::from(r != c && want != 0.0);
                 }
+            }
+            // The compressed columns built at assembly from the pattern
+            // against a scan of every entry of the matrix.
+            if let Some(same) = lcp.columns_match_a_full_scan() {
+                assert!(same, "{name}: columns of a group of {} unknowns", lcp.lcp.n);
+                with_columns += 1;
             }
             // The impulses summed over each floe's own columns against the
             // row sums over every column, for a z with zeros and spread
@@ -660,6 +667,7 @@ fn block_sparse_assembly_equals_the_dense_product() {
         coupled_entries >= 100_000,
         "{coupled_entries} coupled entries"
     );
+    assert!(with_columns >= 4, "{with_columns} groups with columns");
     assert!(
         impulse_entries >= 2_000,
         "{impulse_entries} non-zero impulse entries"
