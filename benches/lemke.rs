@@ -76,7 +76,9 @@ fn impact_lcp(scn: &Scenario) -> Lcp {
     let centres = sys.centres();
     let w: Vec<Gen> = sys.velocities();
     let zeros = vec![0.0; contacts.len()];
-    ContactLcp::assemble(scn, &centres, &contacts, &g, &w, &zeros, Friction::Merged).lcp
+    ContactLcp::assemble(scn, &centres, &contacts, &g, &w, &zeros, Friction::Merged)
+        .lcp()
+        .clone()
 }
 
 fn lemke_on_impacts(c: &mut Criterion) {

@@ -135,8 +135,9 @@ pub fn groups(contacts: &[Contact], n_floes: usize) -> Vec<ContactGroup> {
 /// into velocity changes.
 #[derive(Debug, Clone)]
 pub struct ContactLcp {
-    /// The LCP `w = A z + q`.
-    pub lcp: Lcp,
+    /// The LCP `w = A z + q` ([`ContactLcp::lcp`]; private so that it
+    /// keeps the pattern of the assembly, which [`Drop`] relies on).
+    lcp: Lcp,
     /// Number of contacts `m`.
     pub m: usize,
     /// Whether friction unknowns are present (size `4m`, else `m`).
@@ -178,20 +179,20 @@ pub struct ContactLcp {
 /// basis, [`crate::lcp::lemke::REVISED_FROM`]).
 const COLUMNS_FROM: usize = crate::lcp::lemke::REVISED_FROM;
 
-/// The compressed columns of the assembled matrix `a` (`n × n`, row-major;
-/// `m` contacts, `nf` friction groups, `nf = 0` without friction) from its
-/// pattern: the Delassus entry `(r, c)` can be non-zero only if columns `r`
-/// and `c` of `H` touch a common floe (`touching`), the γ entries are in
-/// the rows of the two friction columns of a group and its σ column, and
-/// a σ row holds its group's normal and friction columns.
-fn columns_of(
-    a: &[f64],
+/// The rows outside which each column of the assembled matrix (`n × n`;
+/// `m` contacts, `nf` friction groups, `nf = 0` without friction) is zero,
+/// from its pattern: the Delassus entry `(r, c)` can be non-zero only if
+/// columns `r` and `c` of `H` touch a common floe (`touching`), the γ
+/// entries are in the rows of the two friction columns of a group and its
+/// σ column, and a σ row holds its group's normal and friction columns.
+/// Repeats are allowed. Every entry the assembly writes is in this pattern.
+fn candidates(
     n: usize,
     m: usize,
     nf: usize,
     touching: &[Vec<usize>],
     fgroup: &[usize],
-) -> Columns {
+) -> Vec<Vec<usize>> {
     let mut cand: Vec<Vec<usize>> = vec![Vec::new(); n];
     for t in touching {
         for &c in t {
@@ -207,9 +208,51 @@ fn columns_of(
         cand[m + 2 * g + 1].push(s);
         cand[s].extend([m + 2 * g, m + 2 * g + 1]);
     }
+    cand
+}
+
+/// The compressed columns of the assembled matrix `a` (`n × n`, row-major)
+/// from its pattern ([`candidates`]).
+fn columns_of(
+    a: &[f64],
+    n: usize,
+    m: usize,
+    nf: usize,
+    touching: &[Vec<usize>],
+    fgroup: &[usize],
+) -> Columns {
+    let cand = candidates(n, m, nf, touching, fgroup);
     let mut cols = Columns::default();
     cols.fill_from_candidates(a, n, |j| &cand[j], &mut Vec::new());
     cols
+}
+
+thread_local! {
+    /// A zeroed buffer for the dense matrix of the next large assembly,
+    /// left by the last large [`ContactLcp`] dropped on this thread (see
+    /// [`zeroed_matrix`]).
+    static SPARE_MATRIX: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// A vector of `len` zeros (`+0.0`) for an assembled matrix: the spare
+/// buffer of this thread when there is one (only the part beyond its
+/// length is written), else a new one.
+///
+/// Zeroing the `n²` entries of a large group's matrix at each assembly
+/// (13.5 MB for 1,300 unknowns) cost 6.5 % of an hour of field_200_coast
+/// (event-driven), more than the entries the assembly then writes; a
+/// dropped large LCP instead zeroes only its pattern ([`candidates`]) and
+/// leaves its buffer here.
+fn zeroed_matrix(len: usize) -> Vec<f64> {
+    let mut a = SPARE_MATRIX
+        .try_with(|s| std::mem::take(&mut *s.borrow_mut()))
+        .unwrap_or_default();
+    if a.len() >= len {
+        a.truncate(len);
+    } else {
+        a.resize(len, 0.0);
+    }
+    a
 }
 
 /// `HᵀM⁻¹H` by the dense faer product over every row of `H`
@@ -340,7 +383,57 @@ fn jac(n: &Vec2, r: &Vec2) -> Gen {
     [n.x, n.y, cross(r, n)]
 }
 
+/// The capacity (entries) of this thread's spare matrix buffer
+/// ([`zeroed_matrix`]): 0 when there is none. For the tests of its reuse.
+#[doc(hidden)]
+pub fn spare_matrix_capacity() -> usize {
+    SPARE_MATRIX
+        .try_with(|s| s.borrow().capacity())
+        .unwrap_or(0)
+}
+
+impl Drop for ContactLcp {
+    /// A large LCP (one with columns built at assembly) zeroes the entries
+    /// of its matrix in the pattern of the assembly ([`candidates`]: every
+    /// entry the assembly wrote; the others are zeros) and leaves the
+    /// buffer for the next assembly on this thread ([`zeroed_matrix`]), if
+    /// it is larger than the one there.
+    fn drop(&mut self) {
+        if self.columns.is_none() {
+            return;
+        }
+        let n = self.lcp.n;
+        let mut a = std::mem::take(&mut self.lcp.m);
+        if a.len() != n * n {
+            return;
+        }
+        let cand = candidates(
+            n,
+            self.m,
+            self.friction_groups,
+            &self.touching,
+            &self.fgroup,
+        );
+        for (j, rows) in cand.iter().enumerate() {
+            for &i in rows {
+                a[i * n + j] = 0.0;
+            }
+        }
+        let _ = SPARE_MATRIX.try_with(|s| {
+            let mut s = s.borrow_mut();
+            if a.capacity() > s.capacity() {
+                *s = a;
+            }
+        });
+    }
+}
+
 impl ContactLcp {
+    /// The assembled LCP `w = A z + q` (scaled: see the module doc).
+    pub fn lcp(&self) -> &Lcp {
+        &self.lcp
+    }
+
     /// Assembles the LCP of `group`, with one friction resultant per flush
     /// edge pair ([`Friction::Merged`], the Lemke formulations) or one per
     /// contact point ([`Friction::PerPoint`]).
@@ -467,7 +560,11 @@ impl ContactLcp {
         // floe).
         touching.iter_mut().for_each(|t| t.sort_unstable());
         let n = if friction { m + 3 * nf } else { m };
-        let mut a = vec![0.0; n * n];
+        let mut a = if n >= COLUMNS_FROM {
+            zeroed_matrix(n * n)
+        } else {
+            vec![0.0; n * n]
+        };
         delassus_blocks(&h, &minv, &touching, n, &mut a);
         let scale = {
             let d: f64 = (0..cols).map(|k| a[k * n + k]).sum::<f64>() / cols.max(1) as f64;

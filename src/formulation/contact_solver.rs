@@ -510,7 +510,7 @@ impl WarmCache {
     /// unmatched one separating (`w` basic, `z = 0`); `None` if no contact
     /// is matched.
     fn guess(&self, lcp: &ContactLcp) -> Option<BasisGuess> {
-        let n = lcp.lcp.n;
+        let n = lcp.lcp().n;
         let mut g = BasisGuess {
             basic: vec![false; n],
             z: vec![0.0; n],
@@ -743,18 +743,18 @@ impl ContactSolver {
     /// Lemke with its fallbacks on `lcp`, warm-started from `guess` if
     /// given, timed and profiled by size.
     fn lemke(&mut self, lcp: &ContactLcp, guess: Option<&BasisGuess>) -> LcpSolution {
-        let k = bucket_of(lcp.lcp.n);
+        let k = bucket_of(lcp.lcp().n);
         let started = self.timer.begin(k);
         let blocks = match (guess, self.predict_from) {
-            (None, Some(from)) if lcp.lcp.n >= from => Blocks::new(lcp.lcp.n, lcp.blocks()),
+            (None, Some(from)) if lcp.lcp().n >= from => Blocks::new(lcp.lcp().n, lcp.blocks()),
             _ => None,
         };
         let (sol, prediction) = match (guess, &blocks) {
-            (Some(g), _) => (solve_warm(&lcp.lcp, &self.opts, g), None),
-            (None, Some(b)) => solve_predicted(&lcp.lcp, &self.opts, b, &self.predict),
+            (Some(g), _) => (solve_warm(lcp.lcp(), &self.opts, g), None),
+            (None, Some(b)) => solve_predicted(lcp.lcp(), &self.opts, b, &self.predict),
             (None, None) => match lcp.columns() {
-                Some(cols) => (solve_with_columns(&lcp.lcp, cols, &self.opts), None),
-                None => (solve(&lcp.lcp, &self.opts), None),
+                Some(cols) => (solve_with_columns(lcp.lcp(), cols, &self.opts), None),
+                None => (solve(lcp.lcp(), &self.opts), None),
             },
         };
         let seconds = self.timer.end(k, started);
@@ -808,7 +808,7 @@ impl ContactSolver {
             );
         }
         if sol.status.is_solved() {
-            let qn = lcp.lcp.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let qn = lcp.lcp().q.iter().map(|v| v * v).sum::<f64>().sqrt();
             let tie = self.opts.tolerance * qn;
             let (wrong, _) = basis_mismatch(&p.guess.basic, &sol.z, &sol.w, tie);
             c.add(&LCP_PREDICT_WRONG, wrong as u64);
@@ -864,7 +864,7 @@ impl ContactSolver {
     }
 
     /// Solves one contact problem by the method in use; returns the LCP
-    /// unknowns `z` of the (scaled) problem (never NaN, length `lcp.lcp.n`)
+    /// unknowns `z` of the (scaled) problem (never NaN, length `lcp.lcp().n`)
     /// for [`ContactLcp::impulses`] and [`ContactLcp::velocity_changes`].
     /// `t` is the simulation time, s (for the log and the dumps).
     pub fn solve(&mut self, lcp: &ContactLcp, t: f64) -> Vec<f64> {
@@ -909,20 +909,20 @@ impl ContactSolver {
             let sol2 = self.lemke(&fl, None);
             self.record_solve(&fl, &sol2, t);
             if sol2.status.is_solved() {
-                let mut z = vec![0.0; lcp.lcp.n];
+                let mut z = vec![0.0; lcp.lcp().n];
                 z[..lcp.m].copy_from_slice(&sol2.z);
                 return z;
             }
         }
         self.counters.add(&LCP_UNRESOLVED, 1);
-        vec![0.0; lcp.lcp.n]
+        vec![0.0; lcp.lcp().n]
     }
 
     /// The warm-start check of one warm-solved LCP: solves it cold (not
     /// recorded, not timed, not dumped) and counts how the two solutions
     /// differ.
     fn check_warm(&mut self, lcp: &ContactLcp, warm: &LcpSolution, usage: Use) {
-        let cold = solve(&lcp.lcp, &self.opts);
+        let cold = solve(lcp.lcp(), &self.opts);
         let (compared, different, rounding) = match usage {
             Use::Sustained => (
                 &WARM_CHECK_SUSTAINED,
@@ -995,12 +995,12 @@ impl ContactSolver {
     fn record_solve(&mut self, lcp: &ContactLcp, sol: &LcpSolution, t: f64) {
         self.lcp_counters.record(sol);
         self.counters.add(&LCP_SOLVES, 1);
-        self.counters.add(&LCP_UNKNOWNS_TOTAL, lcp.lcp.n as u64);
-        self.counters.max(&LCP_SIZE_MAX, lcp.lcp.n as f64);
+        self.counters.add(&LCP_UNKNOWNS_TOTAL, lcp.lcp().n as u64);
+        self.counters.max(&LCP_SIZE_MAX, lcp.lcp().n as f64);
         if let Some(dir) = &self.dump {
             let path = dir.join(format!("{:06}.json", self.dump_seq));
             self.dump_seq += 1;
-            if LcpDump::from_solution(&lcp.lcp, sol, t, lcp.m, lcp.merged_groups())
+            if LcpDump::from_solution(lcp.lcp(), sol, t, lcp.m, lcp.merged_groups())
                 .write(&path)
                 .is_err()
             {
@@ -1010,12 +1010,12 @@ impl ContactSolver {
         if sol.status.is_solved() && lcp.friction {
             // Rounding allowance per contact: the impulse that the accepted
             // residual (tolerance × ‖q‖, in velocity units) corresponds to.
-            let n = lcp.lcp.n;
-            let qn = lcp.lcp.q.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let n = lcp.lcp().n;
+            let qn = lcp.lcp().q.iter().map(|v| v * v).sum::<f64>().sqrt();
             let slack: Vec<f64> = (0..lcp.m)
                 .map(|j| {
                     // Physical Delassus diagonal (the LCP is scaled by g).
-                    let d = lcp.lcp.m[j * n + j] * lcp.scale;
+                    let d = lcp.lcp().m[j * n + j] * lcp.scale;
                     if d > 0.0 {
                         self.opts.tolerance * qn / d
                     } else {

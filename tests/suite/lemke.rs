@@ -2014,7 +2014,7 @@ fn contact_solver_warm_start_hits_on_the_same_contacts() {
         let z2 = warm.solve(lcp, 1.0);
         let zc = cold.solve(lcp, 0.0);
         assert_eq!(z1, zc, "the first solve has no history: cold");
-        let r = residual(&lcp.lcp.m, &lcp.lcp.q, &z2);
+        let r = residual(&lcp.lcp().m, &lcp.lcp().q, &z2);
         assert!(r <= SolveOptions::default().tolerance, "residual {r:e}");
     }
     let c = warm.counters();

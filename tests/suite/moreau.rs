@@ -14,7 +14,7 @@ use crate::common::{
     with_formulation_table, Bouncing, Sliding,
 };
 use floebench::contact::cone::{solve_cone, ConeOptions, ConeStatus};
-use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
+use floebench::contact::problem::{groups, spare_matrix_capacity, ContactLcp, Friction, Gen};
 use floebench::contact::{BroadPhase, NarrowOptions};
 use floebench::formulation::contact_solver::SolverKind;
 use floebench::formulation::moreau::Moreau;
@@ -330,7 +330,7 @@ fn cone_solver_agrees_with_lemke_on_frictionless_problems() {
         let v_scale = w.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
         for lcp in &lcps {
             assert!(!lcp.friction);
-            let lemke = solve(&lcp.lcp, &SolveOptions::default());
+            let lemke = solve(lcp.lcp(), &SolveOptions::default());
             assert!(lemke.status.is_solved());
             let cone = solve_cone(&lcp.normal_tangent(), &ConeOptions::default());
             assert_eq!(
@@ -596,13 +596,13 @@ fn block_sparse_assembly_equals_the_dense_product() {
             let reference = lcp.dense_delassus_reference();
             let sparse = lcp.block_sparse_delassus();
             let cols = if lcp.friction { 3 * lcp.m } else { lcp.m };
-            let n = lcp.lcp.n;
+            let n = lcp.lcp().n;
             let small = 3 * lcp.floes.len() <= 64;
             for r in 0..cols {
                 for c in 0..cols {
                     let want = reference[r * cols + c];
                     let got = sparse[r * cols + c];
-                    assert_eq!(lcp.lcp.m[r * n + c].to_bits(), got.to_bits());
+                    assert_eq!(lcp.lcp().m[r * n + c].to_bits(), got.to_bits());
                     let bound = 1e-15 * (reference[r * cols + r] * reference[c * cols + c]).sqrt();
                     let same = got.to_bits() == want.to_bits();
                     assert!(
@@ -617,14 +617,18 @@ fn block_sparse_assembly_equals_the_dense_product() {
             // The compressed columns built at assembly from the pattern
             // against a scan of every entry of the matrix.
             if let Some(same) = lcp.columns_match_a_full_scan() {
-                assert!(same, "{name}: columns of a group of {} unknowns", lcp.lcp.n);
+                assert!(
+                    same,
+                    "{name}: columns of a group of {} unknowns",
+                    lcp.lcp().n
+                );
                 with_columns += 1;
             }
             // The impulses summed over each floe's own columns against the
             // row sums over every column, for a z with zeros and spread
             // magnitudes, and for the frictionless sub-problem.
             for sub in [lcp.clone(), lcp.frictionless()] {
-                let z: Vec<f64> = (0..sub.lcp.n)
+                let z: Vec<f64> = (0..sub.lcp().n)
                     .map(|k| {
                         if k % 3 == 1 {
                             0.0
@@ -686,9 +690,9 @@ fn the_driver_residual_of_large_lcps_equals_the_dense_compensated_sum() {
     let mut large = 0;
     for (text, distance) in [(pool, 12.0), (bay, 30.0)] {
         let (lcps, _) = problems_at_start(&scenario(&text), distance);
-        for lcp in lcps.iter().filter(|l| l.lcp.n > 64) {
+        for lcp in lcps.iter().filter(|l| l.lcp().n > 64) {
             // Every contact approaching (the packs start at rest or slow).
-            let mut l = lcp.lcp.clone();
+            let mut l = lcp.lcp().clone();
             for (j, q) in l.q.iter_mut().take(lcp.m).enumerate() {
                 *q -= 0.1 * (1.0 + (j % 3) as f64);
             }
@@ -699,7 +703,7 @@ fn the_driver_residual_of_large_lcps_equals_the_dense_compensated_sum() {
                 assert!(
                     a.to_bits() == b.to_bits() || (*a == 0.0 && *b == 0.0),
                     "n = {}, row {i}: {a:e} vs {b:e}",
-                    lcp.lcp.n
+                    lcp.lcp().n
                 );
             }
             large += 1;
@@ -709,6 +713,73 @@ fn the_driver_residual_of_large_lcps_equals_the_dense_compensated_sum() {
 }
 
 /// A case text with its `friction` line set to 0.
+#[test]
+fn recycled_matrix_buffers_assemble_the_same_lcps() {
+    // A dropped large LCP zeroes the pattern of its matrix and leaves the
+    // buffer for the next large assembly on its thread. The bay jam's
+    // groups, with friction (merged and per point) and without, each
+    // assembled on a fresh thread (no spare buffer) and all of them one
+    // after another on one thread (each set on the buffer the previous set
+    // left): the same matrices and right-hand sides, bit for bit.
+    type Bits = Vec<(usize, Vec<u64>, Vec<u64>)>;
+    fn assembled(frictionless: bool, layout: Friction) -> Bits {
+        let mut text = case_text("fields/bay_jam_200");
+        if frictionless {
+            text = without_friction(&text);
+        }
+        let scn = scenario(&text);
+        let (lcps, _) = problems_with(&scn, 30.0, layout, &NarrowOptions::default());
+        lcps.iter()
+            .map(|l| {
+                let p = l.lcp();
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect();
+                (p.n, bits(&p.m), bits(&p.q))
+            })
+            .collect()
+    }
+    let sets = [
+        (false, Friction::Merged),
+        (true, Friction::Merged),
+        (false, Friction::PerPoint),
+        (false, Friction::Merged),
+    ];
+    let fresh: Vec<Bits> = sets
+        .iter()
+        .map(|&(f, l)| {
+            std::thread::spawn(move || {
+                assert_eq!(spare_matrix_capacity(), 0, "a new thread has no spare");
+                assembled(f, l)
+            })
+            .join()
+            .unwrap()
+        })
+        .collect();
+    let (reused, spares) = std::thread::spawn(move || {
+        let mut spares = Vec::new();
+        let reused: Vec<Bits> = sets
+            .iter()
+            .map(|&(f, l)| {
+                let out = assembled(f, l);
+                spares.push(spare_matrix_capacity());
+                out
+            })
+            .collect();
+        (reused, spares)
+    })
+    .join()
+    .unwrap();
+    // Large groups were assembled, and each set left a buffer.
+    let large = fresh.iter().flatten().filter(|(n, _, _)| *n >= 41).count();
+    assert!(large >= 4, "{large} large groups");
+    assert!(spares.iter().all(|&c| c > 0), "spare capacities {spares:?}");
+    for (k, (a, b)) in fresh.iter().zip(&reused).enumerate() {
+        assert_eq!(a.len(), b.len(), "set {k}");
+        for (g, (x, y)) in a.iter().zip(b).enumerate() {
+            assert!(x == y, "set {k}, group {g} of {} unknowns", x.0);
+        }
+    }
+}
+
 fn without_friction(text: &str) -> String {
     text.lines()
         .map(|l| {
@@ -780,12 +851,12 @@ fn flush_edge_pairs_share_one_friction_resultant_with_the_same_dynamics() {
     let (merged, _) = problems_with(&scn, 0.2, Friction::Merged, &every_facing_pair);
     assert_eq!((per_point.len(), merged.len()), (1, 1));
     let (a, b) = (&per_point[0], &merged[0]);
-    assert_eq!((a.m, a.lcp.n, a.friction_groups), (6, 24, 6));
-    assert_eq!((b.m, b.lcp.n, b.friction_groups), (6, 15, 3));
+    assert_eq!((a.m, a.lcp().n, a.friction_groups), (6, 24, 6));
+    assert_eq!((b.m, b.lcp().n, b.friction_groups), (6, 15, 3));
     assert_eq!(b.merged_groups(), Some(3));
     let v_scale = w.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
-    let sa = solve(&a.lcp, &SolveOptions::default());
-    let sb = solve(&b.lcp, &SolveOptions::default());
+    let sa = solve(a.lcp(), &SolveOptions::default());
+    let sb = solve(b.lcp(), &SolveOptions::default());
     assert!(sa.status.is_solved() && sb.status.is_solved());
     let err = largest_difference(&a.velocity_changes(&sa.z), &b.velocity_changes(&sb.z));
     assert!(err <= 1e-9 * v_scale, "velocity changes differ by {err:e}");
@@ -823,5 +894,5 @@ fn flush_edge_pairs_share_one_friction_resultant_with_the_same_dynamics() {
     );
     assert_eq!(rotated.len(), 1);
     assert_eq!((rotated[0].m, rotated[0].friction_groups), (6, 5));
-    assert_eq!(rotated[0].lcp.n, 6 + 3 * 5);
+    assert_eq!(rotated[0].lcp().n, 6 + 3 * 5);
 }

@@ -182,7 +182,7 @@ fn the_prediction_of_a_frictional_contact_lcp_of_a_case_is_within_a_few_indices(
     for (k, c) in lcps.iter().enumerate() {
         // The assembly already writes the Coulomb rows as the solver solves
         // them.
-        let lcp = &c.lcp;
+        let lcp = c.lcp();
         assert!(c.friction);
         let blocks = Blocks::contacts(lcp.n, c.m).expect("contact blocks");
         let (sol, p) = solve_predicted(lcp, &opts, &blocks, &PredictOptions::default());
