@@ -46,6 +46,20 @@ pub(crate) trait Basis {
     fn load(&mut self, v: usize) -> bool;
     /// Entry `i` of the loaded entering column.
     fn c(&self, i: usize) -> f64;
+    /// `max |c_i|` over the loaded column: the scale of the ratio test.
+    /// The default compares the entries one by one (a NaN is skipped); a
+    /// representation that computes the column at load, and refuses it
+    /// there if an entry is not finite, takes the maximum in the same pass.
+    fn c_max(&self) -> f64 {
+        let mut cmax = 0.0_f64;
+        for i in 0..self.n() {
+            let a = self.c(i).abs();
+            if a > cmax {
+                cmax = a;
+            }
+        }
+        cmax
+    }
     /// Basic value of row `i` (`(B⁻¹ q)_i`).
     fn b(&self, i: usize) -> f64;
     /// Prepares [`Basis::binv`] for the rows in `rows`; `false` if it could
@@ -183,16 +197,7 @@ fn z0_negligible<B: Basis>(e: &B, opts: &LemkeOptions) -> bool {
 /// Minimum-ratio test on the loaded entering column.
 fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -> Step {
     let n = e.n();
-    // max |c_i| (a NaN entry skipped, as by `f64::max`), by a comparison:
-    // the same number without the NaN handling of `max` on the chain.
-    let mut cmax = 0.0_f64;
-    for i in 0..n {
-        let a = e.c(i).abs();
-        if a > cmax {
-            cmax = a;
-        }
-    }
-    let scale = cmax.max(1.0);
+    let scale = e.c_max().max(1.0);
     let thresh = opts.pivot_tol * scale;
     let noise = opts.pivot_tol * 1e-3 * scale;
     // The smallest ratio, its row and the smallest ratio of the other

@@ -116,7 +116,9 @@ impl Csc {
         self.p.push(self.i.len());
     }
 
-    /// The `(row, value)` entries of column `j`.
+    /// The `(row, value)` entries of column `j` (inlined: called once per
+    /// column in the triangular solves).
+    #[inline(always)]
     fn column(&self, j: usize) -> impl Iterator<Item = (&usize, &f64)> {
         let range = self.p[j]..self.p[j + 1];
         self.i[range.clone()].iter().zip(&self.v[range])
@@ -206,6 +208,8 @@ pub(crate) struct Revised {
     /// The loaded entering column and its variable.
     c: Vec<f64>,
     entering: usize,
+    /// `max |c_i|` of the loaded column (computed by [`Basis::load`]).
+    c_max: f64,
     /// Rows of `B⁻¹` prepared for the lexicographic rule, and the position
     /// of each row among them ([`NONE`] if not prepared).
     lex_rows: Vec<f64>,
@@ -764,8 +768,15 @@ impl Basis for Revised {
         self.column(v, &mut c);
         self.ftran(&mut c, &mut tmp);
         self.tmp = tmp;
-        let finite = c.iter().all(|x| x.is_finite());
+        // Finiteness and the largest magnitude in one pass (the latter is
+        // the ratio test's scale, [`Basis::c_max`]).
+        let (mut finite, mut cmax) = (true, 0.0_f64);
+        for &x in &c {
+            finite &= x.is_finite();
+            cmax = cmax.max(x.abs());
+        }
         self.c = c;
+        self.c_max = cmax;
         self.entering = v;
         // Rows prepared for the previous column are stale.
         for &i in &self.lex_list {
@@ -778,6 +789,10 @@ impl Basis for Revised {
     #[inline]
     fn c(&self, i: usize) -> f64 {
         self.c[i]
+    }
+
+    fn c_max(&self) -> f64 {
+        self.c_max
     }
 
     #[inline]
