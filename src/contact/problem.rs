@@ -179,40 +179,43 @@ pub struct ContactLcp {
 /// basis, [`crate::lcp::lemke::REVISED_FROM`]).
 const COLUMNS_FROM: usize = crate::lcp::lemke::REVISED_FROM;
 
-/// The rows outside which each column of the assembled matrix (`n × n`;
-/// `m` contacts, `nf` friction groups, `nf = 0` without friction) is zero,
-/// from its pattern: the Delassus entry `(r, c)` can be non-zero only if
+/// Calls `entry(row, column)` for every entry of the assembled matrix
+/// (`m` contacts, `nf` friction groups, `nf = 0` without friction) that can
+/// be non-zero, from its pattern: the Delassus entry `(r, c)` only if
 /// columns `r` and `c` of `H` touch a common floe (`touching`), the γ
-/// entries are in the rows of the two friction columns of a group and its
-/// σ column, and a σ row holds its group's normal and friction columns.
-/// Repeats are allowed. Every entry the assembly writes is in this pattern.
-fn candidates(
-    n: usize,
+/// entries in the rows of the two friction columns of a group and its σ
+/// column, and in a σ row its group's normal and friction columns. Repeats
+/// are allowed. Every entry the assembly writes is in this pattern (the
+/// columns built from it are those of a full scan, tested); the others
+/// stay `+0.0`.
+fn pattern(
     m: usize,
     nf: usize,
     touching: &[Vec<usize>],
     fgroup: &[usize],
-) -> Vec<Vec<usize>> {
-    let mut cand: Vec<Vec<usize>> = vec![Vec::new(); n];
+    mut entry: impl FnMut(usize, usize),
+) {
     for t in touching {
         for &c in t {
-            cand[c].extend_from_slice(t);
+            for &r in t {
+                entry(r, c);
+            }
         }
     }
     for (j, &g) in fgroup.iter().enumerate() {
-        cand[j].push(m + 2 * nf + g);
+        entry(m + 2 * nf + g, j);
     }
     for g in 0..nf {
         let s = m + 2 * nf + g;
-        cand[m + 2 * g].push(s);
-        cand[m + 2 * g + 1].push(s);
-        cand[s].extend([m + 2 * g, m + 2 * g + 1]);
+        entry(s, m + 2 * g);
+        entry(s, m + 2 * g + 1);
+        entry(m + 2 * g, s);
+        entry(m + 2 * g + 1, s);
     }
-    cand
 }
 
 /// The compressed columns of the assembled matrix `a` (`n × n`, row-major)
-/// from its pattern ([`candidates`]).
+/// from its [`pattern`].
 fn columns_of(
     a: &[f64],
     n: usize,
@@ -221,7 +224,8 @@ fn columns_of(
     touching: &[Vec<usize>],
     fgroup: &[usize],
 ) -> Columns {
-    let cand = candidates(n, m, nf, touching, fgroup);
+    let mut cand: Vec<Vec<usize>> = vec![Vec::new(); n];
+    pattern(m, nf, touching, fgroup, |r, c| cand[c].push(r));
     let mut cols = Columns::default();
     cols.fill_from_candidates(a, n, |j| &cand[j], &mut Vec::new());
     cols
@@ -241,7 +245,7 @@ thread_local! {
 /// Zeroing the `n²` entries of a large group's matrix at each assembly
 /// (13.5 MB for 1,300 unknowns) cost 6.5 % of an hour of field_200_coast
 /// (event-driven), more than the entries the assembly then writes; a
-/// dropped large LCP instead zeroes only its pattern ([`candidates`]) and
+/// dropped large LCP instead zeroes only its [`pattern`] and
 /// leaves its buffer here.
 fn zeroed_matrix(len: usize) -> Vec<f64> {
     let mut a = SPARE_MATRIX
@@ -394,8 +398,8 @@ pub fn spare_matrix_capacity() -> usize {
 
 impl Drop for ContactLcp {
     /// A large LCP (one with columns built at assembly) zeroes the entries
-    /// of its matrix in the pattern of the assembly ([`candidates`]: every
-    /// entry the assembly wrote; the others are zeros) and leaves the
+    /// of its matrix in the [`pattern`] of the assembly (every entry the
+    /// assembly wrote; the others are zeros) and leaves the
     /// buffer for the next assembly on this thread ([`zeroed_matrix`]), if
     /// it is larger than the one there.
     fn drop(&mut self) {
@@ -407,18 +411,13 @@ impl Drop for ContactLcp {
         if a.len() != n * n {
             return;
         }
-        let cand = candidates(
-            n,
+        pattern(
             self.m,
             self.friction_groups,
             &self.touching,
             &self.fgroup,
+            |r, c| a[r * n + c] = 0.0,
         );
-        for (j, rows) in cand.iter().enumerate() {
-            for &i in rows {
-                a[i * n + j] = 0.0;
-            }
-        }
         let _ = SPARE_MATRIX.try_with(|s| {
             let mut s = s.borrow_mut();
             if a.capacity() > s.capacity() {
