@@ -80,6 +80,7 @@ pub mod predict;
 pub(crate) mod revised;
 pub mod solve;
 pub(crate) mod sparse;
+pub(crate) mod sparse_lu;
 pub mod timing;
 
 pub use dump::{DumpError, LcpDump};

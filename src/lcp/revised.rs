@@ -53,12 +53,7 @@
 use super::lemke::ldexp;
 use super::path::{Basis, NONE};
 use super::sparse::Columns;
-use faer::dyn_stack::{MemBuffer, MemStack};
-use faer::sparse::linalg::colamd;
-use faer::sparse::linalg::lu::simplicial::{
-    factorize_simplicial_numeric_lu, factorize_simplicial_numeric_lu_scratch, SimplicialLu,
-};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use super::sparse_lu::{colamd_rank, Csc, SparseLu};
 
 /// Pivots between two refactorisations of the basis. Each eta adds n (dense)
 /// entries to every FTRAN and BTRAN; a sparse LU of a basis of a jammed
@@ -83,47 +78,6 @@ pub(crate) const REFACTOR_EVERY: usize = 48;
 /// diagonal, so that the basis the path starts from is well conditioned;
 /// chosen, not tuned.
 pub(crate) const CRASH_PIVOT_TOL: f64 = 1e-7;
-
-/// A sparse matrix in compressed columns, filled column by column:
-/// [`Csc::push`] the entries of a column, then [`Csc::end_column`].
-#[derive(Default)]
-struct Csc {
-    /// Start of each column in `i`/`v`, and the end of the last one.
-    p: Vec<usize>,
-    /// Row index of each entry.
-    i: Vec<usize>,
-    /// Value of each entry.
-    v: Vec<f64>,
-}
-
-impl Csc {
-    /// Empties the matrix, keeping its allocations.
-    fn clear(&mut self) {
-        self.p.clear();
-        self.p.push(0);
-        self.i.clear();
-        self.v.clear();
-    }
-
-    /// Appends the entry `(row, value)` to the current column.
-    fn push(&mut self, row: usize, value: f64) {
-        self.i.push(row);
-        self.v.push(value);
-    }
-
-    /// Closes the current column.
-    fn end_column(&mut self) {
-        self.p.push(self.i.len());
-    }
-
-    /// The `(row, value)` entries of column `j` (inlined: called once per
-    /// column in the triangular solves).
-    #[inline(always)]
-    fn column(&self, j: usize) -> impl Iterator<Item = (&usize, &f64)> {
-        let range = self.p[j]..self.p[j + 1];
-        self.i[range.clone()].iter().zip(&self.v[range])
-    }
-}
 
 /// The factorised basis; see the module doc.
 #[derive(Default)]
@@ -151,32 +105,16 @@ pub(crate) struct Revised {
     /// Order `k` of the reduced block `K` of `B₀`: the slots of `B₀` whose
     /// variable is a `z_j` or `z0`.
     k: usize,
-    /// LU of `K` (`P_r K P_c = L U`) as faer factorises it; empty when
-    /// `k = 0`.
-    lu: SimplicialLu<usize, f64>,
-    /// The strictly lower part of `L` (unit diagonal), in compressed sparse
-    /// columns, copied from `lu` at each factorisation.
-    l: Csc,
-    /// The strictly upper part of `U` in compressed sparse columns, and the
-    /// reciprocals of its diagonal.
-    u: Csc,
-    u_inv_diag: Vec<f64>,
+    /// LU of `K` (`P_r K P_c = L U`); empty when `k = 0`.
+    lu: SparseLu,
     /// Rank of each index j in a fill-reducing column ordering of M' (COLAMD
     /// of M', computed once per solve at its first factorisation): `K`'s
     /// columns are eliminated in the order of their variables' ranks.
     rank: Vec<usize>,
     /// Whether `rank` is that of the current problem.
     ranked: bool,
-    /// Order of the matrix `lu` was last factorised for.
-    lu_order: usize,
-    /// Row permutation `P_r` of the LU (forward and inverse), over `K`'s
-    /// rows.
-    row_fwd: Vec<usize>,
-    row_inv: Vec<usize>,
-    /// Column ordering `P_c` of the LU (forward: column eliminated at each
-    /// step; inverse), over `K`'s columns.
-    col_fwd: Vec<usize>,
-    col_inv: Vec<usize>,
+    /// Scratch of the ordering.
+    order: Vec<usize>,
     /// Original row of each row of `K` (the rows whose `w` is not basic in
     /// `B₀`), increasing.
     k_rows: Vec<usize>,
@@ -486,57 +424,28 @@ impl Revised {
                 return;
             }
             // r_c = c_{slot(c)} − Σ C_ic y_i, in the LU's column order.
-            for (t, &c) in tmp.iter_mut().zip(&self.col_fwd) {
+            for (t, &c) in tmp.iter_mut().zip(self.lu.col_fwd()) {
                 let mut r = xin[self.k_slots[c]];
                 for (&i, &a) in self.cmat.column(c) {
                     r -= a * x[i];
                 }
                 *t = r;
             }
-            // Uᵀ, then Lᵀ: each entry is a dot product with its column.
-            for j in 0..k {
-                let mut acc = tmp[j];
-                for (&i, &a) in self.u.column(j) {
-                    acc -= a * tmp[i];
-                }
-                tmp[j] = acc * self.u_inv_diag[j];
-            }
-            for j in (0..k).rev() {
-                let mut acc = tmp[j];
-                for (&i, &a) in self.l.column(j) {
-                    acc -= a * tmp[i];
-                }
-                tmp[j] = acc;
-            }
-            for (&i, &t) in self.k_rows.iter().zip(&self.row_inv) {
+            // Uᵀ, then Lᵀ.
+            self.lu.transposed_permuted(tmp);
+            for (&i, &t) in self.k_rows.iter().zip(self.lu.row_inv()) {
                 x[i] = tmp[t];
             }
         } else {
             if k > 0 {
-                for (t, &r) in tmp.iter_mut().zip(&self.row_fwd) {
+                for (t, &r) in tmp.iter_mut().zip(self.lu.row_fwd()) {
                     *t = xin[self.k_rows[r]];
                 }
                 // L, then U, by columns: a column whose entry is 0 is
                 // skipped (the entering column −M'_{·j} is sparse, and so
                 // stays much of L⁻¹ of it).
-                for j in 0..k {
-                    let xj = tmp[j];
-                    if xj != 0.0 {
-                        for (&i, &a) in self.l.column(j) {
-                            tmp[i] -= a * xj;
-                        }
-                    }
-                }
-                for j in (0..k).rev() {
-                    if tmp[j] != 0.0 {
-                        let xj = tmp[j] * self.u_inv_diag[j];
-                        tmp[j] = xj;
-                        for (&i, &a) in self.u.column(j) {
-                            tmp[i] -= a * xj;
-                        }
-                    }
-                }
-                for (&s, &t) in self.k_slots.iter().zip(&self.col_inv) {
+                self.lu.forward_permuted(tmp);
+                for (&s, &t) in self.k_slots.iter().zip(self.lu.col_inv()) {
                     x[s] = tmp[t];
                 }
             }
@@ -642,23 +551,7 @@ impl Revised {
     /// The ranks of M's columns in COLAMD's ordering of M' (`rank`); `false`
     /// if the ordering failed.
     fn rank_columns_of_m(&mut self) -> bool {
-        let n = self.n;
-        let sym = SymbolicSparseColMatRef::new_checked(n, n, &self.mp, None, &self.mi);
-        let mut fwd = std::mem::take(&mut self.col_fwd);
-        fwd.resize(n, 0);
-        self.rank.resize(n, 0);
-        let req = colamd::order_scratch::<usize>(n, n, self.mi.len());
-        let ok = MemBuffer::try_new(req).is_ok_and(|mut mem| {
-            colamd::order(
-                &mut fwd,
-                &mut self.rank,
-                sym,
-                colamd::Control::default(),
-                MemStack::new(&mut mem),
-            )
-            .is_ok()
-        });
-        self.col_fwd = fwd;
+        let ok = colamd_rank(self.n, &self.mp, &self.mi, &mut self.order, &mut self.rank);
         self.ranked = ok;
         ok
     }
@@ -672,80 +565,20 @@ impl Revised {
     /// 11.5–13.5 s with COLAMD at every factorisation, the same pivots to
     /// ±2 (rounding).
     fn factorise_k(&mut self) -> bool {
-        let k = self.k;
-        if k != self.lu_order {
-            // faer's simplicial LU keeps the column pointers of a larger
-            // previous matrix (it does not shrink them) and then fails its
-            // own shape check: start it afresh when the order changes.
-            self.lu = SimplicialLu::new();
-            self.lu_order = k;
-        }
         if !self.ranked && !self.rank_columns_of_m() {
             return false;
         }
         // K's columns by the rank of their variable (z0's column, dense,
         // last): sorting k keys costs far less than an ordering of K.
-        let n = self.n;
-        let mut order = std::mem::take(&mut self.col_fwd);
-        order.clear();
-        order.extend(0..k);
-        order.sort_unstable_by_key(|&c| match self.basis[self.k_slots[c]] {
-            v if v < 2 * n => self.rank[v - n],
-            _ => n,
-        });
-        self.col_fwd = order;
-        self.col_inv.resize(k, 0);
-        for (t, &c) in self.col_fwd.iter().enumerate() {
-            self.col_inv[c] = t;
-        }
-        // Valid by construction: k + 1 increasing pointers, sorted rows
-        // (K's rows keep the original order).
-        let sym = SymbolicSparseColMatRef::new_checked(k, k, &self.kmat.p, None, &self.kmat.i);
-        let col_perm = faer::perm::PermRef::new_checked(&self.col_fwd, &self.col_inv, k);
-        self.row_fwd.resize(k, 0);
-        self.row_inv.resize(k, 0);
-        let req = factorize_simplicial_numeric_lu_scratch::<usize, f64>(k, k);
-        let Ok(mut mem) = MemBuffer::try_new(req) else {
-            return false;
-        };
-        let mat = SparseColMatRef::new(sym, &self.kmat.v);
-        if factorize_simplicial_numeric_lu(
-            &mut self.row_fwd,
-            &mut self.row_inv,
-            &mut self.lu,
-            mat,
-            col_perm,
-            MemStack::new(&mut mem),
-        )
-        .is_err()
-        {
-            return false;
-        }
-        // The factors without their diagonals, for the solves of
-        // `lu_solve`, and U's diagonal as reciprocals (as faer's own
-        // triangular solve applies it).
-        let (l, u) = (self.lu.l_factor_unsorted(), self.lu.u_factor_unsorted());
-        self.l.clear();
-        self.u.clear();
-        self.u_inv_diag.clear();
-        self.u_inv_diag.resize(k, 0.0);
-        for j in 0..k {
-            for (&i, &v) in l.row_idx_of_col_raw(j).iter().zip(l.val_of_col(j)) {
-                if i != j {
-                    self.l.push(i, v);
-                }
-            }
-            self.l.end_column();
-            for (&i, &v) in u.row_idx_of_col_raw(j).iter().zip(u.val_of_col(j)) {
-                if i == j {
-                    self.u_inv_diag[j] = v.recip();
-                } else {
-                    self.u.push(i, v);
-                }
-            }
-            self.u.end_column();
-        }
-        self.u_inv_diag.iter().all(|d| d.is_finite())
+        let (n, k) = (self.n, self.k);
+        let (basis, k_slots, rank) = (&self.basis, &self.k_slots, &self.rank);
+        self.lu.factorise(k, &self.kmat, |order| {
+            order.extend(0..k);
+            order.sort_unstable_by_key(|&c| match basis[k_slots[c]] {
+                v if v < 2 * n => rank[v - n],
+                _ => n,
+            });
+        })
     }
 }
 
