@@ -797,7 +797,7 @@ fn solve_plan(
                 pv.alpha.extend(sc.z.iter().map(|&v| v > 0.0));
                 pv.z.clear();
                 pv.z.extend_from_slice(&sc.z);
-                let out = pv.run(m, q, opts.polish_solves, opts.tolerance, false);
+                let out = pv.run(m, q, opts.polish_solves, opts.tolerance, (false, false));
                 basis_solves = out.solves;
                 if out.residual < resid {
                     sc.z.copy_from_slice(&pv.z);
@@ -932,7 +932,16 @@ pub fn solve_warm_into(
     pv.alpha.extend_from_slice(&guess.basic);
     pv.z.clear();
     pv.z.extend(guess.z.iter().map(|v| if v.is_finite() { *v } else { 0.0 }));
-    let res = pv.run(&lcp.m, &lcp.q, opts.warm_solves, opts.tolerance, true);
+    // Large problems solve their bases sparse, from the size at which
+    // Lemke's attempts use the factorised basis.
+    let sparse = n >= opts.revised_from;
+    let res = pv.run(
+        &lcp.m,
+        &lcp.q,
+        opts.warm_solves,
+        opts.tolerance,
+        (true, sparse),
+    );
     let warm = WarmStart {
         basis_solves: res.solves,
         residual: res.residual,

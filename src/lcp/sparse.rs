@@ -131,6 +131,8 @@ impl Columns {
         self.ptr.push(0);
         self.idx.clear();
         self.val.clear();
+        // The rows of a previous scan are not these.
+        self.row_ptr.clear();
         for j in 0..n {
             rows.clear();
             rows.extend_from_slice(candidates(j));
@@ -144,6 +146,18 @@ impl Columns {
                 }
             }
             self.ptr.push(self.idx.len());
+        }
+    }
+
+    /// The non-zeros of row `i` (columns increasing, and their values), as
+    /// the last [`Columns::scan`] gathered them; empty after
+    /// [`Columns::fill_from_candidates`], which does not build the rows.
+    pub(crate) fn row(&self, i: usize) -> (&[usize], &[f64]) {
+        match (self.row_ptr.get(i), self.row_ptr.get(i + 1)) {
+            (Some(&a), Some(&b)) if b <= self.row_col.len() => {
+                (&self.row_col[a..b], &self.row_val[a..b])
+            }
+            _ => (&[], &[]),
         }
     }
 

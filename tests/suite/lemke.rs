@@ -1709,6 +1709,12 @@ pub(crate) fn family_lcp(rng: &mut SplitMix64, family: Family, n: usize) -> Lcp 
 struct PathTally {
     problems: usize,
     right_hits: usize,
+    /// Right-basis hits with the sparse basis solves (`revised_from = 0`).
+    sparse_right_hits: usize,
+    /// Right-basis hits from the starting point `z = 0`, dense and sparse
+    /// basis solves.
+    zero_start_hits: usize,
+    sparse_zero_start_hits: usize,
     wrong_hits: usize,
     warm_lemke_hits: usize,
 }
@@ -1823,6 +1829,52 @@ fn check_every_path(
         assert_eq!(s.status, SolveStatus::Solved, "{label}");
     }
 
+    // The sparse basis solves of principal pivoting (used from
+    // `revised_from` unknowns, here from 0), from the right basis and from
+    // a random one.
+    let sparse = SolveOptions {
+        revised_from: 0,
+        ..opts.clone()
+    };
+    let s = solve_warm_with(ws, lcp, &sparse, &right);
+    judge(&s, "warm from the right basis, sparse bases");
+    same_as_cold(&s, "warm from the right basis, sparse bases");
+    if s.warm.expect("a warm start was tried").accepted {
+        tally.sparse_right_hits += 1;
+        assert_eq!(s.accepted_by, Some(Strategy::WarmStart), "{label}");
+    }
+    // From the right basis but z = 0: the basis solve itself must be right.
+    let zero_start = BasisGuess {
+        basic: right.basic.clone(),
+        z: vec![0.0; n],
+    };
+    for (o, hits, path) in [
+        (
+            &opts,
+            &mut tally.zero_start_hits,
+            "warm from the right basis and z = 0",
+        ),
+        (
+            &sparse,
+            &mut tally.sparse_zero_start_hits,
+            "warm from the right basis and z = 0, sparse bases",
+        ),
+    ] {
+        let s = solve_warm_with(ws, lcp, o, &zero_start);
+        judge(&s, path);
+        same_as_cold(&s, path);
+        if s.warm.expect("a warm start was tried").accepted {
+            *hits += 1;
+        }
+    }
+    let random_sparse = BasisGuess {
+        basic: (0..n).map(|_| rng.uniform() < 0.5).collect(),
+        z: (0..n).map(|_| rng.range(-1.0, 1.0)).collect(),
+    };
+    let s = solve_warm_with(ws, lcp, &sparse, &random_sparse);
+    judge(&s, "warm from a random basis, sparse bases");
+    same_as_cold(&s, "warm from a random basis, sparse bases");
+
     let complement = BasisGuess {
         basic: right.basic.iter().map(|b| !b).collect(),
         z: (0..n).map(|_| rng.uniform()).collect(),
@@ -1897,6 +1949,15 @@ fn every_path_solves_random_p_psd_degenerate_and_stewart_trinkle_lcps() {
         // The right basis is a hit on every problem (measured: all of them
         // in every family); the wrong ones are completed or handed over.
         assert_eq!(tally.right_hits, tally.problems, "{family:?}: {tally:?}");
+        // So is it from z = 0, where the basis solve must be right
+        // (measured: all of them, dense and sparse).
+        for hits in [
+            tally.sparse_right_hits,
+            tally.zero_start_hits,
+            tally.sparse_zero_start_hits,
+        ] {
+            assert_eq!(hits, tally.problems, "{family:?}: {tally:?}");
+        }
     }
 }
 
