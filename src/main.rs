@@ -191,6 +191,12 @@ enum Command {
         /// driver's, never]
         #[arg(long, value_name = "N", requires = "time")]
         harris_from: Option<usize>,
+        /// Covering vector of the cold Lemke attempts: `ones` (d = e),
+        /// `sqrt-diagonal` (the alternative attempt's), or `diagonal:F`
+        /// (d_i = max(|M_ii| / max|M_jj|, F), F in (0, 1]) [default: the
+        /// driver's, diagonal:1e-3]
+        #[arg(long, value_name = "D", requires = "time", value_parser = parse_covering)]
+        covering: Option<floebench::lcp::Covering>,
     },
     /// Run a sweep plan (docs/sweep-format.md): every point of cases x
     /// formulations x settings, measured against the reference; writes
@@ -407,6 +413,7 @@ fn main() -> ExitCode {
             unpolished_below,
             pivot_tol,
             harris_from,
+            covering,
         } => {
             if time {
                 let mut opts = floebench::lcp::timing::TimingOptions {
@@ -442,6 +449,9 @@ fn main() -> ExitCode {
                 }
                 if let Some(k) = harris_from {
                     opts.solve.harris_from = k;
+                }
+                if let Some(c) = covering {
+                    opts.solve.covering = c;
                 }
                 time_lcps(&path, opts, csv.as_deref())
             } else if path.is_dir() {
@@ -1435,4 +1445,26 @@ fn percussion_1d(
         }
     }
     ExitCode::SUCCESS
+}
+
+/// `--covering`: `ones`, `sqrt-diagonal` or `diagonal:F` with F in (0, 1].
+fn parse_covering(s: &str) -> Result<floebench::lcp::Covering, String> {
+    use floebench::lcp::Covering;
+    match s {
+        "ones" => Ok(Covering::Ones),
+        "sqrt-diagonal" => Ok(Covering::Diagonal),
+        _ => {
+            let f = s
+                .strip_prefix("diagonal:")
+                .and_then(|f| f.parse::<f64>().ok())
+                .ok_or_else(|| format!("expected ones, sqrt-diagonal or diagonal:F, got {s:?}"))?;
+            if f > 0.0 && f <= 1.0 {
+                Ok(Covering::DiagonalRatio(f))
+            } else {
+                Err(format!(
+                    "the floor F of diagonal:F must be in (0, 1], got {f}"
+                ))
+            }
+        }
+    }
 }
