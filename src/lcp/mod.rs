@@ -88,7 +88,7 @@ pub use lemke::{lemke, lemke_with, LemkeOptions, LemkeResult, PivotRule, Termina
 pub use solve::{
     solve, solve_into, solve_warm, solve_warm_into, solve_warm_with, solve_with, Attempt,
     BasisGuess, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus, SolveSummary,
-    Strategy, WarmStart,
+    Strategy, WarmStart, DEFAULT_COVERING_FLOOR,
 };
 
 use serde::{Deserialize, Serialize};

@@ -2791,3 +2791,102 @@ fn committed_dump(path: &str) -> Lcp {
         .to_lcp()
         .expect("an LCP")
 }
+
+// ---------------------------------------------------------------------------
+// The covering vector of the cold attempts
+// ---------------------------------------------------------------------------
+
+#[test]
+fn diagonal_covering_vector_is_the_floored_diagonal_ratio_above_forty_unknowns() {
+    use floebench::lcp::{Covering, DEFAULT_COVERING_FLOOR};
+    assert_eq!(
+        SolveOptions::default().covering,
+        Covering::DiagonalRatio(DEFAULT_COVERING_FLOOR)
+    );
+    for n in [1, 8, 40] {
+        let m: Vec<f64> = (0..n * n).map(|k| k as f64).collect();
+        assert_eq!(Covering::DiagonalRatio(1e-3).vector(&m, n), None, "n = {n}");
+    }
+    // n = 41: diagonal 0, −1, 2, −3, … (a zero and negative entries).
+    let n = 41;
+    let mut m = vec![0.5; n * n];
+    for i in 0..n {
+        m[i * n + i] = if i % 2 == 0 { i as f64 } else { -(i as f64) };
+    }
+    let d = Covering::DiagonalRatio(1e-2)
+        .vector(&m, n)
+        .expect("a vector above 40 unknowns");
+    for (i, &di) in d.iter().enumerate() {
+        let want = (i as f64 / 40.0).max(1e-2);
+        assert_eq!(di, want, "d_{i}");
+    }
+    // A zero diagonal gives d = e; a floor outside (0, 1] an invalid vector.
+    let zero = vec![0.0; n * n];
+    assert_eq!(Covering::DiagonalRatio(1e-3).vector(&zero, n), None);
+    for floor in [0.0, -1.0, 1.5, f64::NAN] {
+        let d = Covering::DiagonalRatio(floor)
+            .vector(&m, n)
+            .expect("vector");
+        assert!(d.iter().all(|x| x.is_nan()), "floor {floor}");
+    }
+    assert_eq!(
+        Covering::DiagonalRatio(1.0).vector(&m, n),
+        Some(vec![1.0; n])
+    );
+}
+
+#[test]
+fn diagonal_covering_solves_every_family_above_forty_unknowns() {
+    use floebench::lcp::Covering;
+    let mut rng = SplitMix64::new(0x5EED_F10E_C0DE);
+    let mut ws = Workspace::default();
+    let opts = SolveOptions::default();
+    let ones = SolveOptions {
+        covering: Covering::Ones,
+        ..SolveOptions::default()
+    };
+    let invalid = SolveOptions {
+        covering: Covering::DiagonalRatio(0.0),
+        ..SolveOptions::default()
+    };
+    let mut paths_differ = 0;
+    for family in FAMILIES {
+        for k in 0..12 {
+            let n = 41 + (rng.next_u64() % 32) as usize;
+            let lcp = family_lcp(&mut rng, family, n);
+            let label = format!("{family:?} {k} (n = {})", lcp.n);
+            let a = solve_with(&mut ws, &lcp, &opts);
+            let b = solve_with(&mut ws, &lcp, &ones);
+            for (s, which) in [(&a, "diagonal"), (&b, "ones")] {
+                assert_eq!(s.status, SolveStatus::Solved, "{label} {which}");
+                assert!(s.z.iter().all(|v| v.is_finite() && *v >= 0.0));
+                let r = residual(&lcp.m, &lcp.q, &s.z);
+                assert!(r <= opts.tolerance, "{label} {which}: residual {r:e}");
+            }
+            if matches!(family, Family::PMatrix | Family::Degenerate) {
+                let scale = max_abs(&b.z).max(1.0);
+                for (x, y) in a.z.iter().zip(&b.z) {
+                    assert!((x - y).abs() <= 1e-8 * scale, "{label}: unique solution");
+                }
+            }
+            if a.attempts.first().map(|t| t.pivots) != b.attempts.first().map(|t| t.pivots) {
+                paths_differ += 1;
+            }
+            // An invalid floor: the attempts with that covering vector
+            // refuse it (only the alternative attempt runs), never a panic
+            // or a NaN.
+            let c = solve_with(&mut ws, &lcp, &invalid);
+            assert!(c.z.iter().all(|v| v.is_finite() && *v >= 0.0), "{label}");
+            if lcp.n > 40 && lcp.q.iter().any(|&x| x < 0.0) {
+                assert_eq!(
+                    c.attempts[0].termination,
+                    Termination::InvalidInput,
+                    "{label}"
+                );
+            }
+        }
+    }
+    // The diagonal is used: the first path differs from d = e's somewhere.
+    assert!(paths_differ > 0, "no path changed with the covering vector");
+    eprintln!("first paths that differ from d = e: {paths_differ} of 48");
+}
