@@ -163,7 +163,7 @@ enum Command {
         #[arg(long, value_name = "N", requires = "predict", value_parser = clap::value_parser!(u64).range(1..))]
         predict_sweeps: Option<u64>,
         /// Also write one CSV row per dump:
-        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties.
+        /// file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties,support.
         #[arg(long, value_name = "FILE", requires = "time")]
         csv: Option<PathBuf>,
         /// Problems of at least this many unknowns run on the factorised

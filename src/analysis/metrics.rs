@@ -132,6 +132,17 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
             };
             push(&format!("lcp_{label}_solves"), b.solves as f64, "count");
             push(&format!("lcp_{label}_pivots"), b.pivots as f64, "count");
+            push(&format!("lcp_{label}_unknowns"), b.unknowns as f64, "count");
+            push(
+                &format!("lcp_{label}_min_pivots"),
+                b.min_pivots as f64,
+                "count",
+            );
+            push(
+                &format!("lcp_{label}_bounded_pivots"),
+                b.bounded_pivots as f64,
+                "count",
+            );
             push(&format!("lcp_{label}_fallback"), b.fallback as f64, "count");
             push(&format!("lcp_{label}_failed"), b.failed as f64, "count");
             push(&format!("cpu_lcp_{label}"), b.seconds, "s");

@@ -764,6 +764,11 @@ impl ContactSolver {
         if let Some(b) = self.profile.buckets.get_mut(k) {
             b.solves += 1;
             b.pivots += sol.pivots as u64;
+            b.unknowns += lcp.lcp().n as u64;
+            if guess.is_none() && prediction.is_none() && sol.status.is_solved() {
+                b.min_pivots += crate::lcp::min_cold_pivots(crate::lcp::support(&sol.z)) as u64;
+                b.bounded_pivots += sol.pivots as u64;
+            }
             if let Some(g) = guess {
                 b.warm_tried += 1;
                 if sol.accepted_by == Some(Strategy::WarmStart) {

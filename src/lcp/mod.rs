@@ -233,6 +233,27 @@ impl Lcp {
     }
 }
 
+/// The size of the support of `z`: its entries `z_i > 0` (a NaN does not
+/// count).
+pub fn support(z: &[f64]) -> usize {
+    z.iter().filter(|&&v| v > 0.0).count()
+}
+
+/// The fewest pivots in which a cold Lemke path (from the basis of the `w`,
+/// `z = 0`) can end at a solution whose support (its `z_i > 0`, see
+/// [`support`]) has `support` entries: `0` when `z = 0` (then `q ≥ 0` and no
+/// pivot is taken), else `1 + support`. A pivot brings one variable into
+/// the basis; `z0` enters first, and each `z_i > 0` of the end point is
+/// basic there, so it entered at least once. The ratio of the pivots taken
+/// to this bound measures how direct the path was (docs/physics.md §3.3,
+/// "The cost of an exact solve of a jammed pack").
+pub fn min_cold_pivots(support: usize) -> usize {
+    match support {
+        0 => 0,
+        s => s + 1,
+    }
+}
+
 /// Computes `w = M z + q` (M row-major, n = `q.len()`).
 ///
 /// Errors if `m.len() != n*n` or `z.len() != n`. Non-finite data propagate

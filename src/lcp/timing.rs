@@ -119,6 +119,10 @@ pub struct TimedSolve {
     /// Degenerate indices of the accepted solution (both `z_i` and `w_i`
     /// within the tie level), left out of `predict_wrong`.
     pub predict_ties: usize,
+    /// Size of the support of the accepted `z` ([`super::support`]): a cold
+    /// Lemke path to it takes at least one pivot more
+    /// ([`super::min_cold_pivots`]).
+    pub support: usize,
 }
 
 /// Name of the accepted attempt of `sol` as written in the CSV, with
@@ -297,19 +301,20 @@ pub fn time_file(path: &Path, opts: &TimingOptions) -> Result<TimedSolve, DumpEr
         predict_sweeps: prediction.as_ref().map_or(0, |p| p.sweeps),
         predict_wrong,
         predict_ties,
+        support: super::support(&sol.z),
     })
 }
 
 /// The CSV header of [`csv`].
 pub const CSV_HEADER: &str =
-    "file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties";
+    "file,n,contacts,pivots,status,accepted_attempt,residual,cpu_us,first_termination,first_pivots,predict_sweeps,predict_wrong,predict_ties,support";
 
 /// The CSV text of `rows`, with the header [`CSV_HEADER`].
 pub fn csv(rows: &[TimedSolve]) -> String {
     let mut s = format!("{CSV_HEADER}\n");
     for r in rows {
         s.push_str(&format!(
-            "{},{},{},{},{},{},{:e},{:.4},{},{},{},{},{}\n",
+            "{},{},{},{},{},{},{:e},{:.4},{},{},{},{},{},{}\n",
             r.file,
             r.n,
             r.contacts,
@@ -322,7 +327,8 @@ pub fn csv(rows: &[TimedSolve]) -> String {
             r.first_pivots,
             r.predict_sweeps,
             r.predict_wrong,
-            r.predict_ties
+            r.predict_ties,
+            r.support
         ));
     }
     s
@@ -358,6 +364,11 @@ pub struct BucketSummary {
     pub median_sweeps: f64,
     /// Median of the guess's wrong indices ([`TimedSolve::predict_wrong`]).
     pub median_wrong: f64,
+    /// Median over the problems solved by Lemke (pivots taken, `z ≠ 0`) of
+    /// the pivots over the fewest a cold path to the same solution could
+    /// take ([`super::min_cold_pivots`]); NaN if there is none. Meaningful
+    /// for cold solves: a warm or predicted start may take fewer.
+    pub median_path_ratio: f64,
 }
 
 /// One [`BucketSummary`] per entry of [`BUCKETS`] (empty buckets included).
@@ -406,22 +417,31 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
                         .map(|r| r.predict_wrong as f64)
                         .collect::<Vec<_>>(),
                 ),
+                median_path_ratio: median(
+                    &mut sel
+                        .iter()
+                        .filter(|r| r.pivots > 0 && r.support > 0 && r.status.is_solved())
+                        .map(|r| r.pivots as f64 / super::min_cold_pivots(r.support) as f64)
+                        .collect::<Vec<_>>(),
+                ),
             }
         })
         .collect()
 }
 
-/// The summary as a fixed-width text table; with a prediction in any
+/// The summary as a fixed-width text table (`path`: the median of
+/// [`BucketSummary::median_path_ratio`]'s ratio); with a prediction in any
 /// bucket, three more columns: warm Lemke hits, median sweeps, median
 /// wrong indices of the guess.
 pub fn format_summary(rows: &[BucketSummary]) -> String {
     let predicted = rows.iter().any(|r| r.median_sweeps > 0.0);
     let mut s = format!(
-        "{:<9} {:>6} {:>12} {:>9} {:>9} {:>9} {:>6} {:>6} {:>11} {:>10}\n",
+        "{:<9} {:>6} {:>12} {:>9} {:>6} {:>9} {:>9} {:>6} {:>6} {:>11} {:>10}\n",
         "unknowns",
         "count",
         "median µs",
         "pivots",
+        "path",
         "failures",
         "fallback",
         "rays",
@@ -439,11 +459,12 @@ pub fn format_summary(rows: &[BucketSummary]) -> String {
             continue;
         }
         s.push_str(&format!(
-            "{:<9} {:>6} {:>12.3} {:>9.1} {:>9} {:>9} {:>6} {:>6} {:>11.2e} {:>10.4}\n",
+            "{:<9} {:>6} {:>12.3} {:>9.1} {:>6.2} {:>9} {:>9} {:>6} {:>6} {:>11.2e} {:>10.4}\n",
             r.label,
             r.count,
             r.median_us,
             r.median_pivots,
+            r.median_path_ratio,
             r.failures,
             r.fallbacks,
             r.rays,

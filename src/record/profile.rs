@@ -30,6 +30,16 @@ pub struct SizeBucket {
     pub solves: u64,
     /// Lemke pivots over every attempt.
     pub pivots: u64,
+    /// Unknowns, summed over the solves.
+    pub unknowns: u64,
+    /// The fewest pivots of a cold Lemke path to each accepted solution
+    /// ([`crate::lcp::min_cold_pivots`]: 1 + the size of its support),
+    /// summed over the solved solves; `pivots / min_pivots` is how much
+    /// longer the paths were than the shortest possible (a solve warm-started
+    /// or failed adds its pivots but no bound).
+    pub min_pivots: u64,
+    /// Pivots of the solves counted in `min_pivots`.
+    pub bounded_pivots: u64,
     /// Solved by the first attempt.
     pub first_attempt: u64,
     /// Solved by a fallback attempt.

@@ -444,3 +444,29 @@ fn a_pressed_pack_rejects_few_steps_and_its_contacts_dissipate() {
     let s = &r.summary.energy;
     assert!(s.dissipated >= 0.0, "contacts made {} J", -s.dissipated);
 }
+
+#[test]
+fn the_lcp_profile_counts_unknowns_and_the_shortest_cold_paths() {
+    // narrow_channel, event-driven and moreau: every bucket's unknowns lie
+    // within its bounds times its solves; its cold solved solves took at
+    // least the pivots of their bound in all (each first attempt does, see
+    // tests/suite/lemke.rs), and those pivots are part of the bucket's.
+    let scn = crate::common::load("narrow_channel");
+    for name in ["event-driven", "moreau"] {
+        let r = crate::common::run(&scn, name);
+        let p = r.summary.lcp_profile.as_ref().expect("a profile");
+        let mut bounded = 0;
+        for b in &p.buckets {
+            let hi = b.unknowns_max.unwrap_or(usize::MAX) as u64;
+            assert!(
+                b.unknowns >= b.solves * b.unknowns_min as u64,
+                "{name}: {b:?}"
+            );
+            assert!(b.unknowns <= b.solves.saturating_mul(hi), "{name}: {b:?}");
+            assert!(b.bounded_pivots <= b.pivots, "{name}: {b:?}");
+            assert!(b.min_pivots <= b.bounded_pivots, "{name}: {b:?}");
+            bounded += b.min_pivots;
+        }
+        assert!(bounded > 0, "{name}: no cold solve bounded");
+    }
+}

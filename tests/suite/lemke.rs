@@ -2890,3 +2890,54 @@ fn diagonal_covering_solves_every_family_above_forty_unknowns() {
     assert!(paths_differ > 0, "no path changed with the covering vector");
     eprintln!("first paths that differ from d = e: {paths_differ} of 48");
 }
+
+#[test]
+fn a_cold_lemke_path_takes_at_least_one_pivot_more_than_its_support() {
+    // Every basic z_i > 0 of the end point entered the basis once, after
+    // z0: a first attempt accepted without principal pivoting (its z is
+    // Lemke's end point, refined on the same basis at most) cannot have
+    // taken fewer pivots than `min_cold_pivots`. On every family and size,
+    // both representations of the basis (dense below 41 unknowns, the
+    // factorised basis above).
+    use floebench::lcp::{min_cold_pivots, support};
+    assert_eq!(support(&[0.0, 1e-300, -1.0, f64::NAN, 2.0]), 2);
+    assert_eq!(min_cold_pivots(0), 0);
+    assert_eq!(min_cold_pivots(3), 4);
+    let mut rng = SplitMix64::new(0x5EED_F10E_0B0D);
+    let opts = SolveOptions::default();
+    let mut ws = Workspace::default();
+    let (mut checked, mut tight) = (0, 0);
+    for family in FAMILIES {
+        for k in 0..60 {
+            let n = [1, 2, 4, 8, 16, 40, 48, 72][k % 8];
+            let lcp = family_lcp(&mut rng, family, n);
+            let s = solve_with(&mut ws, &lcp, &opts);
+            let first = &s.attempts[0];
+            if !(first.accepted && first.basis_solves == 0) {
+                continue;
+            }
+            let bound = min_cold_pivots(support(&s.z));
+            assert!(
+                s.pivots >= bound,
+                "{family:?} n = {}: {} pivots, support {}",
+                lcp.n,
+                s.pivots,
+                support(&s.z)
+            );
+            assert_eq!(bound == 0, s.pivots == 0, "{family:?}: z = 0 iff no pivot");
+            checked += 1;
+            if s.pivots == bound {
+                tight += 1;
+            }
+        }
+    }
+    eprintln!("cold paths checked against their bound: {checked}, of them tight: {tight}");
+    assert!(
+        checked >= 150,
+        "only {checked} first attempts accepted unpolished"
+    );
+    assert!(
+        tight > 0,
+        "the bound is never reached: is it counted right?"
+    );
+}
