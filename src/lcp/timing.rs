@@ -429,8 +429,8 @@ pub fn summarize(rows: &[TimedSolve]) -> Vec<BucketSummary> {
         .collect()
 }
 
-/// The summary as a fixed-width text table (`path`: the median of
-/// [`BucketSummary::median_path_ratio`]'s ratio); with a prediction in any
+/// The summary as a fixed-width text table (`path`:
+/// [`BucketSummary::median_path_ratio`]); with a prediction in any
 /// bucket, three more columns: warm Lemke hits, median sweeps, median
 /// wrong indices of the guess.
 pub fn format_summary(rows: &[BucketSummary]) -> String {

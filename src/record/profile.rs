@@ -34,9 +34,10 @@ pub struct SizeBucket {
     pub unknowns: u64,
     /// The fewest pivots of a cold Lemke path to each accepted solution
     /// ([`crate::lcp::min_cold_pivots`]: 1 + the size of its support),
-    /// summed over the solved solves; `pivots / min_pivots` is how much
-    /// longer the paths were than the shortest possible (a solve warm-started
-    /// or failed adds its pivots but no bound).
+    /// summed over the cold solves that were solved;
+    /// `bounded_pivots / min_pivots` is how much longer their paths were
+    /// than the shortest possible (a solve warm-started, predicted or
+    /// failed adds its pivots to `pivots` only).
     pub min_pivots: u64,
     /// Pivots of the solves counted in `min_pivots`.
     pub bounded_pivots: u64,
