@@ -22,7 +22,7 @@
 //!   (465 s of CPU), and skipped with that message until it exists. The
 //!   20,000-floe member is skipped: its jamming time is not known (by the
 //!   2,000-floe run, its pack would still drift at the case's 10,000 s;
-//!   README, "Dense scaling").
+//!   docs/results/2026-12-04-dense-packs-lemke.md, "Dense scaling").
 //!
 //! The measurement is the thread's CPU time. Every formulation except
 //! `free-drift` runs.
@@ -59,7 +59,7 @@ const DENSE_SPAN: f64 = 20.0;
 /// The output time of the rapier run of `bay_jam_<n>` whose state starts
 /// its dense benchmarks, s: the first output at which its pack's kinetic
 /// energy is three orders of magnitude below the drift's peak (measured:
-/// README, "Dense scaling"); `None` where it is not known.
+/// docs/results/2026-12-04-dense-packs-lemke.md, "Dense scaling"); `None` where it is not known.
 fn dense_start(n: usize) -> Option<f64> {
     match n {
         200 => Some(5000.0),

@@ -4,7 +4,7 @@
 //! diameter, the largest distance of a floe, and the same for the angles).
 //!
 //! Used to compare a warm-started run with a cold one of the same case
-//! (issue 12, README "Dense scaling and the warm start"); both runs must
+//! (issue 12, docs/results/2026-12-04-dense-packs-lemke.md); both runs must
 //! have recorded every output time of the case, which is read for the
 //! floes (mean diameter) and the output times.
 //!

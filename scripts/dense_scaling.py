@@ -19,12 +19,12 @@ Writes `runs.csv` (one row per run) and `exponents.csv` (for each
 formulation and each pair of consecutive sizes, the exponent
 log(c2/c1)/log(N2/N1) of the CPU per simulated second c).
 
-Example (the README's dense scaling table):
+Example (the dense scaling table of docs/results/2026-12-04-dense-packs-lemke.md):
 
     python3 scripts/dense_scaling.py --sizes 200 --span 20 --start 5000 \
         --out target/dense/scaling --csv target/dense/scaling/csv200
 
-(the README's "Dense scaling and the warm start" gives every command).
+(docs/results/2026-12-04-dense-packs-lemke.md gives every command).
 
 Needs only Python 3 and a built `target/release/floebench`.
 """

@@ -22,7 +22,7 @@ pub const IQR_FROM: usize = 4;
 /// median CPU time of one (case, formulation) moves by up to about this
 /// much between identical `compare` runs on a shared machine, a spread
 /// measured within one batch does not see it (docs of
-/// [`crate::run::batch::TOP_UP_CPU`]; the README gives the measurement).
+/// [`crate::run::batch::TOP_UP_CPU`]; docs/physics.md §6.6 gives the measurement).
 pub const SPEED_MARGIN: f64 = 1.25;
 
 /// The spread of repeated measurements of one figure.

@@ -27,7 +27,7 @@
 //!   is an error; only `friction_groups` may be absent);
 //! * `M` is n×n and `q`, `z`, `w` have n entries;
 //! * `contacts` = m is consistent with the unknowns of the contact layer
-//!   (README "LCP dumps"): n = 4m with friction, n = m without, and
+//!   (docs/output-format.md, "LCP dumps"): n = 4m with friction, n = m without, and
 //!   n = m + 3G with `friction_groups` = G (1 ≤ G ≤ m);
 //! * `status` is one of [`super::SolveStatus::as_str`]; a solved status
 //!   requires finite `M`, `q` and a finite `z >= 0`;

@@ -1,5 +1,5 @@
-//! The comparison harness: `floebench compare` writes every file the README
-//! promises, and the divergence metric is zero for identical runs and not
+//! The comparison harness: `floebench compare` writes every file
+//! docs/output-format.md promises, and the divergence metric is zero for identical runs and not
 //! for runs that must differ.
 
 use crate::common::{bad_case, case_path, floebench, load, run, tempdir};

@@ -4,8 +4,8 @@
 //! rapier is a regularised, game-oriented engine: where it departs from the
 //! closed form, the departure measured at the default parameters is pinned
 //! (the measured value is stated next to each bound), not hidden behind a
-//! loose tolerance. The README ("The rapier reference") reports the same
-//! figures.
+//! loose tolerance. docs/results/2026-12-04-formulations-notes.md ("The rapier reference")
+//! reports the same figures.
 
 use crate::common::{
     bouncing_expected, case_text, counter, drift_velocity, head_on, head_on_expected, rest_time,

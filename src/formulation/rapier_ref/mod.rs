@@ -74,7 +74,8 @@
 //! | `prediction` | m | `h` × 1 m/s = 0.1 | speculative contact distance: approaches up to 1 m/s stop at contact |
 //!
 //! Why these and not rapier's game defaults (1/60 s, 30 Hz with ratio 10,
-//! 2 cm): see [`RapierSettings`] and the README ("The rapier reference").
+//! 2 cm): see [`RapierSettings`] and docs/results/2026-12-04-formulations-notes.md ("The rapier
+//! reference").
 //!
 //! Derived, not settable: rapier's `length_unit` is the smallest floe
 //! radius (it scales rapier's internal tolerances, e.g. the broad phase's
@@ -293,8 +294,8 @@ pub const PREDICTION: Limit = Limit::range(
 /// the defaults are chosen for floes (metres to kilometres, tonnes to
 /// megatonnes, drift below 1 m/s, forcing time scales of minutes to hours),
 /// not rapier's game defaults (1/60 s steps, 30 Hz contacts with damping
-/// ratio 10, a 2 cm prediction distance): see the README, "The rapier
-/// reference".
+/// ratio 10, a 2 cm prediction distance): see
+/// docs/results/2026-12-04-formulations-notes.md, "The rapier reference".
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RapierSettings {
     /// Time step `h`, s (default 0.1: a floe at 0.5 m/s moves 5 cm per step,
