@@ -12,7 +12,7 @@
 //!
 //! The layers, each using only those before it: [`model`] → [`formulation`]
 //! → [`run`] → [`analysis`] → [`report`] (with the shared foundations
-//! [`geometry`], [`state`], [`physics`], [`contact`], [`lcp`], [`record`],
+//! [`geometry`], [`state`], [`physics`], [`contact`], [`lcp`], [`iterative`], [`record`],
 //! [`rng`] below the formulations). [`compare`] combines the batch runner
 //! and the analysis; only the command line writes reports.
 //!
@@ -21,6 +21,8 @@
 //! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]);
 //! - [`contact`]: shared contact detection (sweep and prune, convex polygon contact points);
 //! - [`lcp`]: linear complementarity problems, our Lemke solver with fallbacks, dumps;
+//! - [`iterative`]: the iterative contact solvers of dense packs (NSGS, APGD) on the sparse
+//!   contact problem, the contact cache and the natural-map residual of every solver's answer;
 //! - [`physics`]: environment forces and the smooth integrator;
 //! - [`state`]: the dynamic state and the energy ledger;
 //! - [`record`]: what formulations report with: typed counters and settings, the contact log, the stage clock;
@@ -45,6 +47,7 @@ pub mod contact;
 pub mod formulation;
 pub mod fracture;
 pub mod geometry;
+pub mod iterative;
 pub mod lcp;
 pub mod model;
 pub mod netcdf;

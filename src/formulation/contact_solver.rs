@@ -868,6 +868,13 @@ impl ContactSolver {
         c
     }
 
+    /// The work of every solve so far: Lemke pivots (every attempt) plus
+    /// interior-point iterations; the difference over one solve is that
+    /// solve's work in the accuracy record ([`crate::record::accuracy`]).
+    pub fn work(&self) -> u64 {
+        self.lcp_counters.total_pivots + self.counters.count(&CONE_ITERATIONS).unwrap_or(0)
+    }
+
     /// Solves one contact problem by the method in use; returns the LCP
     /// unknowns `z` of the (scaled) problem (never NaN, length `lcp.lcp().n`)
     /// for [`ContactLcp::impulses`] and [`ContactLcp::velocity_changes`].

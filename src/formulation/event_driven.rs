@@ -98,15 +98,17 @@ use super::contact_solver::{
     ContactSolver, SolverKind, DEFAULT_MERGE_FRICTION, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE,
     DEFAULT_WARM_START,
 };
+use super::group_solver::{read_solver, GroupData, GroupSolver};
 use super::{
     reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
 };
-use crate::contact::problem::{groups, ContactLcp, Gen};
+use crate::contact::problem::{groups, Gen};
 use crate::contact::{signed_distance, Aabb, BroadPhase, Contact, NarrowOptions};
 use crate::fracture::{loads_of, Decision, Fracturer, Load};
 use crate::geometry::{
     aabb, perp, point_outline_signed_distance, point_polygon_signed_distance, rotate, Vec2,
 };
+use crate::iterative::{IterativeOptions, MAX_ITERATIONS, RELAXATION, TOLERANCE};
 use crate::model::fracture::FractureModel;
 use crate::model::limits::Limit;
 use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
@@ -142,7 +144,13 @@ pub const ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "event-driven",
     validate: |t| EventDrivenSettings::from_table(t).map(|_| ()),
-    limits: &[PENETRATION_TOLERANCE, PREDICT_FROM],
+    limits: &[
+        PENETRATION_TOLERANCE,
+        PREDICT_FROM,
+        TOLERANCE,
+        MAX_ITERATIONS,
+        RELAXATION,
+    ],
 };
 
 /// The bound of `predict_from`, unknowns (an LCP size).
@@ -200,15 +208,22 @@ pub struct EventDrivenSettings {
     /// [`ContactSolver::with_merge_friction`] and docs/physics.md §3.1).
     /// The cone program keeps one cone per point either way.
     pub merge_friction: bool,
+    /// `solver = "nsgs"` or `"apgd"`: the iterative solver of the
+    /// sustained problems, with its `tolerance`, `max_iterations`,
+    /// `relaxation` (default `None`: the direct `solver`; the impacts'
+    /// compression LCPs stay on Lemke; see [`crate::iterative`]).
+    pub iterative: Option<IterativeOptions>,
 }
 
 impl EventDrivenSettings {
     /// Parses `[formulation.event-driven]` (errors name the line and key).
     pub fn from_table(t: &SettingsTable) -> Result<EventDrivenSettings, CaseError> {
         let mut r = t.read();
+        let (solver, iterative) = read_solver(&mut r, SolverKind::Lcp)?;
         let s = EventDrivenSettings {
             penetration_tolerance: r.bounded(&PENETRATION_TOLERANCE)?,
-            solver: r.choice("solver")?.unwrap_or(SolverKind::Lcp),
+            solver,
+            iterative,
             warm_start: r.boolean("warm_start")?.unwrap_or(DEFAULT_WARM_START),
             warm_lemke: r.boolean("warm_lemke")?.unwrap_or(DEFAULT_WARM_LEMKE),
             merge_friction: r
@@ -711,7 +726,7 @@ pub struct EventDriven {
     impact_speed: f64,
     /// The longest step with closed contacts, s ([`contact_horizon`]).
     horizon: f64,
-    solver: ContactSolver,
+    solver: GroupSolver,
     bp: BroadPhase,
     sweep_bp: BroadPhase,
     counters: Counters,
@@ -761,15 +776,18 @@ impl EventDriven {
             pen_tol,
             impact_speed,
             horizon,
-            solver: ContactSolver::with_warm_start(
-                settings.solver,
-                opts.dump_lcp.clone(),
-                settings.warm_start,
-            )
-            .with_warm_lemke(settings.warm_lemke)
-            .with_merge_friction(settings.merge_friction)
-            .with_predict_from(settings.predict_from)
-            .with_warm_check(opts.warm_check),
+            solver: GroupSolver::new(
+                ContactSolver::with_warm_start(
+                    settings.solver,
+                    opts.dump_lcp.clone(),
+                    settings.warm_start,
+                )
+                .with_warm_lemke(settings.warm_lemke)
+                .with_merge_friction(settings.merge_friction)
+                .with_predict_from(settings.predict_from)
+                .with_warm_check(opts.warm_check),
+                settings.iterative,
+            ),
             bp: BroadPhase::new(),
             sweep_bp: BroadPhase::new(),
             counters: Counters::new(COUNTERS),
@@ -796,7 +814,7 @@ impl EventDriven {
 
     /// Largest `|β| / (μ λ)` over every contact impulse so far (0 without friction).
     pub fn max_coulomb_ratio(&self) -> f64 {
-        self.solver.max_coulomb_ratio()
+        self.solver.direct.max_coulomb_ratio()
     }
 
     fn detect(&mut self, scn: &Scenario, bodies: &[BodyState]) -> Vec<Contact> {
@@ -858,12 +876,18 @@ impl EventDriven {
             if !g.contacts.iter().any(|&k| approaching[k]) {
                 continue;
             }
-            let layout = self.solver.friction_layout(true);
-            let lcp = ContactLcp::assemble(scn, &centres, contacts, &g, &w, &zeros, layout);
             // The compression LCP of Poisson's law, whatever the solver of
             // the sustained contacts.
-            let z = self.solver.solve_lcp(&lcp, sys.t);
-            let dv = lcp.velocity_changes(&z);
+            let data = GroupData {
+                scn,
+                centres: &centres,
+                contacts,
+                group: &g,
+                w_free: &w,
+                offsets: &zeros,
+            };
+            let ans = self.solver.solve_impact(&data, sys.t);
+            let dv = &ans.dv;
             let before = sys.group_kinetic_energy(scn, &g.floes);
             let w_minus: Vec<BodyState> = g.floes.iter().map(|&i| sys.bodies[i]).collect();
             let apply = |bodies: &mut [BodyState], k: f64| {
@@ -885,8 +909,8 @@ impl EventDriven {
             if Fracturer::enabled(scn) && slow.is_none() {
                 // The impulses applied: (1 + e) times the compression's.
                 let k = 1.0 + e;
-                let normal: Vec<f64> = lcp.normal(&z).iter().map(|v| v * k).collect();
-                let tangential: Vec<f64> = lcp.tangential(&z).iter().map(|v| v * k).collect();
+                let normal: Vec<f64> = ans.normal.iter().map(|v| v * k).collect();
+                let tangential: Vec<f64> = ans.tangential.iter().map(|v| v * k).collect();
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
                 let loads = loads_of(scn, &group, &normal, &tangential);
                 let decisions = self.fracture.decide(scn, sys, &loads);
@@ -898,9 +922,9 @@ impl EventDriven {
                 // the stress criterion reads it with the step's impulses.
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
                 self.step_loads
-                    .extend(loads_of(scn, &group, &lcp.normal(&z), &lcp.tangential(&z)));
+                    .extend(loads_of(scn, &group, &ans.normal, &ans.tangential));
             }
-            self.solver.log_mut().push_event(ContactEvent {
+            self.solver.direct.log_mut().push_event(ContactEvent {
                 t: sys.t,
                 contacts: g.contacts.len(),
                 energy_before: before,
@@ -1144,23 +1168,28 @@ impl EventDriven {
         let mut end_bodies = free_bodies;
         let solve_start = clock.start(Stage::Solve);
         for g in &gs {
-            let layout = self.solver.friction_layout(false);
-            let lcp = ContactLcp::assemble(scn, &centres, &closed, g, &w_free, &offsets, layout);
-            let z = self.solver.solve(&lcp, t);
-            let (l, b) = (lcp.normal(&z), lcp.tangential(&z));
+            let data = GroupData {
+                scn,
+                centres: &centres,
+                contacts: &closed,
+                group: g,
+                w_free: &w_free,
+                offsets: &offsets,
+            };
+            let ans = self.solver.solve(&data, t, h);
+            let (l, b) = (&ans.normal, &ans.tangential);
             for (j, &k) in g.contacts.iter().enumerate() {
                 lambda[k] = l[j];
                 beta[k] = b[j];
-                g_t[k] = lcp.tangential_compliance(j);
+                g_t[k] = ans.compliance[j];
             }
             if scn.fracture.model == FractureModel::Stress {
                 // The group's impulses over h: loads of the stress criterion
                 // (docs/physics.md §9.3, §9.5).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &closed[k]).collect();
-                out.loads.extend(loads_of(scn, &group, &l, &b));
+                out.loads.extend(loads_of(scn, &group, l, b));
             }
-            let p = lcp.impulses(&z);
-            let dv = lcp.velocity_changes(&z);
+            let (p, dv) = (&ans.impulses, &ans.dv);
             for (l, &i) in g.floes.iter().enumerate() {
                 out.wrenches[i] = Wrench {
                     force: Vec2::new(p[l][0], p[l][1]) / h,
@@ -1804,10 +1833,10 @@ impl Formulation for EventDriven {
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {
-        Some(self.solver.profile())
+        Some(self.solver.direct.profile())
     }
 
     fn take_contact_log(&mut self) -> ContactLog {
-        self.solver.take_log()
+        self.solver.direct.take_log()
     }
 }

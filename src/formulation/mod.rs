@@ -30,6 +30,7 @@
 pub mod contact_solver;
 pub mod event_driven;
 pub mod free_drift;
+pub mod group_solver;
 pub mod moreau;
 pub mod rapier_ref;
 

@@ -123,14 +123,16 @@ use super::contact_solver::{
     ContactSolver, SolverKind, DEFAULT_MERGE_FRICTION, DEFAULT_PREDICT_FROM, DEFAULT_WARM_LEMKE,
     DEFAULT_WARM_START,
 };
+use super::group_solver::{read_solver, GroupAnswer, GroupData, GroupSolver};
 use super::{
     check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
     NotClaimed,
 };
-use crate::contact::problem::{groups, ContactLcp, Gen};
+use crate::contact::problem::{groups, Gen};
 use crate::contact::{BroadPhase, Contact};
 use crate::fracture::{loads_of, Decision, Fracturer};
 use crate::geometry::Vec2;
+use crate::iterative::{IterativeOptions, MAX_ITERATIONS, RELAXATION, TOLERANCE};
 use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::ForceModel;
@@ -199,7 +201,15 @@ pub const CONE_ENTRY: Entry = Entry {
 pub const TABLE: TableSpec = TableSpec {
     name: "moreau",
     validate: |t| MoreauSettings::from_table(t).map(|_| ()),
-    limits: &[STEP, THETA, GAMMA, PREDICT_FROM],
+    limits: &[
+        STEP,
+        THETA,
+        GAMMA,
+        PREDICT_FROM,
+        TOLERANCE,
+        MAX_ITERATIONS,
+        RELAXATION,
+    ],
 };
 
 /// The bound of `predict_from`, unknowns (an LCP size).
@@ -271,6 +281,11 @@ pub struct MoreauSettings {
     /// [`ContactSolver::with_merge_friction`] and docs/physics.md §3.1).
     /// The cone program keeps one cone per point either way.
     pub merge_friction: bool,
+    /// `solver = "nsgs"` or `"apgd"`: the iterative solver and its
+    /// `tolerance`, `max_iterations`, `relaxation` (default `None`: the
+    /// direct `solver`; see [`crate::iterative`]). With it, `solver` above
+    /// is `"lcp"` and unused.
+    pub iterative: Option<IterativeOptions>,
 }
 
 impl Default for MoreauSettings {
@@ -284,6 +299,7 @@ impl Default for MoreauSettings {
             warm_lemke: DEFAULT_WARM_LEMKE,
             predict_from: DEFAULT_PREDICT_FROM,
             merge_friction: DEFAULT_MERGE_FRICTION,
+            iterative: None,
         }
     }
 }
@@ -293,11 +309,13 @@ impl MoreauSettings {
     pub fn from_table(t: &SettingsTable) -> Result<MoreauSettings, CaseError> {
         let d = MoreauSettings::default();
         let mut r = t.read();
+        let (solver, iterative) = read_solver(&mut r, d.solver)?;
         let s = MoreauSettings {
             step: r.step(&STEP)?.unwrap_or(d.step),
             theta: r.bounded(&THETA)?.unwrap_or(d.theta),
             gamma: r.bounded(&GAMMA)?.unwrap_or(d.gamma),
-            solver: r.choice("solver")?.unwrap_or(d.solver),
+            solver,
+            iterative,
             warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
             warm_lemke: r.boolean("warm_lemke")?.unwrap_or(d.warm_lemke),
             merge_friction: r.boolean("merge_friction")?.unwrap_or(d.merge_friction),
@@ -398,7 +416,7 @@ pub struct Moreau {
     gamma: f64,
     model: ForceModel,
     bp: BroadPhase,
-    solver: ContactSolver,
+    solver: GroupSolver,
     counters: Counters,
     records: Vec<ContactStep>,
     max_penetration: f64,
@@ -441,15 +459,21 @@ impl Moreau {
             gamma: s.gamma,
             model: ForceModel::new(&scn.floes),
             bp: BroadPhase::new(),
-            solver: ContactSolver::with_warm_start(
-                solver.unwrap_or(s.solver),
-                opts.dump_lcp.clone(),
-                s.warm_start,
-            )
-            .with_warm_lemke(s.warm_lemke)
-            .with_merge_friction(s.merge_friction)
-            .with_predict_from(s.predict_from)
-            .with_warm_check(opts.warm_check),
+            solver: GroupSolver::new(
+                ContactSolver::with_warm_start(
+                    solver.unwrap_or(s.solver),
+                    opts.dump_lcp.clone(),
+                    s.warm_start,
+                )
+                .with_warm_lemke(s.warm_lemke)
+                .with_merge_friction(s.merge_friction)
+                .with_predict_from(s.predict_from)
+                .with_warm_check(opts.warm_check),
+                match solver {
+                    Some(SolverKind::Cone) => None,
+                    _ => s.iterative,
+                },
+            ),
             counters: Counters::new(COUNTERS),
             records: Vec::new(),
             max_penetration: 0.0,
@@ -462,7 +486,7 @@ impl Moreau {
 
     /// The one-step solver in use.
     pub fn solver(&self) -> SolverKind {
-        self.solver.kind()
+        self.solver.direct.kind()
     }
 
     /// The steps in which contact impulses were applied (the first
@@ -478,7 +502,7 @@ impl Moreau {
 
     /// Largest `|β| / (μ λ)` over every contact impulse so far.
     pub fn max_coulomb_ratio(&self) -> f64 {
-        self.solver.max_coulomb_ratio()
+        self.solver.direct.max_coulomb_ratio()
     }
 
     /// One step of length `h` from `sys` (see the module doc).
@@ -607,10 +631,20 @@ impl Moreau {
         let mut any = false;
         let (mut e_before, mut e_after) = (0.0, 0.0);
         for g in &gs {
-            let layout = self.solver.friction_layout(false);
-            let lcp = ContactLcp::assemble(scn, &centres, active, g, w_free, &offsets, layout);
-            let z = self.solver.solve(&lcp, sys.t);
-            let dv = lcp.velocity_changes(&z);
+            let data = GroupData {
+                scn,
+                centres: &centres,
+                contacts: active,
+                group: g,
+                w_free,
+                offsets: &offsets,
+            };
+            let GroupAnswer {
+                normal,
+                tangential,
+                dv,
+                ..
+            } = self.solver.solve(&data, sys.t, h);
             let v_scale = g
                 .floes
                 .iter()
@@ -637,7 +671,7 @@ impl Moreau {
                 // The step's impulses, on the floes at q_k, delivered over
                 // the step [t_k, t_k + h] (docs/physics.md §9.3).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &active[k]).collect();
-                let loads = loads_of(scn, &group, &lcp.normal(&z), &lcp.tangential(&z));
+                let loads = loads_of(scn, &group, &normal, &tangential);
                 let decisions = self
                     .fracture
                     .decide_over(scn, sys, &loads, sys.t, sys.t + h);
@@ -646,7 +680,7 @@ impl Moreau {
                 }
             }
             if dv.iter().flatten().any(|d| d.abs() > negligible) {
-                self.solver.log_mut().push_event(ContactEvent {
+                self.solver.direct.log_mut().push_event(ContactEvent {
                     t: sys.t,
                     contacts: g.contacts.len(),
                     energy_before: before,
@@ -728,10 +762,10 @@ impl Formulation for Moreau {
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {
-        Some(self.solver.profile())
+        Some(self.solver.direct.profile())
     }
 
     fn take_contact_log(&mut self) -> ContactLog {
-        self.solver.take_log()
+        self.solver.direct.take_log()
     }
 }

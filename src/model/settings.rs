@@ -117,6 +117,12 @@ pub struct SettingsReader<'a> {
 }
 
 impl SettingsReader<'_> {
+    /// The error `message` at the line of `key` (or of the table), for a
+    /// refusal that depends on several keys.
+    pub fn error(&self, key: &str, message: impl Into<String>) -> CaseError {
+        self.table.error(Some(key), message)
+    }
+
     fn number(&mut self, key: &'static str) -> Result<Option<f64>, CaseError> {
         self.asked.push(key);
         match self.table.values.get(key) {

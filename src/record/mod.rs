@@ -7,8 +7,10 @@
 //! - [`log`]: the bounded log of contact impulses and contact events
 //!   ([`ContactLog`], [`ImpulseRecord`], [`ContactEvent`]);
 //! - [`clock`]: CPU time per stage ([`StageClock`]);
-//! - [`profile`]: LCP solves by size ([`SolveProfile`]).
+//! - [`profile`]: LCP solves by size ([`SolveProfile`]);
+//! - [`accuracy`]: the residual and work of every contact solve ([`accuracy::Accuracy`]).
 
+pub mod accuracy;
 pub mod clock;
 pub mod counters;
 pub mod log;

@@ -1,0 +1,222 @@
+//! The contact problems of a group, solved by the solver a formulation
+//! was given ([`GroupSolver`]: the direct [`ContactSolver`] or an
+//! iterative one, with the accuracy record of every solve), and the
+//! `solver` key that chooses it in `[formulation.moreau]` and
+//! `[formulation.event-driven]`, with the iterative solvers' keys, read in
+//! one place ([`read_solver`]).
+//!
+//! `solver` is `"lcp"` (Lemke on the Stewart–Trinkle LCP), `"cone"`
+//! (clarabel on the Anitescu–Tasora relaxation), `"nsgs"` (nonsmooth
+//! Gauss–Seidel on Coulomb's law) or `"apgd"` (accelerated projected
+//! gradient on the relaxation); the last two take `tolerance`,
+//! `max_iterations` and (nsgs) `relaxation` ([`crate::iterative`],
+//! docs/physics.md §3.5), which the direct solvers refuse.
+
+use super::contact_solver::{ContactSolver, SolverKind};
+use crate::contact::problem::{ContactGroup, ContactLcp, Gen};
+use crate::contact::Contact;
+use crate::geometry::Vec2;
+use crate::iterative::{IterativeOptions, IterativeSolver, Method, SparseContacts};
+use crate::model::settings::SettingsReader;
+use crate::model::CaseError;
+use crate::model::Scenario;
+use crate::record::accuracy::Accuracy;
+use crate::record::{Counters, Settings};
+
+/// What the `solver` key chose.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Choice {
+    Direct(SolverKind),
+    Iterative(Method),
+}
+
+impl std::str::FromStr for Choice {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "nsgs" => Ok(Choice::Iterative(Method::Nsgs)),
+            "apgd" => Ok(Choice::Iterative(Method::Apgd)),
+            other => other
+                .parse::<SolverKind>()
+                .map(Choice::Direct)
+                .map_err(|_| {
+                    format!("unknown solver `{other}`; expected `lcp`, `cone`, `nsgs` or `apgd`")
+                }),
+        }
+    }
+}
+
+/// Reads `solver` (default `default`) and the iterative solvers' keys:
+/// the direct solver (Lemke for an iterative choice: the impacts'
+/// compression LCPs of the event-driven scheme and the polish use it), and
+/// the iterative settings when `"nsgs"` or `"apgd"` was chosen.
+pub fn read_solver(
+    r: &mut SettingsReader<'_>,
+    default: SolverKind,
+) -> Result<(SolverKind, Option<IterativeOptions>), CaseError> {
+    let choice = r.choice::<Choice>("solver")?;
+    let (direct, method) = match choice {
+        None => (default, None),
+        Some(Choice::Direct(k)) => (k, None),
+        Some(Choice::Iterative(m)) => (SolverKind::Lcp, Some(m)),
+    };
+    let iterative = IterativeOptions::read(r, method, direct.name())?;
+    Ok((direct, iterative))
+}
+
+/// The answer of one group's contact problem, whichever solver gave it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupAnswer {
+    /// Normal impulses `λ_j`, N·s, in the group's contact order.
+    pub normal: Vec<f64>,
+    /// Tangential impulses `β_j` along `T_j`, N·s.
+    pub tangential: Vec<f64>,
+    /// Tangential compliance of each contact (1/kg; its friction group's
+    /// for a merged LCP), for the event-driven stick rule.
+    pub compliance: Vec<f64>,
+    /// Generalised impulses `H p` per floe of the group (group order).
+    pub impulses: Vec<Gen>,
+    /// Velocity changes `M⁻¹ H p` per floe of the group (group order).
+    pub dv: Vec<Gen>,
+}
+
+/// The solvers of a formulation's contact problems: the direct one
+/// (Lemke or clarabel, [`ContactSolver`]), the iterative one when chosen,
+/// and the accuracy record of every solve.
+#[derive(Debug)]
+pub struct GroupSolver {
+    /// The direct solver (also the impacts' when the iterative one is on).
+    pub direct: ContactSolver,
+    /// The iterative solver (`solver = "nsgs"` or `"apgd"`).
+    pub iterative: Option<IterativeSolver>,
+    /// The residual and work of every solve.
+    pub accuracy: Accuracy,
+}
+
+/// The problem of one group, as both solvers take it: the scene, the
+/// centres of mass (m), every contact, the group, the free velocities and
+/// the offsets (m/s) of [`ContactLcp::assemble`].
+#[derive(Debug, Clone, Copy)]
+pub struct GroupData<'a> {
+    /// The scene.
+    pub scn: &'a Scenario,
+    /// Centre of mass of every floe, m.
+    pub centres: &'a [Vec2],
+    /// The contacts the group indexes.
+    pub contacts: &'a [Contact],
+    /// The group.
+    pub group: &'a ContactGroup,
+    /// Free velocity of every floe.
+    pub w_free: &'a [Gen],
+    /// Offset `c` of every contact, m/s.
+    pub offsets: &'a [f64],
+}
+
+impl GroupSolver {
+    /// `direct`, with `iterative` when given, and an empty record.
+    pub fn new(direct: ContactSolver, iterative: Option<IterativeOptions>) -> GroupSolver {
+        GroupSolver {
+            direct,
+            iterative: iterative.map(IterativeSolver::new),
+            accuracy: Accuracy::default(),
+        }
+    }
+
+    /// Solves a sustained (or time-stepping) problem at time `t` over a
+    /// step `h` (s) by the iterative solver if there is one, else by the
+    /// direct one, and records its residual and work.
+    pub fn solve(&mut self, d: &GroupData<'_>, t: f64, h: f64) -> GroupAnswer {
+        let prob =
+            SparseContacts::build(d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets);
+        let Some(it) = &mut self.iterative else {
+            return self.solve_direct(d, &prob, t, false);
+        };
+        let a = it.solve(&prob, t, h, d.scn.floes.len());
+        let o = a.outcome;
+        self.accuracy.iterative(
+            o.residual,
+            o.iterations,
+            o.converged,
+            prob.len(),
+            a.warm_hits,
+        );
+        let (normal, tangential) = (a.normal(), a.tangential());
+        if prob.friction() {
+            self.direct
+                .check_coulomb(t, &normal, &tangential, prob.mu, &[]);
+        }
+        let dv = a
+            .velocities
+            .iter()
+            .zip(&d.group.floes)
+            .map(|(v, &i)| [0, 1, 2].map(|k| v[k] - d.w_free[i][k]))
+            .collect();
+        GroupAnswer {
+            compliance: (0..prob.len())
+                .map(|j| prob.tangential_compliance(j))
+                .collect(),
+            impulses: prob.impulses(&a.p),
+            normal,
+            tangential,
+            dv,
+        }
+    }
+
+    /// Solves an impact's compression LCP by Lemke (whatever the solver of
+    /// the sustained problems) and records its residual and work.
+    pub fn solve_impact(&mut self, d: &GroupData<'_>, t: f64) -> GroupAnswer {
+        let prob =
+            SparseContacts::build(d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets);
+        self.solve_direct(d, &prob, t, true)
+    }
+
+    fn solve_direct(
+        &mut self,
+        d: &GroupData<'_>,
+        prob: &SparseContacts,
+        t: f64,
+        impact: bool,
+    ) -> GroupAnswer {
+        let layout = self.direct.friction_layout(impact);
+        let lcp = ContactLcp::assemble(
+            d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets, layout,
+        );
+        let work = self.direct.work();
+        let z = if impact {
+            self.direct.solve_lcp(&lcp, t)
+        } else {
+            self.direct.solve(&lcp, t)
+        };
+        let (normal, tangential) = (lcp.normal(&z), lcp.tangential(&z));
+        let p: Vec<[f64; 2]> = normal
+            .iter()
+            .zip(&tangential)
+            .map(|(l, b)| [*l, *b])
+            .collect();
+        let res = prob.residual(&p, true);
+        self.accuracy.direct(res, self.direct.work() - work);
+        GroupAnswer {
+            compliance: (0..lcp.m).map(|j| lcp.tangential_compliance(j)).collect(),
+            impulses: lcp.impulses(&z),
+            dv: lcp.velocity_changes(&z),
+            normal,
+            tangential,
+        }
+    }
+
+    /// The counters of both solvers and of the accuracy record.
+    pub fn counters(&self) -> Counters {
+        let mut c = self.direct.counters();
+        c.absorb(&self.accuracy.counters());
+        c
+    }
+
+    /// `settings` with the direct solver's, then the iterative one's.
+    pub fn settings(&self, settings: Settings) -> Settings {
+        let s = self.direct.settings(settings);
+        match &self.iterative {
+            Some(it) => it.settings(s),
+            None => s,
+        }
+    }
+}

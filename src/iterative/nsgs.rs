@@ -1,0 +1,148 @@
+//! Nonsmooth block Gauss–Seidel (NSGS) on the sparse contact problem
+//! (docs/physics.md §3.5; Jean 1999; Acary, Brémond & Huber 2018).
+//!
+//! A sweep visits the contacts in the group's order (the detection order:
+//! by body pair, then by point) and solves each contact's own 2D problem
+//! **exactly** with the others held at their current impulses (their
+//! latest values of the same sweep: Gauss–Seidel), in closed form
+//! ([`local_coulomb`]); with `relaxation ω ≠ 1` the new impulse is
+//! `(1 − ω) p_old + ω p_local`, projected back onto the cone. The floes'
+//! velocities are updated after each contact, so a sweep costs O(m).
+//! After each sweep the natural-map residual
+//! ([`super::SparseContacts::residual_at`], Coulomb form) is evaluated; the
+//! sweeps stop when it is at most the tolerance, or after
+//! `max_iterations` sweeps (an unconverged solve, counted, its answer
+//! kept: it is finite).
+
+use super::problem::{project_cone, SparseContacts};
+
+/// Relative tolerance of the tests of the local enumeration (stick inside
+/// the cone, non-negative normal impulse): rounding of a 2 × 2 solve.
+const LOCAL_SLACK: f64 = 1e-12;
+
+/// The exact solution of one contact's problem: `u = W p + r` with
+/// Signorini's condition `0 ≤ λ ⟂ u_N ≥ 0` and Coulomb's law on
+/// `K = {|β| ≤ μ λ}` (stick `u_T = 0`, or slide `β = −μ λ sign(u_T)`),
+/// `W` the contact's `2 × 2` Delassus block (row-major, 1/kg), `r` its
+/// relative velocity without its own impulse (m/s). Enumerates the cases
+/// in order: take-off (`r_N ≥ 0`), stick, slide against the stick
+/// solution's excess. For a positive definite `W` with `W_NN > μ |W_NT|`
+/// the solution is unique and found; otherwise the stick solution
+/// projected onto `K` is returned (finite whenever `W` and `r` are). Without
+/// friction (`friction = false`) `β = 0` and `λ = max(−r_N / W_NN, 0)`.
+pub fn local_coulomb(w: [f64; 4], r: [f64; 2], mu: f64, friction: bool) -> [f64; 2] {
+    if r[0] >= 0.0 || w[0] <= 0.0 || !w[0].is_finite() {
+        return [0.0, 0.0];
+    }
+    let lam_free = -r[0] / w[0];
+    if !friction {
+        return [lam_free, 0.0];
+    }
+    let det = w[0] * w[3] - w[1] * w[2];
+    let stick = if det > 0.0 {
+        [
+            (-r[0] * w[3] + r[1] * w[1]) / det,
+            (-r[1] * w[0] + r[0] * w[2]) / det,
+        ]
+    } else {
+        [lam_free, 0.0]
+    };
+    if det > 0.0 && stick[0] >= 0.0 && stick[1].abs() <= mu * stick[0] * (1.0 + LOCAL_SLACK) {
+        return stick;
+    }
+    // Slide: the friction stops at the cone on the side of the stick
+    // solution's excess, s = the sliding direction (β = −s μ λ).
+    let s_first = if stick[1] > 0.0 { -1.0 } else { 1.0 };
+    for s in [s_first, -s_first] {
+        let den = w[0] - s * mu * w[1];
+        if den <= 0.0 {
+            continue;
+        }
+        let lam = -r[0] / den;
+        let beta = -s * mu * lam;
+        let u_t = w[2] * lam + w[3] * beta + r[1];
+        if lam >= 0.0 && s * u_t >= -LOCAL_SLACK * (r[1].abs() + w[2].abs() * lam) {
+            return [lam, beta];
+        }
+    }
+    let p = project_cone(stick, mu);
+    if p[0].is_finite() && p[1].is_finite() {
+        p
+    } else {
+        [0.0, 0.0]
+    }
+}
+
+/// What one iterative solve did.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome {
+    /// Sweeps (NSGS) or iterations (APGD) taken.
+    pub iterations: u64,
+    /// The natural-map residual (Coulomb form) of the answer.
+    pub residual: f64,
+    /// Whether the residual reached the tolerance.
+    pub converged: bool,
+}
+
+/// NSGS from the impulses `p` (the warm start, or zeros), in place, to the
+/// relative residual `tolerance` or `max_iterations` sweeps, with
+/// over-relaxation `relaxation` (1: plain Gauss–Seidel). Returns the
+/// outcome; `p` holds the answer (finite) and `v` the floes' velocities
+/// after it.
+pub fn solve(
+    prob: &SparseContacts,
+    p: &mut [[f64; 2]],
+    tolerance: f64,
+    max_iterations: u64,
+    relaxation: f64,
+) -> (Outcome, Vec<crate::contact::problem::Gen>) {
+    let (mu, friction) = (prob.mu, prob.friction());
+    for pj in p.iter_mut() {
+        if !(pj[0].is_finite() && pj[1].is_finite()) {
+            *pj = [0.0, 0.0];
+        }
+        if !friction {
+            pj[1] = 0.0;
+        }
+        *pj = project_cone(*pj, mu);
+    }
+    let mut v = prob.velocities(p);
+    let mut residual = prob.residual_at(p, &v, true);
+    let mut iterations = 0;
+    while residual > tolerance && iterations < max_iterations {
+        for (j, pj) in p.iter_mut().enumerate() {
+            let w = prob.block(j);
+            let u = prob.relative(j, &v);
+            // Velocity without the contact's own impulse: r = u − W p_j.
+            let r = [
+                u[0] - w[0] * pj[0] - w[1] * pj[1],
+                u[1] - w[2] * pj[0] - w[3] * pj[1],
+            ];
+            let mut new = local_coulomb(w, r, mu, friction);
+            if relaxation != 1.0 {
+                new = project_cone(
+                    [
+                        (1.0 - relaxation) * pj[0] + relaxation * new[0],
+                        (1.0 - relaxation) * pj[1] + relaxation * new[1],
+                    ],
+                    mu,
+                );
+            }
+            let dp = [new[0] - pj[0], new[1] - pj[1]];
+            if dp[0] != 0.0 || dp[1] != 0.0 {
+                prob.apply(j, dp, &mut v);
+                *pj = new;
+            }
+        }
+        iterations += 1;
+        residual = prob.residual_at(p, &v, true);
+    }
+    (
+        Outcome {
+            iterations,
+            residual,
+            converged: residual <= tolerance,
+        },
+        v,
+    )
+}
