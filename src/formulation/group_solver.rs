@@ -145,12 +145,6 @@ impl GroupSolver {
             self.direct
                 .check_coulomb(t, &normal, &tangential, prob.mu, &[]);
         }
-        let dv = a
-            .velocities
-            .iter()
-            .zip(&d.group.floes)
-            .map(|(v, &i)| [0, 1, 2].map(|k| v[k] - d.w_free[i][k]))
-            .collect();
         GroupAnswer {
             compliance: (0..prob.len())
                 .map(|j| prob.tangential_compliance(j))
@@ -158,7 +152,7 @@ impl GroupSolver {
             impulses: prob.impulses(&a.p),
             normal,
             tangential,
-            dv,
+            dv: a.dv,
         }
     }
 

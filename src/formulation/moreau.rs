@@ -309,11 +309,14 @@ impl MoreauSettings {
     pub fn from_table(t: &SettingsTable) -> Result<MoreauSettings, CaseError> {
         let d = MoreauSettings::default();
         let mut r = t.read();
+        let step = r.step(&STEP)?.unwrap_or(d.step);
+        let theta = r.bounded(&THETA)?.unwrap_or(d.theta);
+        let gamma = r.bounded(&GAMMA)?.unwrap_or(d.gamma);
         let (solver, iterative) = read_solver(&mut r, d.solver)?;
         let s = MoreauSettings {
-            step: r.step(&STEP)?.unwrap_or(d.step),
-            theta: r.bounded(&THETA)?.unwrap_or(d.theta),
-            gamma: r.bounded(&GAMMA)?.unwrap_or(d.gamma),
+            step,
+            theta,
+            gamma,
             solver,
             iterative,
             warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
@@ -592,7 +595,12 @@ impl Moreau {
     /// Contacts at `q_k` whose predicted gap `g + h γ u_N` is closed; updates
     /// the penetration record from the gaps.
     fn active_contacts(&mut self, scn: &Scenario, sys: &System, h: f64) -> Vec<Contact> {
-        let margin = 2.0 * h * self.gamma * sys.max_point_speed(scn);
+        // The activation's rounding allowance is in the margin too: a
+        // contact at a gap of +1e-13 m (rounding) beside a floe at rest
+        // (margin 1e-17 m) must reach the activation test, or the floe
+        // pivots on its other point (found with NSGS on sliding_floe:
+        // 0.27 m of penetration after the floe stopped).
+        let margin = 2.0 * h * self.gamma * sys.max_point_speed(scn) + self.activation_tolerance;
         let mut contacts = Vec::new();
         detect_contacts(scn, &sys.bodies, margin, &mut self.bp, &mut contacts);
         for c in &contacts {

@@ -28,9 +28,9 @@ const SHRINK: f64 = 0.9;
 /// Most doublings of `L` in one backtracking.
 const MAX_DOUBLINGS: u32 = 60;
 
-/// `f(p)`, the velocities after `p`, and the gradient `u(p)` per contact.
+/// `f(p)`, the velocity changes of `p`, and the gradient `u(p)` per contact.
 fn evaluate(prob: &SparseContacts, p: &[[f64; 2]]) -> (f64, Vec<Gen>, Vec<[f64; 2]>) {
-    let v = prob.velocities(p);
+    let v = prob.velocity_changes(p);
     let mut f = 0.0;
     let u: Vec<[f64; 2]> = (0..prob.len())
         .map(|j| {
@@ -46,7 +46,7 @@ fn evaluate(prob: &SparseContacts, p: &[[f64; 2]]) -> (f64, Vec<Gen>, Vec<[f64; 
 
 /// APGD from `p` (warm start or zeros), in place, to the relaxation's
 /// residual `tolerance` or `max_iterations` iterations. Returns the outcome
-/// and the floes' velocities after the answer; `p` holds the best iterate.
+/// and the floes' velocity changes of the answer; `p` holds the best iterate.
 pub fn solve(
     prob: &SparseContacts,
     p: &mut [[f64; 2]],
@@ -78,7 +78,7 @@ pub fn solve(
     let mut best_v = v0;
     // L from W on the scaled ones vector: ‖D W D e‖ / ‖e‖.
     let ones: Vec<[f64; 2]> = d.iter().map(|&dj| [dj, dj]).collect();
-    let v1 = prob.velocities(&ones);
+    let v1 = prob.velocity_changes(&ones);
     let mut num = 0.0;
     for (j, dj) in d.iter().enumerate() {
         let u = prob.relative(j, &v1);

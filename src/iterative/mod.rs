@@ -195,8 +195,8 @@ impl IterativeOptions {
 pub struct Answer {
     /// Impulses `(λ_j, β_j)` per contact, N·s (finite).
     pub p: Vec<[f64; 2]>,
-    /// The floes' velocities after them, group order.
-    pub velocities: Vec<Gen>,
+    /// The floes' velocity changes `M⁻¹ H p`, group order.
+    pub dv: Vec<Gen>,
     /// Iterations, residual (Coulomb form), convergence.
     pub outcome: Outcome,
     /// Contacts whose start came from the cache.
@@ -265,14 +265,14 @@ impl IterativeSolver {
         self.cache.begin(t, n_floes);
         let (mut p, warm_hits) = self.cache.start(prob, h);
         let o = &self.options;
-        let (outcome, velocities) = match o.method {
+        let (outcome, dv) = match o.method {
             Method::Nsgs => nsgs::solve(prob, &mut p, o.tolerance, o.max_iterations, o.relaxation),
             Method::Apgd => apgd::solve(prob, &mut p, o.tolerance, o.max_iterations),
         };
         self.cache.store(prob, &p, h);
         Answer {
             p,
-            velocities,
+            dv,
             outcome,
             warm_hits,
         }

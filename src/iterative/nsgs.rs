@@ -7,7 +7,7 @@
 //! latest values of the same sweep: Gauss–Seidel), in closed form
 //! ([`local_coulomb`]); with `relaxation ω ≠ 1` the new impulse is
 //! `(1 − ω) p_old + ω p_local`, projected back onto the cone. The floes'
-//! velocities are updated after each contact, so a sweep costs O(m).
+//! velocity changes are updated after each contact, so a sweep costs O(m).
 //! After each sweep the natural-map residual
 //! ([`super::SparseContacts::residual_at`], Coulomb form) is evaluated; the
 //! sweeps stop when it is at most the tolerance, or after
@@ -87,8 +87,8 @@ pub struct Outcome {
 /// NSGS from the impulses `p` (the warm start, or zeros), in place, to the
 /// relative residual `tolerance` or `max_iterations` sweeps, with
 /// over-relaxation `relaxation` (1: plain Gauss–Seidel). Returns the
-/// outcome; `p` holds the answer (finite) and `v` the floes' velocities
-/// after it.
+/// outcome and the floes' velocity changes `M⁻¹ H p`; `p` holds the answer
+/// (finite).
 pub fn solve(
     prob: &SparseContacts,
     p: &mut [[f64; 2]],
@@ -106,7 +106,7 @@ pub fn solve(
         }
         *pj = project_cone(*pj, mu);
     }
-    let mut v = prob.velocities(p);
+    let mut v = prob.velocity_changes(p);
     let mut residual = prob.residual_at(p, &v, true);
     let mut iterations = 0;
     while residual > tolerance && iterations < max_iterations {

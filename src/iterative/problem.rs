@@ -222,14 +222,19 @@ impl SparseContacts {
         }
     }
 
-    /// The floes' free velocities, in group order (the start of
-    /// [`SparseContacts::velocities`]).
+    /// The floes' free velocities `W_free`, in group order.
     pub fn free_velocities(&self) -> Vec<Gen> {
         self.w_free.clone()
     }
 
     /// Adds the velocity change of the impulse `dp` at contact `j` to the
-    /// floes' velocities `v` (group order): `v += M⁻¹ H_j dp`.
+    /// floes' velocity changes `v` (group order): `v += M⁻¹ H_j dp`.
+    ///
+    /// The solvers carry the changes `M⁻¹ H p`, not the velocities
+    /// `W_free + M⁻¹ H p`: `u = q + Hᵀ (M⁻¹ H p)` then rounds relative to
+    /// the impulses' own effect, not to the floes' speeds (a row of floes
+    /// at 1 m/s whose `q` cancels to 1e-16 m/s keeps a residual of
+    /// rounding, not of 1e-16 m/s).
     pub fn apply(&self, j: usize, dp: [f64; 2], v: &mut [Gen]) {
         for s in self.rows[j].sides.iter().flatten() {
             let mi = &self.minv[s.floe];
@@ -240,26 +245,23 @@ impl SparseContacts {
         }
     }
 
-    /// The relative velocities `u_j = H_jᵀ v + (c_j, 0)` of contact `j`
-    /// for floe velocities `v` (m/s).
-    pub fn relative(&self, j: usize, v: &[Gen]) -> [f64; 2] {
+    /// The relative velocities `u_j = q_j + H_jᵀ dv` of contact `j` for
+    /// the floes' velocity changes `dv` (m/s; see [`SparseContacts::apply`]).
+    pub fn relative(&self, j: usize, dv: &[Gen]) -> [f64; 2] {
         let r = &self.rows[j];
         let mut u = [r.q[0], r.q[1]];
-        // q already holds Hᵀ W_free + c: add Hᵀ (v − W_free).
         for s in r.sides.iter().flatten() {
-            let vl = &v[s.floe];
-            let wf = &self.w_free[s.floe];
-            let dv = [vl[0] - wf[0], vl[1] - wf[1], vl[2] - wf[2]];
-            u[0] += dot(&s.jn, &dv);
-            u[1] += dot(&s.jt, &dv);
+            let d = &dv[s.floe];
+            u[0] += dot(&s.jn, d);
+            u[1] += dot(&s.jt, d);
         }
         u
     }
 
-    /// The floes' velocities `W_free + M⁻¹ H p` after the impulses `p`
-    /// (group order).
-    pub fn velocities(&self, p: &[[f64; 2]]) -> Vec<Gen> {
-        let mut v = self.w_free.clone();
+    /// The floes' velocity changes `M⁻¹ H p` of the impulses `p` (group
+    /// order).
+    pub fn velocity_changes(&self, p: &[[f64; 2]]) -> Vec<Gen> {
+        let mut v = vec![[0.0; 3]; self.floes.len()];
         for (j, pj) in p.iter().enumerate() {
             self.apply(j, *pj, &mut v);
         }
@@ -295,11 +297,11 @@ impl SparseContacts {
     /// a velocity (m/s), so the residual is dimensionless like the LCP
     /// driver's `‖min(z, w)‖/‖q‖`. A non-finite impulse gives `+∞`.
     pub fn residual(&self, p: &[[f64; 2]], coulomb: bool) -> f64 {
-        let v = self.velocities(p);
-        self.residual_at(p, &v, coulomb)
+        let dv = self.velocity_changes(p);
+        self.residual_at(p, &dv, coulomb)
     }
 
-    /// [`SparseContacts::residual`] with the velocities `v` after `p`
+    /// [`SparseContacts::residual`] with the velocity changes `v` of `p`
     /// already known.
     pub fn residual_at(&self, p: &[[f64; 2]], v: &[Gen], coulomb: bool) -> f64 {
         let mu = self.mu;

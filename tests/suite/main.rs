@@ -17,6 +17,7 @@ mod field;
 mod forcing;
 mod fracture;
 mod fuzz;
+mod iterative;
 mod lattice;
 mod lattwire;
 mod lemke;
