@@ -9,6 +9,7 @@
 //! from the first ([`physics_difference`]: the first quantity that differs,
 //! compared bit for bit).
 
+use super::energy::Column;
 use super::{RunResult, Timing};
 
 /// The repeats of one (case, formulation), merged.
@@ -26,7 +27,8 @@ pub struct Repeated {
 
 /// The first quantity in which the physics of `a` and `b` differ, compared
 /// bit for bit (`to_bits` of every number, so `-0` differs from `0`):
-/// how the run ended, the time reached, the trajectory, the energy ledger,
+/// how the run ended, the time reached, the trajectory, the energy ledger
+/// (every [`Column`] of every sample),
 /// the final state, the counters and the contact log; `None` when they are
 /// identical. Timing (`summary.timing`, the LCP profile's seconds) is not
 /// physics and is not compared.
@@ -67,29 +69,15 @@ pub fn physics_difference(a: &RunResult, b: &RunResult) -> Option<String> {
         ));
     }
     for (ea, eb) in a.energy.iter().zip(&b.energy) {
-        let values = |e: &super::EnergySample| {
-            [
-                e.kinetic,
-                e.work_air,
-                e.work_water,
-                e.work_coriolis,
-                e.dissipated,
-                e.residual,
-            ]
-        };
-        let (fa, fb) = (values(ea), values(eb));
-        let names = [
-            "kinetic",
-            "work_air",
-            "work_water",
-            "work_coriolis",
-            "dissipated",
-            "residual",
-        ];
-        if let Some(k) = (0..6).find(|&k| fa[k].to_bits() != fb[k].to_bits()) {
+        let differs = |c: &Column| c.of(ea).to_bits() != c.of(eb).to_bits();
+        if let Some(c) = Column::all().find(differs) {
             return Some(format!(
-                "energy: {} at t = {} s is {} J and {} J",
-                names[k], ea.t, fa[k], fb[k]
+                "energy: {} at t = {} s is {} {u} and {} {u}",
+                c.name(),
+                ea.t,
+                c.of(ea),
+                c.of(eb),
+                u = c.unit()
             ));
         }
     }
