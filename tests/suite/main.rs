@@ -30,6 +30,7 @@ mod plot;
 mod predict;
 mod rapier;
 mod registry;
+mod repeat;
 mod runner;
 mod sample_report;
 mod sweep;
