@@ -2,6 +2,7 @@
 //! pages (`FLOEBENCH_COMMIT`: the abbreviated commit, `+modified` when the
 //! sources differ from it, `unknown` without git or outside a repository).
 
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The trimmed standard output of `git args`, if git ran and succeeded.
@@ -35,16 +36,24 @@ fn main() {
         _ => "unknown".to_string(),
     };
     println!("cargo:rustc-env=FLOEBENCH_COMMIT={commit}");
-    // Again when the commit moves, the index changes or a source changes.
-    for path in ["HEAD", "index", "packed-refs"] {
-        if let Some(p) = git(&["rev-parse", "--git-path", path]) {
-            println!("cargo:rerun-if-changed={p}");
-        }
+    // Again when the commit moves or a source changes. The commit: HEAD,
+    // packed-refs and the branch's ref, each only if it exists (cargo reruns
+    // a build script on every build while a path it watches is missing); for
+    // a branch whose ref is only packed, the folder a commit writes it into.
+    // Not the index: `git status` rewrites it, and staging changes no source.
+    let git_path = |p: &str| git(&["rev-parse", "--git-path", p]);
+    let mut watched: Vec<PathBuf> = ["HEAD", "packed-refs"]
+        .iter()
+        .filter_map(|p| git_path(p))
+        .map(PathBuf::from)
+        .filter(|p| p.exists())
+        .collect();
+    if let Some(r) = git(&["symbolic-ref", "-q", "HEAD"]).and_then(|r| git_path(&r)) {
+        let r = PathBuf::from(r);
+        watched.extend(r.ancestors().find(|p| p.exists()).map(Path::to_path_buf));
     }
-    if let Some(r) = git(&["symbolic-ref", "-q", "HEAD"]) {
-        if let Some(p) = git(&["rev-parse", "--git-path", &r]) {
-            println!("cargo:rerun-if-changed={p}");
-        }
+    for p in watched {
+        println!("cargo:rerun-if-changed={}", p.display());
     }
     for p in ["src", "build.rs", "Cargo.toml", "Cargo.lock"] {
         println!("cargo:rerun-if-changed={p}");

@@ -35,7 +35,12 @@ impl BodyState {
 }
 
 /// Cumulative energy exchanges since t = 0, J.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+///
+/// Its fields are listed once, in [`Ledger::FIELDS`]: every writer and
+/// reader of the ledger (`energy.csv`, `summary.json`, `metrics.csv`, the
+/// runner's and the writer's finiteness checks, the bit-identical repeat
+/// check, the energy balance) iterates that list.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Ledger {
     /// Work of the air drag on the floes, J.
     pub work_air: f64,
@@ -51,16 +56,137 @@ pub struct Ledger {
     pub fracture: f64,
 }
 
+/// How an exchange of the [`Ledger`] enters the energy balance
+/// `E − E(0) − W_ext + D + F = 0`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Exchange {
+    /// Work of an external force on the floes, in `W_ext`.
+    External,
+    /// Energy contacts removed from the floes, in `D + F`.
+    Removed,
+}
+
+/// One field of the [`Ledger`]: its names, unit, what it is, and how to read
+/// it.
+#[derive(Debug, Clone, Copy)]
+pub struct LedgerField {
+    /// Its column in `energy.csv` and its key in `summary.json`'s `energy`.
+    pub name: &'static str,
+    /// Its metric in `metrics.csv`.
+    pub metric: &'static str,
+    /// Its unit.
+    pub unit: &'static str,
+    /// What it is, in words (the runner's `non-finite …` end of a run).
+    pub description: &'static str,
+    /// How it enters the energy balance.
+    pub exchange: Exchange,
+    /// Whether `metrics.csv` has it only for cases whose floes can break,
+    /// with their other fracture figures (it is zero otherwise).
+    pub fracture_only: bool,
+    /// Its value in a ledger.
+    pub get: fn(&Ledger) -> f64,
+}
+
 impl Ledger {
-    /// Total work of the external forces, J.
+    /// Every field of the ledger, in the order of `energy.csv`'s columns
+    /// and `summary.json`'s keys.
+    pub const FIELDS: &[LedgerField] = &[
+        LedgerField {
+            name: "work_air",
+            metric: "work_air",
+            unit: "J",
+            description: "work of the air drag",
+            exchange: Exchange::External,
+            fracture_only: false,
+            get: |l| l.work_air,
+        },
+        LedgerField {
+            name: "work_water",
+            metric: "work_water",
+            unit: "J",
+            description: "work of the water drag",
+            exchange: Exchange::External,
+            fracture_only: false,
+            get: |l| l.work_water,
+        },
+        LedgerField {
+            name: "work_coriolis",
+            metric: "work_coriolis",
+            unit: "J",
+            description: "work of the Coriolis force",
+            exchange: Exchange::External,
+            fracture_only: false,
+            get: |l| l.work_coriolis,
+        },
+        LedgerField {
+            name: "dissipated",
+            metric: "dissipated",
+            unit: "J",
+            description: "dissipated energy",
+            exchange: Exchange::Removed,
+            fracture_only: false,
+            get: |l| l.dissipated,
+        },
+        LedgerField {
+            name: "fracture",
+            metric: "fracture_energy",
+            unit: "J",
+            description: "fracture energy",
+            exchange: Exchange::Removed,
+            fracture_only: true,
+            get: |l| l.fracture,
+        },
+    ];
+
+    /// Every field with its value, in the order of [`Ledger::FIELDS`].
+    pub fn values(&self) -> impl Iterator<Item = (&'static LedgerField, f64)> + '_ {
+        Ledger::FIELDS.iter().map(move |f| (f, (f.get)(self)))
+    }
+
+    /// The sum of the fields that enter the balance as `exchange`, added
+    /// in the order of [`Ledger::FIELDS`] (0 for none), J.
+    fn sum(&self, exchange: Exchange) -> f64 {
+        self.values()
+            .filter(|(f, _)| f.exchange == exchange)
+            .map(|(_, v)| v)
+            .reduce(|a, b| a + b)
+            .unwrap_or(0.0)
+    }
+
+    /// Total work of the external forces, `W_ext`, J.
     pub fn external_work(&self) -> f64 {
-        self.work_air + self.work_water + self.work_coriolis
+        self.sum(Exchange::External)
     }
 
     /// Energy removed from the floes by contacts, dissipated or spent on
     /// cracks, `D + F`, J.
     pub fn removed(&self) -> f64 {
-        self.dissipated + self.fracture
+        self.sum(Exchange::Removed)
+    }
+
+    /// The balance residual `E − E(0) − W_ext + D + F` of kinetic energy
+    /// `kinetic` against `initial_kinetic` (J), which is zero for an exact
+    /// integration, J. The removed energies are added one by one, in the
+    /// order of [`Ledger::FIELDS`].
+    pub fn residual(&self, kinetic: f64, initial_kinetic: f64) -> f64 {
+        self.values()
+            .filter(|(f, _)| f.exchange == Exchange::Removed)
+            .fold(
+                kinetic - initial_kinetic - self.external_work(),
+                |r, (_, v)| r + v,
+            )
+    }
+}
+
+/// The fields of [`Ledger::FIELDS`], by name, in their order.
+impl Serialize for Ledger {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut s = serializer.serialize_struct("Ledger", Ledger::FIELDS.len())?;
+        for (f, v) in self.values() {
+            s.serialize_field(f.name, &v)?;
+        }
+        s.end()
     }
 }
 
@@ -285,4 +411,68 @@ pub fn restart(
     }
     scn.restart = Some(restart);
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// [`Ledger::FIELDS`] reads every field of the ledger once, under a name
+    /// of its own. The literal names every field: a field added to the
+    /// ledger must be added to it, with the next value, and then to the
+    /// list, or this fails.
+    #[test]
+    fn the_field_list_reads_every_field_of_the_ledger_once() {
+        let l = Ledger {
+            work_air: 1.0,
+            work_water: 2.0,
+            work_coriolis: 3.0,
+            dissipated: 4.0,
+            fracture: 5.0,
+        };
+        let mut read: Vec<f64> = l.values().map(|(_, v)| v).collect();
+        read.sort_by(f64::total_cmp);
+        let every: Vec<f64> = (1..=Ledger::FIELDS.len()).map(|k| k as f64).collect();
+        assert_eq!(read, every);
+        assert_eq!(Ledger::FIELDS.len(), 5, "a field added to the literal");
+        for (i, a) in Ledger::FIELDS.iter().enumerate() {
+            for b in &Ledger::FIELDS[i + 1..] {
+                assert!(a.name != b.name && a.metric != b.metric, "{}", a.name);
+            }
+        }
+    }
+
+    /// The balance and its parts add the fields in the order they did when
+    /// they were written out: the same bits.
+    #[test]
+    fn the_balance_adds_the_fields_in_their_order() {
+        let l = Ledger {
+            work_air: 0.1,
+            work_water: -0.7,
+            work_coriolis: 1e-17,
+            dissipated: 0.3,
+            fracture: 0.2,
+        };
+        let ext = l.work_air + l.work_water + l.work_coriolis;
+        assert_eq!(l.external_work().to_bits(), ext.to_bits());
+        assert_eq!(l.removed().to_bits(), (l.dissipated + l.fracture).to_bits());
+        let (e, e0) = (1.3, 1.9);
+        let r = e - e0 - ext + l.dissipated + l.fracture;
+        assert_eq!(l.residual(e, e0).to_bits(), r.to_bits());
+    }
+
+    /// A ledger serializes as its fields by name, in the list's order.
+    #[test]
+    fn a_ledger_serializes_as_its_named_fields() {
+        let l = Ledger {
+            work_air: 1.5,
+            fracture: -0.0,
+            ..Ledger::default()
+        };
+        let json = serde_json::to_string(&l).unwrap();
+        assert_eq!(
+            json,
+            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0}"#
+        );
+    }
 }

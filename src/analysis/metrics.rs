@@ -50,7 +50,8 @@ impl MetricRow {
     }
 }
 
-/// The figures of one run: time reached, energy totals, CPU time in total,
+/// The figures of one run: time reached, energy totals (every field of the
+/// ledger, [`crate::state::Ledger::FIELDS`]), CPU time in total,
 /// per simulated second and per stage, every counter of the formulation
 /// with its unit, and its numeric settings.
 pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
@@ -76,10 +77,10 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     );
     push("kinetic_initial", e.initial_kinetic, "J");
     push("kinetic_final", e.final_kinetic, "J");
-    push("work_air", e.work_air, "J");
-    push("work_water", e.work_water, "J");
-    push("work_coriolis", e.work_coriolis, "J");
-    push("dissipated", e.dissipated, "J");
+    // The ledger's fields, but those of fracture cases only (below).
+    for (f, v) in e.ledger.values().filter(|(f, _)| !f.fracture_only) {
+        push(f.metric, v, f.unit);
+    }
     push("residual_final", e.residual, "J");
     push("residual_max_abs", e.max_abs_residual, "J");
     push(
@@ -96,7 +97,9 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
         // many floes, the energy spent, and the smallest floe at the end.
         push("fractures", s.fractures as f64, "count");
         push("floes_final", s.floes_at_end as f64, "count");
-        push("fracture_energy", e.fracture, "J");
+        for (f, v) in e.ledger.values().filter(|(f, _)| f.fracture_only) {
+            push(f.metric, v, f.unit);
+        }
         push("fracture_kinetic_gain", e.fracture_kinetic_gain, "J");
         let alive = run.floes.iter().filter(|f| f.t_end.is_none());
         let smallest = alive.map(|f| f.area).fold(f64::INFINITY, f64::min);

@@ -186,7 +186,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             "energy dissipated by contacts",
             "dissipated energy (J)",
             "the energy dissipated by contacts since t = 0 (negative: the contacts created energy)",
-            |e| e.dissipated,
+            |e| e.ledger.dissipated,
         ),
     ];
     for (file, what, y_label, caption, f) in energies {

@@ -128,7 +128,7 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
                 )
                 .join(" / "),
                 fmt_num(s.energy.final_kinetic),
-                fmt_num(s.energy.dissipated),
+                fmt_num(s.energy.ledger.dissipated),
                 fmt_num(s.energy.max_abs_residual / s.energy.exchanged.max(1e-300)),
                 count(s, &[&STEPS]),
                 count(s, &[&IMPACTS]),
@@ -247,7 +247,7 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
                 cpu_cell(cpu, false),
                 ratio,
                 fmt_num(s.energy.final_kinetic),
-                fmt_num(s.energy.dissipated),
+                fmt_num(s.energy.ledger.dissipated),
                 div,
                 check_counts(c, &s.formulation),
             ]);

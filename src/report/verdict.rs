@@ -178,7 +178,12 @@ fn dissipation(comp: &CaseComparison) -> Option<String> {
         .runs
         .iter()
         .filter(|r| r.summary.end == EndReason::Completed)
-        .map(|r| (r.summary.formulation.clone(), r.summary.energy.dissipated))
+        .map(|r| {
+            (
+                r.summary.formulation.clone(),
+                r.summary.energy.ledger.dissipated,
+            )
+        })
         .collect();
     let scale = comp
         .runs

@@ -4,13 +4,16 @@
 //! A run records, every `output_interval`, the state of each floe (the
 //! trajectory) and the energy ledger: kinetic energy `E`, the cumulative work
 //! of air, water and Coriolis forces `W_ext`, the energy dissipated by
-//! contacts `D`, and the balance residual `E(t) − E(0) − W_ext + D`, which
-//! is zero for an exact integration.
+//! contacts `D`, the energy fractures spent on cracks `F`, and the balance
+//! residual `E(t) − E(0) − W_ext + D + F`, which is zero for an exact
+//! integration ([`energy`]).
 //!
-//! [`output`] writes a run's files; [`batch`] runs several formulations on
-//! several cases on a pool of threads; [`repeat`] merges the repeats of a run.
+//! [`energy`] holds the ledger's samples and totals; [`output`] writes a
+//! run's files; [`batch`] runs several formulations on several cases on a
+//! pool of threads; [`repeat`] merges the repeats of a run.
 
 pub mod batch;
+pub mod energy;
 pub mod interrupt;
 pub mod output;
 pub mod repeat;
@@ -22,6 +25,7 @@ use crate::record::{
     thread_cpu_seconds, ContactLog, Counters, Settings, SolveProfile, StageClock, StageTimes,
 };
 use crate::state::System;
+pub use energy::{EnergySample, EnergyTotals};
 use serde::Serialize;
 use std::time::{Duration, Instant};
 
@@ -61,27 +65,6 @@ impl TrajectoryRow {
             omega: b.angular_velocity,
         }
     }
-}
-
-/// One sample of the energy ledger.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct EnergySample {
-    /// Time, s.
-    pub t: f64,
-    /// Kinetic energy, J.
-    pub kinetic: f64,
-    /// Cumulative work of the air drag, J.
-    pub work_air: f64,
-    /// Cumulative work of the water drag, J.
-    pub work_water: f64,
-    /// Cumulative work of the Coriolis force, J.
-    pub work_coriolis: f64,
-    /// Cumulative energy dissipated by contacts, J.
-    pub dissipated: f64,
-    /// Cumulative energy spent on cracks by fractures, J.
-    pub fracture: f64,
-    /// Balance residual `E(t) − E(0) − W_ext + D + F`, J.
-    pub residual: f64,
 }
 
 /// How a run ended.
@@ -155,54 +138,14 @@ fn first_non_finite(
         };
         return Some((scn.floes.get(i).map_or(i, |f| f.id), what.to_string()));
     }
-    let ledger = [
-        (sample.kinetic, "kinetic energy"),
-        (sample.work_air, "work of the air drag"),
-        (sample.work_water, "work of the water drag"),
-        (sample.work_coriolis, "work of the Coriolis force"),
-        (sample.dissipated, "dissipated energy"),
-        (sample.fracture, "fracture energy"),
-        (sample.residual, "energy residual"),
-    ];
-    ledger
-        .iter()
-        .find(|(v, _)| !v.is_finite())
-        .map(|(_, what)| (0, what.to_string()))
-}
-
-/// Energy totals of a run, J.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct EnergyTotals {
-    /// Kinetic energy at t = 0, J.
-    pub initial_kinetic: f64,
-    /// Kinetic energy at the end, J.
-    pub final_kinetic: f64,
-    /// Work of the air drag, J.
-    pub work_air: f64,
-    /// Work of the water drag, J.
-    pub work_water: f64,
-    /// Work of the Coriolis force, J.
-    pub work_coriolis: f64,
-    /// Dissipated by contacts, J.
-    pub dissipated: f64,
-    /// Spent on cracks by fractures, J.
-    pub fracture: f64,
-    /// Of `dissipated`, the part fractures returned to the floes as their
-    /// pieces' kinetic energy above their parents' (the lattice model's
-    /// relative motion of the pieces, docs/physics.md §9.8), J: the sum of
-    /// `fractures.csv`'s `kinetic_gain`; `dissipated` is net of it.
-    pub fracture_kinetic_gain: f64,
-    /// Final balance residual, J.
-    pub residual: f64,
-    /// Largest |residual| over the samples, J.
-    pub max_abs_residual: f64,
-    /// Scale of the exchanges, `E(0) + |W_air| + |W_water| + |W_cor| + |D| + |F|`, J:
-    /// the residual is judged relative to it.
-    pub exchanged: f64,
+    sample
+        .values()
+        .find(|(_, v)| !v.is_finite())
+        .map(|(c, _)| (0, c.description().to_string()))
 }
 
 /// CPU and wall time of a run.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
 pub struct Timing {
     /// CPU time of the run's thread (stepping and recording, not output
     /// files), s: read from the thread CPU clock at the start and the end.
@@ -441,35 +384,8 @@ impl Runner {
         let profile_overhead = lcp_profile.as_ref().map_or(0.0, |p| p.timer_overhead);
         // Without a finite sample (a state not finite at t = 0) the totals
         // are zero, not the non-finite initial energy.
-        let e0 = energy.first().map_or(0.0, |s| s.kinetic);
-        let last = energy.last().copied().unwrap_or(EnergySample {
-            t: 0.0,
-            kinetic: e0,
-            work_air: 0.0,
-            work_water: 0.0,
-            work_coriolis: 0.0,
-            dissipated: 0.0,
-            fracture: 0.0,
-            residual: 0.0,
-        });
-        let totals = EnergyTotals {
-            initial_kinetic: e0,
-            final_kinetic: last.kinetic,
-            work_air: last.work_air,
-            work_water: last.work_water,
-            work_coriolis: last.work_coriolis,
-            dissipated: last.dissipated,
-            fracture: last.fracture,
-            fracture_kinetic_gain: scn.history.fractures.iter().map(|f| f.kinetic_gain).sum(),
-            residual: last.residual,
-            max_abs_residual: energy.iter().map(|s| s.residual.abs()).fold(0.0, f64::max),
-            exchanged: e0
-                + last.work_air.abs()
-                + last.work_water.abs()
-                + last.work_coriolis.abs()
-                + last.dissipated.abs()
-                + last.fracture.abs(),
-        };
+        let gain = scn.history.fractures.iter().map(|f| f.kinetic_gain).sum();
+        let totals = EnergyTotals::of(&energy, gain);
         let counters = form.counters();
         let summary = RunSummary {
             case: scn.name.clone(),
@@ -534,18 +450,7 @@ fn record(
 
 /// The energy ledger of `sys` (kinetic energy at t = 0: `e0`, J).
 fn sample(scn: &Scenario, sys: &System, e0: f64) -> EnergySample {
-    let e = sys.kinetic_energy(scn);
-    let l = &sys.ledger;
-    EnergySample {
-        t: sys.t,
-        kinetic: e,
-        work_air: l.work_air,
-        work_water: l.work_water,
-        work_coriolis: l.work_coriolis,
-        dissipated: l.dissipated,
-        fracture: l.fracture,
-        residual: e - e0 - l.external_work() + l.dissipated + l.fracture,
-    }
+    EnergySample::new(sys.t, sys.kinetic_energy(scn), sys.ledger, e0)
 }
 
 /// A progress bar that appears only once a run has lasted a second.

@@ -7,6 +7,7 @@
 //! Every file is written to a temporary name in the output folder and renamed
 //! into place, so a reader never sees a half-written file.
 
+use super::energy::Column;
 use super::RunResult;
 use std::fmt::Write as _;
 use std::io;
@@ -58,29 +59,27 @@ pub fn trajectory_csv(result: &RunResult) -> String {
     s
 }
 
-/// The first line of `energy.csv`.
-pub const ENERGY_HEADER: &str =
-    "t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,residual";
+/// The first line of `energy.csv`: `t`, then the name of every
+/// [`Column`].
+pub fn energy_header() -> String {
+    std::iter::once("t")
+        .chain(Column::all().map(Column::name))
+        .collect::<Vec<_>>()
+        .join(",")
+}
 
-/// The energy ledger as CSV:
-/// `t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,residual` (s, then J).
+/// The energy ledger as CSV, under [`energy_header`]: one row per sample,
+/// its time (s), then every [`Column`] (J).
 pub fn energy_csv(result: &RunResult) -> String {
     let mut s = String::with_capacity(96 * result.energy.len() + 80);
-    s.push_str(ENERGY_HEADER);
+    s.push_str(&energy_header());
     s.push('\n');
     for e in &result.energy {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{}",
-            e.t,
-            e.kinetic,
-            e.work_air,
-            e.work_water,
-            e.work_coriolis,
-            e.dissipated,
-            e.fracture,
-            e.residual
-        );
+        let _ = write!(s, "{}", e.t);
+        for (_, v) in e.values() {
+            let _ = write!(s, ",{v}");
+        }
+        s.push('\n');
     }
     s
 }
@@ -136,17 +135,8 @@ fn non_finite(result: &RunResult) -> Option<String> {
         }
     }
     for e in &result.energy {
-        let cols = [
-            ("kinetic", e.kinetic),
-            ("work_air", e.work_air),
-            ("work_water", e.work_water),
-            ("work_coriolis", e.work_coriolis),
-            ("dissipated", e.dissipated),
-            ("fracture", e.fracture),
-            ("residual", e.residual),
-            ("t", e.t),
-        ];
-        if let Some((c, _)) = cols.iter().find(|(_, v)| !v.is_finite()) {
+        let mut cols = e.values().map(|(c, v)| (c.name(), v)).chain([("t", e.t)]);
+        if let Some((c, _)) = cols.find(|(_, v)| !v.is_finite()) {
             return Some(format!("energy.csv: non-finite {c} at t = {} s", e.t));
         }
     }

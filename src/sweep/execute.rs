@@ -203,7 +203,7 @@ impl<'a> Work<'a> {
             end: r.summary.end.to_string(),
             cpu: r.summary.timing.cpu_total,
             kinetic_final: r.summary.energy.final_kinetic,
-            dissipated: r.summary.energy.dissipated,
+            dissipated: r.summary.energy.ledger.dissipated,
             trajectory: r
                 .trajectory
                 .iter()

@@ -130,7 +130,12 @@ pub fn measure(
             r.kinetic_final,
             "J",
         ));
-        metrics.extend(error("dissipated", s.energy.dissipated, r.dissipated, "J"));
+        metrics.extend(error(
+            "dissipated",
+            s.energy.ledger.dissipated,
+            r.dissipated,
+            "J",
+        ));
     }
     let outcomes = check_run(scn, run);
     let mut checks: Vec<Metric> = Vec::new();

@@ -349,7 +349,7 @@ fn a_physics_difference_between_repeats_is_a_finding_and_timing_is_not() {
     let d = physics_difference(&a, &c).expect("one bit of a velocity differs");
     assert!(d.contains("trajectory") && d.contains("vy"), "{d}");
     let mut e = a.clone();
-    e.energy[3].dissipated = f64::from_bits(e.energy[3].dissipated.to_bits() ^ 1);
+    e.energy[3].ledger.dissipated = f64::from_bits(e.energy[3].ledger.dissipated.to_bits() ^ 1);
     assert!(physics_difference(&a, &e).unwrap().contains("dissipated"));
     let merged = merge("head_on: event-driven", vec![a.clone(), b, c]).unwrap();
     assert_eq!(merged.findings.len(), 1, "{:?}", merged.findings);

@@ -442,7 +442,11 @@ fn a_pressed_pack_rejects_few_steps_and_its_contacts_dissipate() {
         "{rejected} rejected steps for {steps} accepted"
     );
     let s = &r.summary.energy;
-    assert!(s.dissipated >= 0.0, "contacts made {} J", -s.dissipated);
+    assert!(
+        s.ledger.dissipated >= 0.0,
+        "contacts made {} J",
+        -s.ledger.dissipated
+    );
 }
 
 #[test]

@@ -417,36 +417,25 @@ fn finite_result(r: &RunResult) -> Result<(), Defect> {
         }
     }
     for e in &r.energy {
-        let v = [
-            e.t,
-            e.kinetic,
-            e.work_air,
-            e.work_water,
-            e.work_coriolis,
-            e.dissipated,
-            e.residual,
-        ];
-        if !v.iter().all(|x| x.is_finite()) {
+        let mut v = std::iter::once(e.t).chain(e.values().map(|(_, v)| v));
+        if !v.all(f64::is_finite) {
             return bad(&format!("energy sample {e:?}"));
         }
     }
     let s = &r.summary;
     let en = &s.energy;
-    let totals = [
-        s.t_reached,
-        en.initial_kinetic,
-        en.final_kinetic,
-        en.work_air,
-        en.work_water,
-        en.work_coriolis,
-        en.dissipated,
-        en.residual,
-        en.max_abs_residual,
-        en.exchanged,
-        s.timing.cpu_total,
-        s.timing.wall,
-    ];
-    if !totals.iter().all(|x| x.is_finite()) {
+    let mut totals = [s.t_reached, en.initial_kinetic, en.final_kinetic]
+        .into_iter()
+        .chain(en.ledger.values().map(|(_, v)| v))
+        .chain([
+            en.fracture_kinetic_gain,
+            en.residual,
+            en.max_abs_residual,
+            en.exchanged,
+            s.timing.cpu_total,
+            s.timing.wall,
+        ]);
+    if !totals.all(f64::is_finite) {
         return bad("summary totals");
     }
     if let Some((c, v)) = s.counters.iter().find(|(_, v)| !v.is_finite()) {

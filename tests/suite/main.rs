@@ -31,6 +31,7 @@ mod plot;
 mod predict;
 mod rapier;
 mod registry;
+mod repeat;
 mod runner;
 mod sample_report;
 mod sweep;

@@ -21,6 +21,7 @@ use crate::common::{case_text, cases_dir};
 use floebench::analysis::divergence::row_frames;
 use floebench::formulation::{build, parse_case, FormulationOptions, REGISTRY};
 use floebench::model::Scenario;
+use floebench::run::energy::Column;
 use floebench::run::{batch, RunOptions, RunResult, Runner, TrajectoryRow};
 use std::path::Path;
 
@@ -93,14 +94,9 @@ fn largest_difference(scn: &Scenario, a: &RunResult, b: &RunResult) -> (f64, usi
         };
         shared += 1;
         let eb = &b.energy[kb];
-        for (x, y) in [
-            (ea.kinetic, eb.kinetic),
-            (ea.work_air, eb.work_air),
-            (ea.work_water, eb.work_water),
-            (ea.work_coriolis, eb.work_coriolis),
-            (ea.dissipated, eb.dissipated),
-        ] {
-            worst = worst.max((x - y).abs() / energy);
+        // The kinetic energy and every field of the ledger.
+        for c in Column::all().filter(|c| !matches!(c, Column::Residual)) {
+            worst = worst.max((c.of(ea) - c.of(eb)).abs() / energy);
         }
         assert_eq!(
             fa[ka].len(),

@@ -19,10 +19,10 @@ use std::f64::consts::PI;
 fn ledger_balances(r: &RunResult) {
     let e = &r.summary.energy;
     assert!(
-        e.max_abs_residual < 1e-6 * e.work_air,
+        e.max_abs_residual < 1e-6 * e.ledger.work_air,
         "residual {} of {}",
         e.max_abs_residual,
-        e.work_air
+        e.ledger.work_air
     );
 }
 

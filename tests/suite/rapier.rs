@@ -134,7 +134,7 @@ fn free_drift_matches_the_project_integrator_to_first_order_in_h() {
         let g = trajectory_gap(&r, &reference);
         eprintln!("h = {h}: gaps {g:?}");
         // No contact: nothing dissipated.
-        assert_eq!(r.summary.energy.dissipated, 0.0);
+        assert_eq!(r.summary.energy.ledger.dissipated, 0.0);
         gaps.push(g);
     }
     // First order: halving h halves every gap (to 5 %).
@@ -231,7 +231,7 @@ fn head_on_with_restitution_misses_the_closed_form_by_a_pinned_error() {
         assert!((w - spin).abs() <= 0.05 * spin, "e = {e}: spin {w}");
         if let Some(lost) = lost {
             let en = &r.summary.energy;
-            let frac = en.dissipated / en.initial_kinetic;
+            let frac = en.ledger.dissipated / en.initial_kinetic;
             eprintln!("e = {e}: dissipated {frac:.4} of E0");
             assert!((frac - lost).abs() <= 2e-3, "e = {e}: dissipated {frac}");
         }
