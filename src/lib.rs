@@ -14,7 +14,10 @@
 //! → [`run`] → [`analysis`] → [`report`] (with the shared foundations
 //! [`geometry`], [`state`], [`physics`], [`contact`], [`lcp`], [`iterative`], [`record`],
 //! [`rng`] below the formulations). [`compare`] combines the batch runner
-//! and the analysis; only the command line writes reports.
+//! and the analysis; only the command line writes reports. The command line
+//! is the binary, the top layer above [`report`]: `src/main.rs` parses the
+//! arguments and `src/cli/` holds one module per command (its clap
+//! arguments and its `run`), calling this library.
 //!
 //! - [`model`]: the case file, validated into a [`model::Scenario`] (floes,
 //!   obstacles, environment, contact law, settings);

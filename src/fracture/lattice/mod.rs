@@ -25,9 +25,14 @@
 //! dimensions, SIGGRAPH sketches; A. Bowyer (1981) and D. F. Watson (1981),
 //! *The Computer Journal* 24(2); D. Balasoiu (2020), PhD thesis, Université
 //! Grenoble Alpes.
+//!
+//! [`percussion`] integrates a lattice struck by a rigid impact;
+//! [`rectangle`] strikes a rectangular floe on its left face
+//! (`floebench percussion-2d`).
 
 pub mod delaunay;
 pub mod percussion;
+pub mod rectangle;
 
 use super::chain::positive;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, Vec2};
