@@ -80,7 +80,10 @@
 //! (lexicographic Lemke, another pivot rule, a perturbed matrix), whose
 //! residual is recomputed on the original data. When all fail, the documented last resort is the
 //! frictionless LCP of the same contacts; if that fails too, no impulse is
-//! applied. Each outcome is counted.
+//! applied. Each outcome is counted. With `solver = "nsgs"` or `"apgd"` the
+//! sustained problems are solved iteratively on the sparse problem
+//! ([`crate::iterative`], docs/physics.md §3.5) and the impacts stay on
+//! Lemke; every contact solve's natural-map residual is recorded.
 //!
 //! # References
 //!

@@ -64,7 +64,12 @@
 //!      (`cone_polished`); a solve that clarabel does not report `Solved` or
 //!      `AlmostSolved` and whose last iterate does not polish into a
 //!      consistent point is counted (`cone_failed`) and the group falls back
-//!      to the Lemke LCP (`cone_fallback_lcp`).
+//!      to the Lemke LCP (`cone_fallback_lcp`); or
+//!    - `nsgs` / `apgd`: nonsmooth Gauss–Seidel on Coulomb's law, or the
+//!      accelerated projected gradient on the cone relaxation, on the sparse
+//!      problem of the group, warm-started from the contact cache and stopped
+//!      on the natural-map residual ([`crate::iterative`], docs/physics.md
+//!      §3.5). Every answer's residual is recorded, whichever solver gave it.
 //! 4. **Positions, θ-method.** `q_{k+1} = q_k + h ((1 − θ) W_k + θ W_{k+1})`.
 //!    For θ = ½ a free flight under constant forces is exact; at an impact
 //!    the position moves with the mean of the velocities before and after.
@@ -100,7 +105,8 @@
 //! | `step` | s | 1.0 | time step `h` (an upper bound, see above) |
 //! | `theta` | – | 0.5 | θ of the θ-method on forces and positions |
 //! | `gamma` | – | 0.5 | γ of the activation test `g + h γ u_N ≤ 0` |
-//! | `solver` | – | `"lcp"` | `"lcp"` (Lemke) or `"cone"` (clarabel) |
+//! | `solver` | – | `"lcp"` | `"lcp"` (Lemke), `"cone"` (clarabel), `"nsgs"` or `"apgd"` (iterative, docs/physics.md §3.5) |
+//! | `tolerance`, `max_iterations`, `relaxation` | – | 1e-6, 2000, 1 | the iterative solvers' stop rule and NSGS's ω ([`crate::iterative`]) |
 //!
 //! The entry `moreau` uses the case's solver (and is labelled `moreau`
 //! whichever it is; the `solver` setting of `summary.json` says which);
@@ -595,12 +601,7 @@ impl Moreau {
     /// Contacts at `q_k` whose predicted gap `g + h γ u_N` is closed; updates
     /// the penetration record from the gaps.
     fn active_contacts(&mut self, scn: &Scenario, sys: &System, h: f64) -> Vec<Contact> {
-        // The activation's rounding allowance is in the margin too: a
-        // contact at a gap of +1e-13 m (rounding) beside a floe at rest
-        // (margin 1e-17 m) must reach the activation test, or the floe
-        // pivots on its other point (found with NSGS on sliding_floe:
-        // 0.27 m of penetration after the floe stopped).
-        let margin = 2.0 * h * self.gamma * sys.max_point_speed(scn) + self.activation_tolerance;
+        let margin = 2.0 * h * self.gamma * sys.max_point_speed(scn);
         let mut contacts = Vec::new();
         detect_contacts(scn, &sys.bodies, margin, &mut self.bp, &mut contacts);
         for c in &contacts {

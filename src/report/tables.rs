@@ -11,6 +11,9 @@ use crate::formulation::contact_solver::{
     CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
     LCP_SOLVES, LCP_UNRESOLVED,
 };
+use crate::record::accuracy::{
+    ITERATIONS_MAX, ITERATIONS_MEDIAN, RESIDUAL_MAX, RESIDUAL_MEDIAN, RESIDUAL_P95, UNCONVERGED,
+};
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
 use crate::record::Counter;
 use crate::run::{EndReason, RunSummary};
@@ -106,6 +109,10 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
         "impacts",
         "contact solves",
         "fallbacks",
+        "solver",
+        "contact residual: median / p95 / max",
+        "work per solve: median / max",
+        "unconverged",
         "max penetration (m)",
     ];
     let rows = comp
@@ -134,6 +141,10 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
                 count(s, &[&IMPACTS]),
                 solves(s),
                 fallbacks(s),
+                s.settings.get_text("solver").unwrap_or("-").to_string(),
+                figures(s, &[&RESIDUAL_MEDIAN, &RESIDUAL_P95, &RESIDUAL_MAX]),
+                figures(s, &[&ITERATIONS_MEDIAN, &ITERATIONS_MAX]),
+                figures(s, &[&UNCONVERGED]),
                 s.counters
                     .value(&MAX_PENETRATION)
                     .ok()
@@ -212,6 +223,22 @@ fn check_counts(comp: &CaseComparison, formulation: &str) -> String {
     s
 }
 
+/// The figures `counters` of a run, ` / `-separated (`-` for one it does
+/// not keep or never set: rapier solves no contact problem).
+fn figures(s: &RunSummary, counters: &[&Counter]) -> String {
+    counters
+        .iter()
+        .map(|c| {
+            s.counters
+                .value(c)
+                .ok()
+                .flatten()
+                .map_or("-".into(), fmt_num)
+        })
+        .collect::<Vec<_>>()
+        .join(" / ")
+}
+
 /// The headline table: one row per (case, formulation).
 pub(super) fn headline(comps: &[CaseComparison]) -> Block {
     let header = [
@@ -220,6 +247,7 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
         "end",
         "CPU (s): median (range)",
         "× fastest median",
+        "max contact residual",
         "E_k final (J)",
         "dissipated (J)",
         "max divergence from the first (d̄)",
@@ -246,6 +274,7 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
                 end_text(&s.end),
                 cpu_cell(cpu, false),
                 ratio,
+                figures(s, &[&RESIDUAL_MAX]),
                 fmt_num(s.energy.final_kinetic),
                 fmt_num(s.energy.ledger.dissipated),
                 div,
