@@ -44,6 +44,8 @@ def file_module_path(path):
     return "::".join(parts)
 
 USE_BLOCK = re.compile(r"\buse\s+crate::(\{[^;]*\}|[^;]*);", re.S)
+SUPER_BLOCK = re.compile(r"\buse\s+((?:super::)+)(\{[^;]*\}|[^;]*);", re.S)
+SUPER_INLINE = re.compile(r"\b((?:super::)+)([a-z_][a-z0-9_]*(?:::[a-z_][a-z0-9_]*)*)")
 INLINE = re.compile(r"\bcrate::([a-z_][a-z0-9_]*(?:::[a-z_][a-z0-9_]*)*)")
 
 def expand(prefix, body):
@@ -81,9 +83,21 @@ def files():
             if f.endswith(".rs"):
                 yield os.path.join(d, f)
 
-def targets(text):
+def targets(text, me=None):
     t = strip_comments(text)
     paths = []
+    if me is not None:
+        base = me.split("::")
+        def up(n):
+            return base[:len(base) - n] if n <= len(base) else []
+        for m in SUPER_BLOCK.finditer(t):
+            n = m.group(1).count("super")
+            paths += [up(n) + p for p in expand([], m.group(2))]
+        t = SUPER_BLOCK.sub("", t)
+        for m in SUPER_INLINE.finditer(t):
+            n = m.group(1).count("super")
+            paths.append(up(n) + m.group(2).split("::"))
+        t = SUPER_INLINE.sub("", t)
     for m in USE_BLOCK.finditer(t):
         paths += expand([], m.group(1))
     t2 = USE_BLOCK.sub("", t)
@@ -133,7 +147,7 @@ def main():
         if src in ("lib", "main"): continue
         mods.add(src)
         me = file_module_path(f)
-        for p in targets(open(f).read()):
+        for p in targets(open(f).read(), me):
             dst = p[0]
             if dst != src and os.path.exists(os.path.join(SRC, dst + ".rs")) or os.path.isdir(os.path.join(SRC, dst)):
                 if dst != src:
