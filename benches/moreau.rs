@@ -19,7 +19,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use floebench::formulation::load_case;
 use floebench::formulation::moreau::{MoreauSettings, ACTIVE_CONTACTS, CONTACT_GROUPS};
-use floebench::formulation::{build, FormulationOptions};
+use floebench::formulation::{build, Context, FixedTopology, FormulationOptions, Interrupt};
 use floebench::model::Scenario;
 use floebench::record::StageClock;
 use floebench::state::System;
@@ -41,13 +41,16 @@ fn bench_steps(c: &mut Criterion, group: &str, scn: &Scenario, state: &System) {
         let mut form = build(name, scn, &FormulationOptions::default()).expect("formulation");
         let h = MoreauSettings::of(scn).expect("settings").step;
         let mut clock = StageClock::new();
+        // The field has no [fracture] table: its floe set never changes.
+        let (mut topology, stop) = (FixedTopology, Interrupt::own());
+        let mut cx = Context::new(&mut clock, &mut topology, &stop);
         // The run's own copy of the case (a formulation may change its floe
         // set; without a [fracture] table it does not).
         let mut run_scn = scn.clone();
         // One step first, to report the contact problem being timed.
         let mut probe = state.clone();
         form.formulation
-            .advance(&mut run_scn, &mut probe, state.t + h, &mut clock)
+            .advance(&mut run_scn, &mut probe, state.t + h, &mut cx)
             .expect("step");
         let counts = form.formulation.counters();
         eprintln!(
@@ -62,7 +65,7 @@ fn bench_steps(c: &mut Criterion, group: &str, scn: &Scenario, state: &System) {
                 |mut s| {
                     let r = form
                         .formulation
-                        .advance(&mut run_scn, &mut s, state.t + h, &mut clock);
+                        .advance(&mut run_scn, &mut s, state.t + h, &mut cx);
                     black_box((r.is_ok(), s.t))
                 },
                 criterion::BatchSize::SmallInput,
@@ -79,8 +82,14 @@ fn moreau_step(c: &mut Criterion) {
     let mut sys = start;
     let mut form = build("moreau", &scn, &FormulationOptions::default()).expect("formulation");
     let mut run_scn = scn.clone();
+    let (mut clock, mut topology, stop) = (StageClock::new(), FixedTopology, Interrupt::own());
     form.formulation
-        .advance(&mut run_scn, &mut sys, COMPACTION, &mut StageClock::new())
+        .advance(
+            &mut run_scn,
+            &mut sys,
+            COMPACTION,
+            &mut Context::new(&mut clock, &mut topology, &stop),
+        )
         .expect("compaction run");
     bench_steps(c, "moreau_step_field_200_compacted", &scn, &sys);
 }

@@ -15,7 +15,7 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use floebench::formulation::load_case;
 use floebench::formulation::rapier_ref::{RapierReference, MAX_CONTACT_PAIRS};
-use floebench::formulation::{Formulation, FormulationOptions};
+use floebench::formulation::{Context, FixedTopology, Formulation, FormulationOptions, Interrupt};
 use floebench::record::StageClock;
 use floebench::state::System;
 use std::hint::black_box;
@@ -43,9 +43,12 @@ fn rapier_step(c: &mut Criterion<ThreadCpu>) {
         let h = form.resolved().step;
         let mut sys = System::initial(&scn);
         let mut clock = StageClock::new();
+        // The field has no [fracture] table: its floe set never changes.
+        let (mut topology, stop) = (FixedTopology, Interrupt::own());
+        let mut cx = Context::new(&mut clock, &mut topology, &stop);
         let mut run_scn = scn.clone();
         if warm_up > 0.0 {
-            if let Err(e) = form.advance(&mut run_scn, &mut sys, warm_up, &mut clock) {
+            if let Err(e) = form.advance(&mut run_scn, &mut sys, warm_up, &mut cx) {
                 panic!("{e}");
             }
         }
@@ -53,7 +56,7 @@ fn rapier_step(c: &mut Criterion<ThreadCpu>) {
         g.bench_function(name, |b| {
             b.iter(|| {
                 let t = sys.t + h;
-                if let Err(e) = black_box(form.advance(&mut run_scn, &mut sys, t, &mut clock)) {
+                if let Err(e) = black_box(form.advance(&mut run_scn, &mut sys, t, &mut cx)) {
                     panic!("{e}");
                 }
             })

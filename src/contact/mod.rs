@@ -42,10 +42,12 @@
 
 mod broad;
 pub mod cone;
+mod load;
 mod narrow;
 pub mod problem;
 
 pub use broad::{Aabb, BroadPhase};
+pub use load::{loads_of, Load};
 pub use narrow::{
     contacts, contacts_with, separation, signed_distance, ContactGeom, Feature, FeaturePair,
     NarrowOptions, Separation, DEFAULT_MERGE_FRACTION, DEFAULT_PARALLEL_TOLERANCE,

@@ -103,22 +103,21 @@ use super::contact_solver::{
 };
 use super::group_solver::{read_solver, GroupData, GroupSolver};
 use super::{
-    reported_state, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, OwnState,
+    reported_state, Context, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed,
+    OwnState, Topology,
 };
 use crate::contact::problem::{groups, Gen};
-use crate::contact::{signed_distance, Aabb, BroadPhase, Contact, NarrowOptions};
-use crate::fracture::{loads_of, Decision, Fracturer, Load};
+use crate::contact::{loads_of, signed_distance, Aabb, BroadPhase, Contact, Load, NarrowOptions};
 use crate::geometry::{
     aabb, perp, point_outline_signed_distance, point_polygon_signed_distance, rotate, Vec2,
 };
 use crate::iterative::{IterativeOptions, MAX_ITERATIONS, RELAXATION, TOLERANCE};
-use crate::model::fracture::FractureModel;
 use crate::model::limits::Limit;
 use crate::model::{Body, CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{SmoothIntegrator, StepRecord, Wrench};
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, StageClock, Unit,
+    ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, Unit,
 };
 use crate::state::{
     body_parts, detect_contacts_with, normal_velocity, tangential_velocity, world_polygons,
@@ -741,12 +740,6 @@ pub struct EventDriven {
     last: Option<StepRecord>,
     /// Flights within the contact distance in progress.
     flights: Vec<Flight>,
-    /// The fracture criterion's state (docs/physics.md §9).
-    fracture: Fracturer,
-    /// Floes to break, found by the impacts of this instant (with the
-    /// energy the impacts of their group dissipated, J) or by the stress
-    /// criterion at the end of the last step (0 J).
-    pending: Vec<(Vec<Decision>, f64)>,
     /// The loads of the slow approaches stopped at this step's start, for
     /// the stress criterion with the step's sustained impulses.
     step_loads: Vec<Load>,
@@ -799,8 +792,6 @@ impl EventDriven {
             own: OwnState::default(),
             last: None,
             flights: Vec::new(),
-            fracture: Fracturer::default(),
-            pending: Vec::new(),
             step_loads: Vec::new(),
         })
     }
@@ -848,6 +839,7 @@ impl EventDriven {
         sys: &mut System,
         contacts: &[Contact],
         slow: Option<f64>,
+        topology: &mut dyn Topology,
     ) -> bool {
         let n = scn.floes.len();
         let approaching: Vec<bool> = contacts
@@ -909,18 +901,15 @@ impl EventDriven {
                 self.counters.add(&IMPACT_ENERGY_INCREASES, 1);
             }
             sys.ledger.dissipated += before - after;
-            if Fracturer::enabled(scn) && slow.is_none() {
+            if topology.reads().percussions && slow.is_none() {
                 // The impulses applied: (1 + e) times the compression's.
                 let k = 1.0 + e;
                 let normal: Vec<f64> = ans.normal.iter().map(|v| v * k).collect();
                 let tangential: Vec<f64> = ans.tangential.iter().map(|v| v * k).collect();
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
                 let loads = loads_of(scn, &group, &normal, &tangential);
-                let decisions = self.fracture.decide(scn, sys, &loads);
-                if !decisions.is_empty() {
-                    self.pending.push((decisions, before - after));
-                }
-            } else if slow.is_some() && scn.fracture.model == FractureModel::Stress {
+                topology.percussion(scn, sys, &loads, sys.t, sys.t, before - after);
+            } else if slow.is_some() && topology.reads().sustained {
                 // A slow approach stopped is part of the sustained contact:
                 // the stress criterion reads it with the step's impulses.
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
@@ -1021,7 +1010,7 @@ impl EventDriven {
         contacts: &[Contact],
         h: f64,
         nominal: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<Sustained, FormulationError> {
         let n = scn.floes.len();
         let t = sys.t;
@@ -1112,17 +1101,18 @@ impl EventDriven {
         // Free velocities after h of the floes in contact.
         let mut w_free: Vec<Gen> = vec![[0.0; 3]; n];
         let integ = &mut self.integ;
-        clock.time(Stage::Integration, || -> Result<(), FormulationError> {
-            for g in &gs {
-                for &i in &g.floes {
-                    let mut b = sys.bodies[i];
-                    let mut scratch = Ledger::default();
-                    integ.advance(scn, i, &mut b, &mut scratch, t, t + h)?;
-                    w_free[i] = [b.velocity.x, b.velocity.y, b.angular_velocity];
+        cx.clock
+            .time(Stage::Integration, || -> Result<(), FormulationError> {
+                for g in &gs {
+                    for &i in &g.floes {
+                        let mut b = sys.bodies[i];
+                        let mut scratch = Ledger::default();
+                        integ.advance(scn, i, &mut b, &mut scratch, t, t + h)?;
+                        w_free[i] = [b.velocity.x, b.velocity.y, b.angular_velocity];
+                    }
                 }
-            }
-            Ok(())
-        })?;
+                Ok(())
+            })?;
         // The apex rule: a closed contact that separates now but whose free
         // flight returns within h and rises above the contact distance: cut
         // the step at the apex (estimated with a constant normal
@@ -1169,7 +1159,7 @@ impl EventDriven {
         let mut beta = vec![0.0; closed.len()];
         let mut g_t = vec![0.0; closed.len()];
         let mut end_bodies = free_bodies;
-        let solve_start = clock.start(Stage::Solve);
+        let solve_start = cx.clock.start(Stage::Solve);
         for g in &gs {
             let data = GroupData {
                 scn,
@@ -1186,7 +1176,7 @@ impl EventDriven {
                 beta[k] = b[j];
                 g_t[k] = ans.compliance[j];
             }
-            if scn.fracture.model == FractureModel::Stress {
+            if cx.topology.reads().sustained {
                 // The group's impulses over h: loads of the stress criterion
                 // (docs/physics.md §9.3, §9.5).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &closed[k]).collect();
@@ -1203,7 +1193,7 @@ impl EventDriven {
             }
             self.counters.add(&SUSTAINED_SOLVES, 1);
         }
-        clock.stop(Stage::Solve, solve_start);
+        cx.clock.stop(Stage::Solve, solve_start);
         if mu > 0.0 {
             (out.stick, out.slide_stop) =
                 self.stick_times(scn, sys, &closed, &lambda, &beta, &g_t, &end_bodies, h);
@@ -1544,18 +1534,6 @@ impl EventDriven {
 }
 
 impl EventDriven {
-    /// Splits the floes of the pending decisions at `sys.t` (docs/physics.md
-    /// §9.5) and rebuilds what depends on the floe set.
-    fn apply_pending(&mut self, scn: &mut Scenario, sys: &mut System) {
-        for (decisions, dissipated) in std::mem::take(&mut self.pending) {
-            self.fracture.apply(scn, sys, &decisions, dissipated);
-        }
-        self.integ.floes_changed(scn);
-        // Flights name pairs by body ids, which the new floes shift.
-        self.flights.clear();
-        self.last = None;
-    }
-
     /// One step of the scheme's own grid from `sys` (impacts at its start,
     /// then the smooth step with sustained contacts, cut at the first event),
     /// never past `end` (s, the end of the run); keeps its record in
@@ -1565,13 +1543,13 @@ impl EventDriven {
         scn: &mut Scenario,
         sys: &mut System,
         end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
-        // Fractures decided by the stress criterion at the end of the last
-        // step: this instant starts again with the new floe set.
-        if !self.pending.is_empty() {
-            self.apply_pending(scn, sys);
-            return Ok(());
+        // A safe point: fractures decided by the stress criterion at the
+        // end of the last step; this instant starts again with the new floe
+        // set.
+        if let Some(old) = cx.change_floes(scn, sys) {
+            return self.floes_changed(scn, sys, &old);
         }
         self.step_loads.clear();
         let n = scn.floes.len();
@@ -1580,7 +1558,9 @@ impl EventDriven {
         self.flights
             .retain(|f| f.until - t > 1e-12 * f.until.abs().max(1.0));
         // 1. Closed contacts at this instant.
-        let contacts = clock.time(Stage::Detection, || self.detect(scn, &sys.bodies));
+        let contacts = cx
+            .clock
+            .time(Stage::Detection, || self.detect(scn, &sys.bodies));
         // A flight whose pair is no longer closed, or is back at its
         // starting gap, is over.
         self.flights.retain(|f| {
@@ -1595,13 +1575,16 @@ impl EventDriven {
         let mut rounds = 0;
         let mut any = false;
         loop {
-            let hit = clock.time(Stage::Solve, || self.impacts_at(scn, sys, &contacts, None));
+            let topology = &mut *cx.topology;
+            let hit = cx.clock.time(Stage::Solve, || {
+                self.impacts_at(scn, sys, &contacts, None, topology)
+            });
             if !hit {
                 break;
             }
             any = true;
             rounds += 1;
-            if !self.pending.is_empty() {
+            if cx.topology.pending() {
                 break;
             }
             if rounds >= MAX_IMPACT_ROUNDS {
@@ -1612,12 +1595,11 @@ impl EventDriven {
         if any {
             self.counters.add(&IMPACT_INSTANTS, 1);
         }
-        // Fractures at this instant (docs/physics.md §9.5): the floes break
-        // after the impact that broke them, and the instant starts again
-        // with the new floe set (its contacts detected anew).
-        if !self.pending.is_empty() {
-            self.apply_pending(scn, sys);
-            return Ok(());
+        // A safe point: fractures at this instant (docs/physics.md §9.5);
+        // the floes break after the impact that broke them, and the instant
+        // starts again with the new floe set (its contacts detected anew).
+        if let Some(old) = cx.change_floes(scn, sys) {
+            return self.floes_changed(scn, sys, &old);
         }
         // 3. Trial step with sustained contact forces, bounded by the
         // scheme alone (never by the output times).
@@ -1630,8 +1612,9 @@ impl EventDriven {
         // threshold, is stopped by the sustained force over the step and
         // closes |u| h / 2: beyond a tenth of the tolerance, it is stopped at
         // once instead.
-        clock.time(Stage::Solve, || {
-            self.impacts_at(scn, sys, &contacts, Some(bound))
+        let topology = &mut *cx.topology;
+        cx.clock.time(Stage::Solve, || {
+            self.impacts_at(scn, sys, &contacts, Some(bound), topology)
         });
         let to_end = bound >= end - t;
         let mut h = bound;
@@ -1647,7 +1630,7 @@ impl EventDriven {
         let mut stuck_at = f64::INFINITY;
         let mut other_cut = false;
         loop {
-            let sustained = self.sustained_wrenches(scn, sys, &contacts, h, bound, clock)?;
+            let sustained = self.sustained_wrenches(scn, sys, &contacts, h, bound, cx)?;
             if let Some((shorter, why)) = sustained.cut {
                 if shorter < (1.0 - MIN_CUT_FRACTION) * h && cuts < MAX_CUTS {
                     self.counters.add(why.counter(), 1);
@@ -1680,7 +1663,7 @@ impl EventDriven {
                 }
             }
             let wrenches = sustained.wrenches;
-            let mut trial = clock.time(Stage::Integration, || {
+            let mut trial = cx.clock.time(Stage::Integration, || {
                 self.integrate(scn, sys, h, &wrenches)
             })?;
             if to_end && h == bound {
@@ -1689,9 +1672,9 @@ impl EventDriven {
             let p1 = world_polygons(scn, &trial.bodies);
             // 4. Event location.
             let event = {
-                let t0 = clock.start(Stage::Detection);
+                let t0 = cx.clock.start(Stage::Detection);
                 let r = self.locate(scn, sys, &trial, h, &wrenches, &p0, &p1);
-                clock.stop(Stage::Detection, t0);
+                cx.clock.stop(Stage::Detection, t0);
                 r?
             };
             let located = matches!(event, Some((s, _)) if s < h);
@@ -1704,7 +1687,7 @@ impl EventDriven {
                         // another vertex of a sustained contact closes.
                         self.counters.add(&EVENTS_OF_PAIRS_IN_CONTACT, 1);
                     }
-                    clock.time(Stage::Integration, || {
+                    cx.clock.time(Stage::Integration, || {
                         self.integrate(scn, sys, s, &wrenches)
                     })?
                 }
@@ -1721,7 +1704,7 @@ impl EventDriven {
             // of `floebench check`), not its deepest vertex: two pieces of a
             // split whose cut edges cross, scissored, overlap with no vertex
             // inside the other (docs/physics.md §4.3, step 5).
-            let depths: Vec<((usize, usize), f64)> = clock.time(Stage::Detection, || {
+            let depths: Vec<((usize, usize), f64)> = cx.clock.time(Stage::Detection, || {
                 self.swept_pairs(scn, &p_next, &p_next)
                     .iter()
                     .map(|&(i, j)| {
@@ -1756,7 +1739,7 @@ impl EventDriven {
             self.counters
                 .add(&FLIGHTS_WITHIN_DISTANCE, sustained.flights.len() as u64);
             self.flights.extend(sustained.flights);
-            if scn.fracture.model == FractureModel::Stress {
+            if cx.topology.reads().sustained {
                 // The stress criterion reads the impulses delivered over the
                 // step [t, next.t]: the sustained wrenches (impulses over h)
                 // for the part of h taken, and the slow approaches stopped
@@ -1768,10 +1751,7 @@ impl EventDriven {
                     impulse: l.impulse * taken,
                     ..*l
                 }));
-                let decisions = self.fracture.decide_over(scn, sys, &loads, t, next.t);
-                if !decisions.is_empty() {
-                    self.pending.push((decisions, 0.0));
-                }
+                cx.topology.sustained(scn, sys, &loads, t, next.t);
             }
             self.last = Some(StepRecord {
                 start: std::mem::replace(sys, next),
@@ -1794,7 +1774,7 @@ impl Formulation for EventDriven {
         scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
         let (mut cur, fresh) = self.own.resume(sys);
         if fresh {
@@ -1803,14 +1783,27 @@ impl Formulation for EventDriven {
         }
         let end = scn.duration.max(t_end);
         while cur.t < t_end {
-            super::poll_interrupt(cur.t)?;
-            self.step(scn, &mut cur, end, clock)?;
+            cx.poll_interrupt(cur.t)?;
+            self.step(scn, &mut cur, end, cx)?;
         }
-        let out = clock.time(Stage::Integration, || {
+        let out = cx.clock.time(Stage::Integration, || {
             reported_state(&mut self.integ, scn, &cur, self.last.as_ref(), t_end)
         })?;
         self.own.keep(cur);
         self.own.report(sys, out, t_end);
+        Ok(())
+    }
+
+    fn floes_changed(
+        &mut self,
+        scn: &Scenario,
+        _: &System,
+        _: &[usize],
+    ) -> Result<(), FormulationError> {
+        self.integ.floes_changed(scn);
+        // Flights name pairs by body ids, which the new floes shift.
+        self.flights.clear();
+        self.last = None;
         Ok(())
     }
 

@@ -14,10 +14,12 @@
 //! ([`SmoothIntegrator::continuation`]), so what is saved never changes the
 //! trajectory.
 
-use super::{reported_state, Entry, Formulation, FormulationError, FormulationOptions, OwnState};
+use super::{
+    reported_state, Context, Entry, Formulation, FormulationError, FormulationOptions, OwnState,
+};
 use crate::model::Scenario;
 use crate::physics::{SmoothIntegrator, StepRecord};
-use crate::record::{Counters, Settings, Stage, StageClock};
+use crate::record::{Counters, Settings, Stage};
 use crate::state::System;
 
 /// The registry entry (see [`crate::formulation::REGISTRY`]).
@@ -62,7 +64,7 @@ impl Formulation for FreeDrift {
         scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
         let (mut cur, fresh) = self.own.resume(sys);
         if fresh {
@@ -73,7 +75,7 @@ impl Formulation for FreeDrift {
         let integ = &mut self.integrator;
         let last = &mut self.last;
         let grid = &mut self.grid;
-        let out = clock.time(
+        let out = cx.clock.time(
             Stage::Integration,
             || -> Result<System, FormulationError> {
                 while cur.t < t_end {

@@ -5,7 +5,9 @@
 //! ([`contact_solver`]), the recording and the timing are shared: the
 //! [`crate::run::Runner`] calls [`Formulation::advance`] up to each output
 //! time, and the formulation charges its CPU time to the stages of the
-//! [`StageClock`] it is handed.
+//! [`crate::record::StageClock`] of the [`Context`] it is handed, with which
+//! come the run's topology stage (fracture: the runner's, once for every
+//! formulation, [`context`]) and its stop request.
 //!
 //! **The registry.** Each formulation is one [`Entry`] of [`REGISTRY`]:
 //! its name, a one-line description, its builder, the `[formulation.<table>]`
@@ -28,6 +30,7 @@
 //! never interpolated ones.
 
 pub mod contact_solver;
+pub mod context;
 pub mod event_driven;
 pub mod free_drift;
 pub mod group_solver;
@@ -38,8 +41,9 @@ use crate::model::{
     load_case_with, parse_case_with, CaseError, IntegratorKind, Scenario, TableSpec,
 };
 use crate::physics::{SmoothIntegrator, StepRecord};
-use crate::record::{ContactLog, Counters, Settings, SolveProfile, StageClock};
+use crate::record::{ContactLog, Counters, Settings, SolveProfile};
 use crate::state::System;
+pub use context::{Context, FixedTopology, Interrupt, Reads, Topology};
 use std::path::Path;
 
 /// A failure that stops a run (a failed LCP is not one: it is counted and
@@ -53,7 +57,7 @@ pub enum FormulationError {
     #[error("{0}")]
     Other(String),
     /// SIGINT or SIGTERM arrived between two steps of the formulation's own
-    /// grid ([`crate::run::interrupt`]), at the time `t` of its state, s:
+    /// grid ([`Context::poll_interrupt`]), at the time `t` of its state, s:
     /// the run ends at its last output time, as at an output.
     #[error("interrupted at t = {t} s")]
     Interrupted {
@@ -62,36 +66,43 @@ pub enum FormulationError {
     },
 }
 
-/// [`FormulationError::Interrupted`] at `t` if a signal asked the runs to
-/// stop: the step loops of the formulations poll it once per step (an
-/// atomic load), so a run whose outputs are far apart still stops at once.
-pub fn poll_interrupt(t: f64) -> Result<(), FormulationError> {
-    if crate::run::interrupt::requested() {
-        Err(FormulationError::Interrupted { t })
-    } else {
-        Ok(())
-    }
-}
-
 /// A strategy for advancing a scenario in time.
 pub trait Formulation {
     /// Writes into `sys` the state (with its energy ledger) at `t_end` (s),
-    /// charging CPU time to `clock`. The formulation advances its own state
-    /// on its own step grid ([`OwnState`]), whatever times it is asked for:
-    /// `sys` on entry is the state it last wrote (or the initial state); a
-    /// caller that passes any other state restarts the grid from it.
+    /// charging CPU time to `cx.clock`. The formulation advances its own
+    /// state on its own step grid ([`OwnState`]), whatever times it is
+    /// asked for: `sys` on entry is the state it last wrote (or the initial
+    /// state); a caller that passes any other state restarts the grid from
+    /// it.
     ///
-    /// `scn` is the run's own copy of the case: a formulation changes it
-    /// only where a floe breaks, through [`crate::fracture::apply_split`]
-    /// (which changes `scn.floes`, `scn.history` and `sys.bodies`
-    /// together); without a `[fracture]` table it never changes.
+    /// `scn` is the run's own copy of the case. A formulation never changes
+    /// it itself: it reports its contact solves to `cx.topology`, and at the
+    /// safe points of its scheme lets the run's topology stage change the
+    /// floe set ([`Context::change_floes`], which changes `scn.floes`,
+    /// `scn.history` and the state's bodies together), then rebuilds in
+    /// [`Formulation::floes_changed`]; without a `[fracture]` table nothing
+    /// ever changes. It polls `cx.interrupt` once per step.
     fn advance(
         &mut self,
         scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError>;
+
+    /// Rebuilds what depends on the floe set after the topology stage
+    /// changed it in `scn` and `sys` (its own state, at `sys.t`); `old`
+    /// holds the floe ids before the change, in index order (a piece takes
+    /// its parent's index or is appended). The default rebuilds nothing.
+    fn floes_changed(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        old: &[usize],
+    ) -> Result<(), FormulationError> {
+        let _ = (scn, sys, old);
+        Ok(())
+    }
 
     /// The formulation's counters (steps, events, solves, …) so far.
     fn counters(&self) -> Counters;

@@ -131,12 +131,11 @@ use super::contact_solver::{
 };
 use super::group_solver::{read_solver, GroupAnswer, GroupData, GroupSolver};
 use super::{
-    check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
-    NotClaimed,
+    check_output_grid, Context, Entry, FixedGrid, Formulation, FormulationError,
+    FormulationOptions, NotClaimed, Topology,
 };
 use crate::contact::problem::{groups, Gen};
-use crate::contact::{BroadPhase, Contact};
-use crate::fracture::{loads_of, Decision, Fracturer};
+use crate::contact::{loads_of, BroadPhase, Contact};
 use crate::geometry::Vec2;
 use crate::iterative::{IterativeOptions, MAX_ITERATIONS, RELAXATION, TOLERANCE};
 use crate::model::limits::{Limit, STEP};
@@ -144,7 +143,7 @@ use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::ForceModel;
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, StageClock, Unit,
+    ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, Unit,
 };
 use crate::state::{detect_contacts, normal_velocity, BodyState, System};
 
@@ -433,11 +432,6 @@ pub struct Moreau {
     activation_tolerance: f64,
     /// The state on the step grid `t_k = k h`.
     grid: FixedGrid,
-    /// The fracture criterion's state (docs/physics.md §9).
-    fracture: Fracturer,
-    /// Floes to break at the end of the step, found by its contact
-    /// problems, with the energy each group's impulses dissipated (J).
-    pending: Vec<(Vec<Decision>, f64)>,
 }
 
 impl Moreau {
@@ -488,8 +482,6 @@ impl Moreau {
             max_penetration: 0.0,
             activation_tolerance,
             grid: FixedGrid::new(s.step),
-            fracture: Fracturer::default(),
-            pending: Vec::new(),
         })
     }
 
@@ -520,13 +512,13 @@ impl Moreau {
         scn: &Scenario,
         sys: &mut System,
         h: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
         let n = scn.floes.len();
         let t0 = sys.t;
         let th = self.theta;
         // 1. Smooth impulse by the θ-method with one predictor pass.
-        let w_free: Vec<Gen> = clock.time(Stage::Integration, || {
+        let w_free: Vec<Gen> = cx.clock.time(Stage::Integration, || {
             let mut w_free = Vec::with_capacity(n);
             let mut evals = 0u64;
             for (i, b) in sys.bodies.iter().enumerate() {
@@ -571,16 +563,20 @@ impl Moreau {
             w_free
         });
         // 2. Detection and active contacts.
-        let active = clock.time(Stage::Detection, || self.active_contacts(scn, sys, h));
+        let active = cx
+            .clock
+            .time(Stage::Detection, || self.active_contacts(scn, sys, h));
         // 3. Contact problems.
-        let mut w_new = w_free.clone();
-        if !active.is_empty() {
-            clock.time(Stage::Solve, || {
-                self.solve_contacts(scn, sys, h, &active, &w_free, &mut w_new)
-            });
-        }
+        let w_new = if active.is_empty() {
+            w_free.clone()
+        } else {
+            let topology = &mut *cx.topology;
+            cx.clock.time(Stage::Solve, || {
+                self.solve_contacts(scn, sys, h, &active, &w_free, topology)
+            })
+        };
         // 4. Positions by the θ-method.
-        clock.time(Stage::Integration, || {
+        cx.clock.time(Stage::Integration, || {
             for (b, w) in sys.bodies.iter_mut().zip(&w_new) {
                 let v1 = Vec2::new(w[0], w[1]);
                 b.position += (b.velocity * (1.0 - th) + v1 * th) * h;
@@ -614,7 +610,8 @@ impl Moreau {
     }
 
     /// Solves the contact problem of every group of `active` and writes the
-    /// new velocities into `w_new`; books the dissipation.
+    /// new velocities (`w_free` where no contact acts); books the
+    /// dissipation and reports the impulses to the topology stage.
     fn solve_contacts(
         &mut self,
         scn: &Scenario,
@@ -622,8 +619,9 @@ impl Moreau {
         h: f64,
         active: &[Contact],
         w_free: &[Gen],
-        w_new: &mut [Gen],
-    ) {
+        topology: &mut dyn Topology,
+    ) -> Vec<Gen> {
+        let mut w_new = w_free.to_vec();
         let n = scn.floes.len();
         let e = scn.contact.restitution;
         let u_minus: Vec<f64> = active
@@ -669,24 +667,20 @@ impl Moreau {
                     w_new[i][d] = w_free[i][d] + dv[l][d];
                 }
             }
-            let after = group_energy(scn, w_new, &g.floes);
+            let after = group_energy(scn, &w_new, &g.floes);
             if after > before * (1.0 + 1e-12) + 1e-300 {
                 self.counters.add(&CONTACT_ENERGY_INCREASES, 1);
                 self.counters
                     .max(&CONTACT_ENERGY_INCREASE_MAX, after - before);
             }
             sys.ledger.dissipated += before - after;
-            if Fracturer::enabled(scn) {
+            if topology.reads().percussions {
                 // The step's impulses, on the floes at q_k, delivered over
-                // the step [t_k, t_k + h] (docs/physics.md §9.3).
+                // the step [t_k, t_k + h] (docs/physics.md §9.3); the floes
+                // break between steps (§9.5).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &active[k]).collect();
                 let loads = loads_of(scn, &group, &normal, &tangential);
-                let decisions = self
-                    .fracture
-                    .decide_over(scn, sys, &loads, sys.t, sys.t + h);
-                if !decisions.is_empty() {
-                    self.pending.push((decisions, before - after));
-                }
+                topology.percussion(scn, sys, &loads, sys.t, sys.t + h, before - after);
             }
             if dv.iter().flatten().any(|d| d.abs() > negligible) {
                 self.solver.direct.log_mut().push_event(ContactEvent {
@@ -711,6 +705,7 @@ impl Moreau {
                 });
             }
         }
+        w_new
     }
 }
 
@@ -727,25 +722,32 @@ impl Formulation for Moreau {
         scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
         let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
         // Steps of h on the grid t_k = k h (module doc).
         for _ in 0..steps {
-            super::poll_interrupt(cur.t)?;
-            self.step_once(scn, &mut cur, self.step, clock)?;
+            cx.poll_interrupt(cur.t)?;
+            self.step_once(scn, &mut cur, self.step, cx)?;
             self.grid.stepped(&mut cur);
-            // Fractures between steps (docs/physics.md §9.5): at t_{k+1},
-            // on the lines the step's contact problems chose, carried with
-            // the floes.
-            if !self.pending.is_empty() {
-                for (decisions, dissipated) in std::mem::take(&mut self.pending) {
-                    self.fracture.apply(scn, &mut cur, &decisions, dissipated);
-                }
-                self.model = ForceModel::new(&scn.floes);
+            // The safe point: between steps, at t_{k+1} (docs/physics.md
+            // §9.5), the floes break on the lines the step's contact
+            // problems chose, carried with the floes.
+            if let Some(old) = cx.change_floes(scn, &mut cur) {
+                self.floes_changed(scn, &cur, &old)?;
             }
         }
         self.grid.finish(sys, cur, t_end);
+        Ok(())
+    }
+
+    fn floes_changed(
+        &mut self,
+        scn: &Scenario,
+        _: &System,
+        _: &[usize],
+    ) -> Result<(), FormulationError> {
+        self.model = ForceModel::new(&scn.floes);
         Ok(())
     }
 

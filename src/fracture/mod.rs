@@ -1,71 +1,32 @@
 //! Floes that break (docs/physics.md §9): the loads a contact solve puts on
-//! each floe, the two criteria (`energy`, `stress`), the cut rule, and the
-//! one function that changes a run's floe set ([`apply_split`]), used by
-//! every formulation.
+//! each floe, the two criteria (`energy`, `stress`) and the lattice model,
+//! the cut rule, and the one function that changes a run's floe set
+//! ([`apply_split`]).
 //!
-//! A formulation that resolves contacts hands each contact solve's
-//! impulses to its [`Fracturer`] as [`Load`]s ([`loads_of`]); the
-//! fracturer decides which floes break and where, and [`apply_split`]
-//! replaces each by its two pieces in the scenario, the state and the
-//! history together. Without a `[fracture]` table (or `model = "none"`)
-//! nothing here runs. The lattice model (`strike`) keeps the crack of its
-//! largest percussion in the history ([`crack`]).
+//! Fracture is the run's topology stage ([`stage::FractureStage`], owned by
+//! the [`crate::run::Runner`]): formulations report each contact solve's
+//! impulses to it as [`Load`]s ([`loads_of`]); its [`Fracturer`] decides
+//! which floes break and where, and at the formulation's next safe point
+//! [`apply_split`] replaces each by its pieces in the scenario, the state
+//! and the history together. Without a `[fracture]` table (or
+//! `model = "none"`) nothing here runs. The lattice model (`strike`) keeps
+//! the crack of its largest percussion in the history ([`crack`]).
 
 pub mod chain;
 pub mod crack;
 pub mod lattice;
 pub mod split;
+pub mod stage;
 pub mod stress;
 pub mod strike;
 
-use crate::contact::Contact;
+pub use crate::contact::{loads_of, Load};
 use crate::geometry::{rotate, Vec2};
 use crate::model::fracture::{FloeRecord, FractureModel, FractureRecord};
-use crate::model::{Body, Scenario};
+use crate::model::Scenario;
 use crate::state::{BodyState, System};
 use split::{conservation_error, cut_floe, split, Cut, Piece};
 use std::collections::BTreeMap;
-
-/// One impulse that a contact solve applied to a floe.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Load {
-    /// The floe (index in the scenario).
-    pub floe: usize,
-    /// The other body (body id: floes, then obstacles).
-    pub other: usize,
-    /// The contact point, m (world).
-    pub point: Vec2,
-    /// The impulse on the floe, N·s (world).
-    pub impulse: Vec2,
-}
-
-/// The loads of a contact solve: contact `k` of `contacts` got the normal
-/// impulse `normal[k]` (N·s, along its normal `N`, pushing `b` away from
-/// `a`) and the tangential impulse `tangential[k]` (N·s, along `T`); `+P`
-/// acts on `b`, `−P` on `a`, each only if it is a floe.
-pub fn loads_of(
-    scn: &Scenario,
-    contacts: &[&Contact],
-    normal: &[f64],
-    tangential: &[f64],
-) -> Vec<Load> {
-    let mut out = Vec::with_capacity(2 * contacts.len());
-    for (k, c) in contacts.iter().enumerate() {
-        let p =
-            c.geom.normal * normal[k] + c.geom.tangent * tangential.get(k).copied().unwrap_or(0.0);
-        for (body, other, sign) in [(c.b, c.a, 1.0), (c.a, c.b, -1.0)] {
-            if let Body::Floe(i) = scn.body(body) {
-                out.push(Load {
-                    floe: i,
-                    other,
-                    point: c.geom.point,
-                    impulse: p * sign,
-                });
-            }
-        }
-    }
-    out
-}
 
 /// The loads of one floe by the body pressing it: the summed impulse of
 /// the pair (N·s) and its centre of pressure (m), the contact points

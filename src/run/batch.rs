@@ -421,6 +421,7 @@ fn execute(
                 let runner = Runner::new(RunOptions {
                     progress: opts.progress,
                     multi: multi.cloned(),
+                    interrupt: Default::default(),
                 });
                 let out = formulation::build(&jobs[c].formulations[f], scn, fopts)
                     .map(|mut form| runner.run(scn, form.name(), form.formulation.as_mut()));

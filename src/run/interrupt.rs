@@ -2,9 +2,11 @@
 //!
 //! [`install`] (called once by the command line, never by the library on its
 //! own) makes the first SIGINT or SIGTERM set a flag instead of killing the
-//! process. Every run polls it at each output time ([`requested`]), and the
-//! formulations poll it at each step of their own grid
-//! ([`crate::formulation::poll_interrupt`]): an interrupted run ends with
+//! process. The flag is the process's [`Interrupt`] handle, which a run
+//! gets in its [`super::RunOptions`] (the default): the runner polls it at
+//! each output time, and the formulations at each step of their own grid
+//! ([`crate::formulation::Context::poll_interrupt`]); a program that embeds
+//! runs can give each its own handle ([`Interrupt::own`]). An interrupted run ends with
 //! [`super::EndReason::Interrupted`], its outputs written up to its last
 //! output time, and the batch runner starts no new run. A second signal has
 //! the default effect (the process ends at once), so a step that takes long
@@ -12,12 +14,10 @@
 //!
 //! The handler only stores to an atomic flag, which is async-signal-safe.
 
-use std::sync::atomic::{AtomicBool, Ordering};
-
-static REQUESTED: AtomicBool = AtomicBool::new(false);
+use crate::formulation::Interrupt;
 
 extern "C" fn on_signal(_signal: libc::c_int) {
-    REQUESTED.store(true, Ordering::SeqCst);
+    Interrupt::Process.request();
 }
 
 /// Installs the handler of SIGINT and SIGTERM (see the module doc). The
@@ -44,11 +44,11 @@ pub fn install() -> Result<(), std::io::Error> {
 
 /// Whether an interrupt was asked for (a signal, or [`request`]).
 pub fn requested() -> bool {
-    REQUESTED.load(Ordering::SeqCst)
+    Interrupt::Process.requested()
 }
 
 /// Asks every run of this process to stop at its next output time, as a
 /// signal would (for embedding programs and tests).
 pub fn request() {
-    REQUESTED.store(true, Ordering::SeqCst);
+    Interrupt::Process.request();
 }

@@ -18,7 +18,8 @@ pub mod interrupt;
 pub mod output;
 pub mod repeat;
 
-use crate::formulation::{Formulation, FormulationError};
+use crate::formulation::{Context, Formulation, FormulationError, Interrupt};
+use crate::fracture::stage::FractureStage;
 use crate::model::fracture::{FloeRecord, FractureRecord, PercussionRecord};
 use crate::model::Scenario;
 use crate::record::{
@@ -263,6 +264,10 @@ pub struct RunOptions {
     pub progress: bool,
     /// Draw the bar in this group of bars (runs in parallel), shown at once.
     pub multi: Option<indicatif::MultiProgress>,
+    /// The stop request the run polls at each output time and its
+    /// formulation at each step (default: the process's, set by SIGINT and
+    /// SIGTERM once [`interrupt::install`] ran).
+    pub interrupt: Interrupt,
 }
 
 /// Runs formulations on scenarios: owns timing, stopping and recording.
@@ -306,6 +311,9 @@ impl Runner {
         let wall0 = Instant::now();
         let cpu0 = thread_cpu_seconds();
         let mut clock = StageClock::new();
+        // The run's topology stage: fracture, once for every formulation.
+        let mut topology = FractureStage::new(scn);
+        let stop = &self.options.interrupt;
         let mut sys = System::initial(scn);
         let e0 = sys.kinetic_energy(scn);
         // A point outside a forcing field's extent left by an earlier run
@@ -329,12 +337,13 @@ impl Runner {
         let mut bar = Progress::new(&self.options, times.len() as u64, scn, label);
         let started = end == EndReason::Completed;
         for (k, &t) in times.iter().enumerate().filter(|_| started) {
-            if interrupt::requested() {
+            if stop.requested() {
                 end = EndReason::Interrupted { t: sys.t };
                 break;
             }
             let mut next = sys.clone();
-            match form.advance(scn, &mut next, t, &mut clock) {
+            let mut cx = Context::new(&mut clock, &mut topology, stop);
+            match form.advance(scn, &mut next, t, &mut cx) {
                 Ok(()) => {}
                 // A signal between two steps: ended as at an output time.
                 Err(FormulationError::Interrupted { .. }) => {

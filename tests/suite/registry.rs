@@ -7,10 +7,10 @@ use crate::common::{case_text, counter, load, run as run_named, scenario};
 use floebench::analysis::check;
 use floebench::formulation::event_driven::EventDriven;
 use floebench::formulation::{
-    self, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, REGISTRY,
+    self, Context, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed, REGISTRY,
 };
 use floebench::model::Scenario;
-use floebench::record::{ContactLog, Counters, Settings, StageClock};
+use floebench::record::{ContactLog, Counters, Settings};
 use floebench::run::{RunOptions, RunResult, Runner};
 use floebench::state::System;
 
@@ -39,10 +39,9 @@ impl Formulation for FrictionlessEventDriven {
         _scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
-        self.inner
-            .advance(&mut self.frictionless, sys, t_end, clock)
+        self.inner.advance(&mut self.frictionless, sys, t_end, cx)
     }
 
     fn counters(&self) -> Counters {

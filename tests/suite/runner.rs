@@ -140,3 +140,32 @@ fn a_restart_names_what_does_not_fit() {
     let err = output::read_state(&file, None).unwrap_err();
     assert!(err.contains(":1: not a trajectory file"), "{err}");
 }
+
+#[test]
+fn a_run_stops_on_its_own_interrupt_handle_and_no_other() {
+    // The stop request is a handle in the run's options: a run whose own
+    // handle was set ends interrupted at its first output time, with the
+    // initial state alone recorded; a run with another handle, and the
+    // process-wide request, are untouched.
+    use floebench::formulation::{build, FormulationOptions, Interrupt};
+    use floebench::run::{RunOptions, Runner};
+    let scn = scenario(&case_text("head_on"));
+    let stopped = Interrupt::own();
+    stopped.request();
+    for (handle, interrupted) in [(stopped, true), (Interrupt::own(), false)] {
+        let mut f = build("moreau", &scn, &FormulationOptions::default()).unwrap();
+        let runner = Runner::new(RunOptions {
+            interrupt: handle,
+            ..RunOptions::default()
+        });
+        let r = runner.run(&scn, f.name(), f.formulation.as_mut());
+        if interrupted {
+            assert_eq!(r.summary.end, EndReason::Interrupted { t: 0.0 });
+            assert_eq!(r.energy.len(), 1, "only the initial sample");
+        } else {
+            assert_eq!(r.summary.end, EndReason::Completed);
+            assert!(r.energy.len() > 1);
+        }
+    }
+    assert!(!floebench::run::interrupt::requested());
+}

@@ -137,16 +137,16 @@
 mod convert;
 
 use super::{
-    check_output_grid, Entry, FixedGrid, Formulation, FormulationError, FormulationOptions,
-    NotClaimed,
+    check_output_grid, Context, Entry, FixedGrid, Formulation, FormulationError,
+    FormulationOptions, NotClaimed,
 };
-use crate::fracture::{Decision, Fracturer, Load};
+use crate::contact::Load;
 use crate::model::limits::{Limit, STEP};
 use crate::model::{CaseError, Scenario, SettingsTable, TableSpec};
 use crate::physics::{ForceModel, Forces};
 use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS};
 use crate::record::{
-    ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings, Stage, StageClock, Unit,
+    ContactEvent, ContactLog, Counter, Counters, ImpulseRecord, Settings, Stage, Unit,
 };
 use crate::state::{BodyState, System};
 use rapier2d_f64::prelude::{
@@ -540,10 +540,6 @@ pub struct RapierReference {
     /// The state on the step grid `t_k = k h` (rapier's bodies hold the
     /// same).
     grid: FixedGrid,
-    /// The fracture criterion's state (docs/physics.md §9).
-    fracture: Fracturer,
-    /// Floes to break at the end of the step, with the step's dissipation (J).
-    pending: Vec<(Vec<Decision>, f64)>,
 }
 
 impl std::fmt::Debug for RapierReference {
@@ -605,8 +601,6 @@ impl RapierReference {
             energy_gained: 0.0,
             integration_defect: 0.0,
             grid: FixedGrid::new(settings.step),
-            fracture: Fracturer::default(),
-            pending: Vec::new(),
         })
     }
 
@@ -661,7 +655,12 @@ impl RapierReference {
     /// Follows a change of the floe set (a fracture): every floe whose id at
     /// its index is not `old[i]` (a piece) gets a new body, the parent's
     /// body removed; the per-floe buffers and the force model follow.
-    fn floes_changed(&mut self, scn: &Scenario, cur: &System, old: &[usize]) -> Result<(), String> {
+    fn rebuild_bodies(
+        &mut self,
+        scn: &Scenario,
+        cur: &System,
+        old: &[usize],
+    ) -> Result<(), String> {
         let (e, mu) = (scn.contact.restitution, scn.contact.friction);
         for (i, floe) in scn.floes.iter().enumerate() {
             if old.get(i) == Some(&floe.id) {
@@ -731,11 +730,11 @@ impl RapierReference {
         scn: &Scenario,
         sys: &mut System,
         h: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
         let t = sys.t;
         // Environment forces from the start state, by the shared force law.
-        clock.time(Stage::Integration, || {
+        cx.clock.time(Stage::Integration, || {
             for (i, b) in sys.bodies.iter().enumerate() {
                 let f = self.model.forces(&scn.environment, i, t, b);
                 self.forces[i] = f;
@@ -750,7 +749,7 @@ impl RapierReference {
         self.params.dt = h;
         // rapier's own stage timers run only in the steps the clock times
         // (they read the clock a dozen times per step).
-        let timed = clock.start_split();
+        let timed = cx.clock.start_split();
         if timed.is_timed() {
             self.pipeline.counters.enable();
         }
@@ -771,10 +770,10 @@ impl RapierReference {
         );
         if timed.is_timed() {
             let split = self.stage_split();
-            clock.stop_split(timed, split);
+            cx.clock.stop_split(timed, split);
             self.pipeline.counters.disable();
         } else {
-            clock.stop_split(timed, [0.0; 3]);
+            cx.clock.stop_split(timed, [0.0; 3]);
         }
         self.counters.add(&STEPS, 1);
 
@@ -839,14 +838,11 @@ impl RapierReference {
             }
         }
         sys.ledger.dissipated += d;
-        if Fracturer::enabled(scn) {
+        if cx.topology.reads().percussions {
             // The step's impulses, delivered over the step [t, t + h]
-            // (docs/physics.md §9.3).
+            // (docs/physics.md §9.3); the floes break between steps.
             let loads = self.loads(scn);
-            let decisions = self.fracture.decide_over(scn, sys, &loads, t, t + h);
-            if !decisions.is_empty() {
-                self.pending.push((decisions, d));
-            }
+            cx.topology.percussion(scn, sys, &loads, t, t + h, d);
         }
         if floes > 0 && self.step_points > 0 {
             self.log.push_event(ContactEvent {
@@ -934,28 +930,33 @@ impl Formulation for RapierReference {
         scn: &mut Scenario,
         sys: &mut System,
         t_end: f64,
-        clock: &mut StageClock,
+        cx: &mut Context,
     ) -> Result<(), FormulationError> {
         let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
         self.sync_in(&cur.bodies);
         // Steps of h on the grid t_k = k h.
         for _ in 0..steps {
-            super::poll_interrupt(cur.t)?;
-            self.step(scn, &mut cur, self.settings.step, clock)?;
+            cx.poll_interrupt(cur.t)?;
+            self.step(scn, &mut cur, self.settings.step, cx)?;
             self.grid.stepped(&mut cur);
-            // Fractures between steps (docs/physics.md §9.5): the parent's
-            // body is removed and the pieces' inserted.
-            if !self.pending.is_empty() {
-                let old: Vec<usize> = scn.floes.iter().map(|f| f.id).collect();
-                for (decisions, dissipated) in std::mem::take(&mut self.pending) {
-                    self.fracture.apply(scn, &mut cur, &decisions, dissipated);
-                }
-                self.floes_changed(scn, &cur, &old)
-                    .map_err(FormulationError::Other)?;
+            // The safe point: between steps (docs/physics.md §9.5).
+            if let Some(old) = cx.change_floes(scn, &mut cur) {
+                self.floes_changed(scn, &cur, &old)?;
             }
         }
         self.grid.finish(sys, cur, t_end);
         Ok(())
+    }
+
+    fn floes_changed(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        old: &[usize],
+    ) -> Result<(), FormulationError> {
+        // The parent's body is removed and the pieces' inserted.
+        self.rebuild_bodies(scn, sys, old)
+            .map_err(FormulationError::Other)
     }
 
     fn counters(&self) -> Counters {

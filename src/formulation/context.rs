@@ -1,0 +1,190 @@
+//! What the runner hands a formulation with each [`super::Formulation::advance`]:
+//! the stage clock, the run's topology stage and the interrupt handle.
+//!
+//! **Topology belongs to the run.** A change of the floe set (a fracture)
+//! is decided and carried out by the run's topology stage (the fracture
+//! stage, [`crate::fracture::stage::FractureStage`], owned by the
+//! [`crate::run::Runner`]), once for every formulation. A formulation only
+//! *reports* what its contact solves did, through the narrow interface
+//! [`Topology`]:
+//!
+//! - [`Topology::percussion`]: the impulses of one contact solve (an
+//!   impact at an instant, or a time-stepping scheme's step), with the
+//!   kinetic energy the solve removed;
+//! - [`Topology::sustained`]: the impulses that sustained contact forces
+//!   delivered over a step (an event-driven scheme's smooth step);
+//!
+//! and names the *safe points* of its scheme, where the floe set may change
+//! (between two steps of a fixed grid; at an impact instant, before the
+//! instant starts again): there it calls [`Context::change_floes`], and
+//! when the stage changed the floe set, rebuilds what depends on it in
+//! [`super::Formulation::floes_changed`]. A formulation never decides a
+//! fracture and never splits a floe; a new formulation that reports its
+//! solves gets fracture (docs/physics.md §9.5) for free.
+
+use crate::contact::Load;
+use crate::model::Scenario;
+use crate::record::StageClock;
+use crate::state::System;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// Which reports the topology stage reads: a formulation builds loads only
+/// when they are read (a case without fracture reads none).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Reads {
+    /// The impulses of contact solves ([`Topology::percussion`]): read by
+    /// every fracture criterion.
+    pub percussions: bool,
+    /// The impulses of sustained contact forces over a step
+    /// ([`Topology::sustained`]): read by the stress criterion only, which
+    /// keeps a window of the floe's stress (docs/physics.md §9.3).
+    pub sustained: bool,
+}
+
+/// The run's topology stage as a formulation sees it (see the module doc).
+pub trait Topology {
+    /// Which reports it reads.
+    fn reads(&self) -> Reads;
+
+    /// The impulses `loads` of one contact solve, delivered over
+    /// `[from, to]` (s; an instant when equal), on the floes of `sys` (the
+    /// state the loads' points refer to); the solve removed `dissipated`
+    /// (J) of kinetic energy, from which crack energies are taken.
+    fn percussion(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        loads: &[Load],
+        from: f64,
+        to: f64,
+        dissipated: f64,
+    );
+
+    /// The impulses `loads` that sustained contact forces delivered over
+    /// `[from, to]` (s), on the floes of `sys`.
+    fn sustained(&mut self, scn: &Scenario, sys: &System, loads: &[Load], from: f64, to: f64);
+
+    /// Whether a change of the floe set waits for the formulation's next
+    /// safe point.
+    fn pending(&self) -> bool;
+
+    /// Carries out the pending change on `scn` and `sys` at `sys.t` (the
+    /// scenario's floes, its history and the state's bodies together).
+    /// Returns the floe ids before the change, in index order, whenever
+    /// a change was pending (even if every cut of it was refused: the
+    /// formulation rebuilds all the same), `None` when nothing was.
+    fn apply(&mut self, scn: &mut Scenario, sys: &mut System) -> Option<Vec<usize>>;
+}
+
+/// A topology stage that never changes the floe set (a run without
+/// fracture, benches and tests that drive a formulation alone).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct FixedTopology;
+
+impl Topology for FixedTopology {
+    fn reads(&self) -> Reads {
+        Reads::default()
+    }
+
+    fn percussion(&mut self, _: &Scenario, _: &System, _: &[Load], _: f64, _: f64, _: f64) {}
+
+    fn sustained(&mut self, _: &Scenario, _: &System, _: &[Load], _: f64, _: f64) {}
+
+    fn pending(&self) -> bool {
+        false
+    }
+
+    fn apply(&mut self, _: &mut Scenario, _: &mut System) -> Option<Vec<usize>> {
+        None
+    }
+}
+
+/// The process-wide flag that SIGINT and SIGTERM set
+/// ([`crate::run::interrupt::install`]).
+static PROCESS: AtomicBool = AtomicBool::new(false);
+
+/// A handle on a stop request: the process's (set by a signal) or one of
+/// its own (for embedding programs and tests). The runner polls it at each
+/// output time and formulations at each step of their own grid
+/// ([`Context::poll_interrupt`]).
+#[derive(Debug, Clone, Default)]
+pub enum Interrupt {
+    /// The process-wide request: a signal, or [`Interrupt::request`] on any
+    /// handle of the process.
+    #[default]
+    Process,
+    /// A request of its own, shared by the clones of the handle.
+    Own(Arc<AtomicBool>),
+}
+
+impl Interrupt {
+    /// A handle of its own, not set by signals.
+    pub fn own() -> Interrupt {
+        Interrupt::Own(Arc::new(AtomicBool::new(false)))
+    }
+
+    /// Whether a stop was asked for.
+    pub fn requested(&self) -> bool {
+        match self {
+            Interrupt::Process => PROCESS.load(Ordering::SeqCst),
+            Interrupt::Own(flag) => flag.load(Ordering::SeqCst),
+        }
+    }
+
+    /// Asks the runs polling this handle to stop at their next output time.
+    pub fn request(&self) {
+        match self {
+            Interrupt::Process => PROCESS.store(true, Ordering::SeqCst),
+            Interrupt::Own(flag) => flag.store(true, Ordering::SeqCst),
+        }
+    }
+}
+
+/// What a formulation gets with each [`super::Formulation::advance`].
+pub struct Context<'a> {
+    /// The clock it charges its CPU time to, by stage.
+    pub clock: &'a mut StageClock,
+    /// The run's topology stage.
+    pub topology: &'a mut dyn Topology,
+    /// The run's stop request.
+    pub interrupt: &'a Interrupt,
+}
+
+impl<'a> Context<'a> {
+    /// The context of a run with these parts.
+    pub fn new(
+        clock: &'a mut StageClock,
+        topology: &'a mut dyn Topology,
+        interrupt: &'a Interrupt,
+    ) -> Context<'a> {
+        Context {
+            clock,
+            topology,
+            interrupt,
+        }
+    }
+
+    /// [`super::FormulationError::Interrupted`] at `t` (s) if a stop was
+    /// asked for: the step loops poll it once per step (an atomic load),
+    /// so a run whose outputs are far apart still stops at once.
+    pub fn poll_interrupt(&self, t: f64) -> Result<(), super::FormulationError> {
+        if self.interrupt.requested() {
+            Err(super::FormulationError::Interrupted { t })
+        } else {
+            Ok(())
+        }
+    }
+
+    /// At a safe point of the formulation's scheme: the topology stage's
+    /// pending change, carried out on `scn` and `sys` (see
+    /// [`Topology::apply`]); the floe ids before it when a change was
+    /// pending, for [`super::Formulation::floes_changed`].
+    pub fn change_floes(&mut self, scn: &mut Scenario, sys: &mut System) -> Option<Vec<usize>> {
+        if self.topology.pending() {
+            self.topology.apply(scn, sys)
+        } else {
+            None
+        }
+    }
+}
