@@ -1,0 +1,203 @@
+//! The Moreau–Jean formulations' settings (`[formulation.moreau]`, read by
+//! `moreau` and `moreau-cone`), their counters and constants
+//! (docs/physics.md §5).
+
+use super::*;
+
+/// `[formulation.moreau]`, read by both entries.
+pub const TABLE: TableSpec = TableSpec {
+    name: "moreau",
+    validate: |t| MoreauSettings::from_table(t).map(|_| ()),
+    limits: &[
+        STEP,
+        THETA,
+        GAMMA,
+        PREDICT_FROM,
+        TOLERANCE,
+        MAX_ITERATIONS,
+        RELAXATION,
+    ],
+};
+
+/// The bound of `predict_from`, unknowns (an LCP size).
+pub const PREDICT_FROM: Limit = Limit::range(
+    "predict_from",
+    "[formulation.moreau]",
+    1.0,
+    1e9,
+    "",
+    "a contact LCP has at most 4 unknowns per contact; 1e9 unknowns would be a dense matrix of 8e18 bytes",
+)
+.integers();
+
+/// The bound of `theta`.
+pub const THETA: Limit = Limit::range(
+    "theta",
+    "[formulation.moreau]",
+    0.0,
+    1.0,
+    "",
+    "a weight of the θ-method: 0 explicit, 1 implicit",
+);
+
+/// The bound of `gamma`.
+pub const GAMMA: Limit = Limit::range(
+    "gamma",
+    "[formulation.moreau]",
+    0.0,
+    1.0,
+    "",
+    "a weight of the predicted gap within the step",
+);
+
+/// Settings of the Moreau–Jean formulation (`[formulation.moreau]`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoreauSettings {
+    /// `step`: time step `h`, s (default 1.0: an upper bound, see the
+    /// module doc).
+    pub step: f64,
+    /// `theta`: θ of the θ-method on the smooth forces and the positions, in
+    /// [0, 1] (default 0.5: trapezoidal, exact for constant forces).
+    pub theta: f64,
+    /// `gamma`: γ of the predicted gap `g + h γ u_N` activating a contact, in
+    /// [0, 1] (default 0.5, Acary & Brogliato's choice).
+    pub gamma: f64,
+    /// `solver`: the one-step contact solver, `"lcp"` (default) or `"cone"`;
+    /// the entry `moreau-cone` overrides it.
+    pub solver: SolverKind,
+    /// `warm_start`: start each LCP from the basis of its contacts' last
+    /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes
+    /// results at the rounding level; see [`ContactSolver::with_warm_start`]).
+    pub warm_start: bool,
+    /// `warm_lemke`: with the warm start on, when principal pivoting from
+    /// the guessed basis is rejected, run Lemke's path from that basis
+    /// before the cold attempts (default [`DEFAULT_WARM_LEMKE`]; see
+    /// [`ContactSolver::with_warm_lemke`]). Without the warm start it does
+    /// nothing.
+    pub warm_lemke: bool,
+    /// `predict_from`: LCPs of at least this many unknowns (and no
+    /// warm-start guess) are solved from a basis predicted by block
+    /// Gauss–Seidel (default [`DEFAULT_PREDICT_FROM`]: absent, off; see
+    /// [`ContactSolver::with_predict_from`]).
+    pub predict_from: Option<usize>,
+    /// `merge_friction`: one friction resultant per flush edge pair (the
+    /// contacts of one body pair whose tangential columns agree to
+    /// [`crate::contact::problem::FRICTION_MERGE_TOLERANCE`]) in the LCPs,
+    /// bounded by `μ` times the sum of their normal impulses (default
+    /// [`DEFAULT_MERGE_FRICTION`]: on; see
+    /// [`ContactSolver::with_merge_friction`] and docs/physics.md §3.1).
+    /// The cone program keeps one cone per point either way.
+    pub merge_friction: bool,
+    /// `solver = "nsgs"` or `"apgd"`: the iterative solver and its
+    /// `tolerance`, `max_iterations`, `relaxation` (default `None`: the
+    /// direct `solver`; see [`crate::iterative`]). With it, `solver` above
+    /// is `"lcp"` and unused.
+    pub iterative: Option<IterativeOptions>,
+}
+
+impl Default for MoreauSettings {
+    fn default() -> Self {
+        MoreauSettings {
+            step: 1.0,
+            theta: 0.5,
+            gamma: 0.5,
+            solver: SolverKind::Lcp,
+            warm_start: DEFAULT_WARM_START,
+            warm_lemke: DEFAULT_WARM_LEMKE,
+            predict_from: DEFAULT_PREDICT_FROM,
+            merge_friction: DEFAULT_MERGE_FRICTION,
+            iterative: None,
+        }
+    }
+}
+
+impl MoreauSettings {
+    /// Parses `[formulation.moreau]` (errors name the line and key).
+    pub fn from_table(t: &SettingsTable) -> Result<MoreauSettings, CaseError> {
+        let d = MoreauSettings::default();
+        let mut r = t.read();
+        let step = r.step(&STEP)?.unwrap_or(d.step);
+        let theta = r.bounded(&THETA)?.unwrap_or(d.theta);
+        let gamma = r.bounded(&GAMMA)?.unwrap_or(d.gamma);
+        let (solver, iterative) = read_solver(&mut r, d.solver)?;
+        let s = MoreauSettings {
+            step,
+            theta,
+            gamma,
+            solver,
+            iterative,
+            warm_start: r.boolean("warm_start")?.unwrap_or(d.warm_start),
+            warm_lemke: r.boolean("warm_lemke")?.unwrap_or(d.warm_lemke),
+            merge_friction: r.boolean("merge_friction")?.unwrap_or(d.merge_friction),
+            predict_from: r
+                .integer(&PREDICT_FROM)?
+                .map_or(d.predict_from, |k| usize::try_from(k).ok()),
+        };
+        r.finish()?;
+        Ok(s)
+    }
+
+    /// The settings of `scn`.
+    pub fn of(scn: &Scenario) -> Result<MoreauSettings, CaseError> {
+        MoreauSettings::from_table(&scn.settings_table(TABLE.name))
+    }
+}
+
+/// Active contacts over every step.
+pub const ACTIVE_CONTACTS: Counter =
+    Counter::sum("active_contacts", "active contacts over every step");
+/// Most active contacts in one step.
+pub const ACTIVE_CONTACTS_MAX: Counter = Counter::max(
+    "active_contacts_max",
+    Unit::Count,
+    "most active contacts in one step",
+);
+/// Contact groups over every step.
+pub const CONTACT_GROUPS: Counter =
+    Counter::sum("contact_groups", "connected contact groups over every step");
+/// Group solves that increased the kinetic energy.
+pub const CONTACT_ENERGY_INCREASES: Counter = Counter::sum(
+    "contact_energy_increases",
+    "group solves that increased the kinetic energy of the group",
+);
+/// Largest kinetic energy created by one group solve, J.
+pub const CONTACT_ENERGY_INCREASE_MAX: Counter = Counter::max(
+    "contact_energy_increase_max_j",
+    Unit::Joule,
+    "largest kinetic energy created by one group solve",
+);
+/// Steps in which contact impulses changed a velocity.
+pub const STEPS_WITH_IMPULSES: Counter = Counter::sum(
+    "steps_with_impulses",
+    "steps in which contact impulses changed a velocity",
+);
+
+/// The counters of the formulation (the contact solver adds its own).
+pub(super) const COUNTERS: &[&Counter] = &[
+    &STEPS,
+    &FORCE_EVALUATIONS,
+    &ACTIVE_CONTACTS,
+    &CONTACT_GROUPS,
+    &CONTACT_ENERGY_INCREASES,
+    &STEPS_WITH_IMPULSES,
+    &ACTIVE_CONTACTS_MAX,
+    &CONTACT_ENERGY_INCREASE_MAX,
+    &MAX_PENETRATION,
+];
+
+/// Rounding allowance of the activation test `g + h γ u_N ≤ ε`, as a
+/// fraction of the smallest floe radius. Without it a resting contact whose
+/// predicted gap is `+1e-20` m (rounding in the split of the impulse between
+/// two contact points) is dropped, the floe pivots on the other point and
+/// the rocking grows: measured on `sliding_floe`, 0.26 m of penetration
+/// after 1000 steps with ε = 0.
+pub const ACTIVATION_TOLERANCE_FRACTION: f64 = 1e-9;
+
+/// A velocity change below this fraction of the group's largest free
+/// velocity component does not make a step a contact step in
+/// [`Moreau::contact_steps`] (it is still applied): the cone's interior
+/// point is never exactly zero.
+pub(super) const NEGLIGIBLE_VELOCITY_FRACTION: f64 = 1e-9;
+
+/// Keeps at most this many contact-step records.
+pub(super) const MAX_RECORDS: usize = 100_000;
