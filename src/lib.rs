@@ -21,7 +21,9 @@
 //!
 //! - [`model`]: the case file, validated into a [`model::Scenario`] (floes,
 //!   obstacles, environment, contact law, settings);
-//! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]);
+//! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]),
+//!   the sweep-and-prune broad phase;
+//! - [`fsio`]: atomic file writes (temporary file, then rename);
 //! - [`contact`]: shared contact detection (sweep and prune, convex polygon contact points);
 //! - [`lcp`]: linear complementarity problems, our Lemke solver with fallbacks, dumps;
 //! - [`iterative`]: the iterative contact solvers of dense packs (NSGS, APGD) on the sparse
@@ -49,6 +51,7 @@ pub mod compare;
 pub mod contact;
 pub mod formulation;
 pub mod fracture;
+pub mod fsio;
 pub mod geometry;
 pub mod iterative;
 pub mod lcp;

@@ -128,7 +128,7 @@ pub fn write_trajectory(
         .iter()
         .map(|&f| i32::try_from(f).map_err(|_| format!("{file}: floe id {f} does not fit")))
         .collect::<Result<_, _>>()?;
-    crate::run::output::write_atomic_with(path, |tmp| {
+    crate::fsio::write_atomic_with(path, |tmp| {
         let io = |e: netcdf3::WriteError| std::io::Error::other(format!("{e:?}"));
         let mut w = FileWriter::open(tmp).map_err(io)?;
         w.set_def(&ds, Version::Offset64Bit, 0).map_err(io)?;
