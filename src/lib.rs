@@ -56,7 +56,6 @@ pub mod geometry;
 pub mod iterative;
 pub mod lcp;
 pub mod model;
-pub mod netcdf;
 pub mod physics;
 pub mod record;
 pub mod report;

@@ -15,7 +15,7 @@
 //!   azimuthal speed `S R / r` outside) whose centre drifts at a constant
 //!   velocity and which drifts the fluid with it;
 //! - `grid`: values on a rectilinear grid read from a CF NetCDF file
-//!   ([`crate::netcdf`]), bilinear in space and linear in time.
+//!   ([`super::netcdf`]), bilinear in space and linear in time.
 //!
 //! The analytic fields may be multiplied by a dimensionless time series
 //! ([`Scale`]). Each field knows its largest speed over its extent and the

@@ -5,13 +5,16 @@
 //! (wind, current, Coriolis), the contact law and the settings of the
 //! integrator and of each formulation. Loading and validation of case files
 //! live in [`case`], the documented bounds of every number in [`limits`]; the
-//! seeded random floe field in [`field`].
+//! seeded random floe field in [`field`]; the gridded forcing read from CF
+//! NetCDF files in [`netcdf`]. The model imports only the foundations
+//! ([`crate::geometry`], [`crate::rng`], [`crate::fsio`]).
 
 pub mod case;
 pub mod field;
 pub mod forcing;
 pub mod fracture;
 pub mod limits;
+pub mod netcdf;
 pub mod settings;
 
 use crate::geometry::{area_properties, radius_about, Vec2};
@@ -425,7 +428,7 @@ impl Scenario {
                 VelocityField::Grid(g) => g.data.epoch,
                 _ => None,
             })
-            .map(crate::netcdf::cf::format_date)
+            .map(netcdf::cf::format_date)
     }
 
     /// Times in (0, duration) where the wind or the current has a kink in

@@ -9,12 +9,13 @@
 //! integration ([`energy`]).
 //!
 //! [`energy`] holds the ledger's samples and totals; [`output`] writes a
-//! run's files; [`batch`] runs several formulations on several cases on a
+//! run's files ([`netcdf_out`] its `trajectory.nc`); [`batch`] runs several formulations on several cases on a
 //! pool of threads; [`repeat`] merges the repeats of a run.
 
 pub mod batch;
 pub mod energy;
 pub mod interrupt;
+pub mod netcdf_out;
 pub mod output;
 pub mod repeat;
 

@@ -185,17 +185,22 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
 }
 
 /// Writes `trajectory.nc` (the trajectory as CF NetCDF,
-/// [`crate::netcdf::write_trajectory`]) into `dir` for a run of `scn`;
+/// [`super::netcdf_out::write_trajectory`]) into `dir` for a run of `scn`;
 /// returns its path.
 pub fn write_netcdf(
     dir: &Path,
     result: &RunResult,
     scn: &crate::model::Scenario,
 ) -> io::Result<PathBuf> {
-    let p = dir.join(crate::netcdf::TRAJECTORY_FILE);
+    let p = dir.join(super::netcdf_out::TRAJECTORY_FILE);
     let title = format!("floebench {}: {}", result.summary.formulation, scn.name);
-    crate::netcdf::write_trajectory(&p, &result.trajectory, &title, scn.start_date().as_deref())
-        .map_err(io::Error::other)?;
+    super::netcdf_out::write_trajectory(
+        &p,
+        &result.trajectory,
+        &title,
+        scn.start_date().as_deref(),
+    )
+    .map_err(io::Error::other)?;
     Ok(p)
 }
 

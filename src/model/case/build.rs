@@ -744,12 +744,12 @@ fn grid_field(
     }
     let base = ctx.file.parent().unwrap_or(std::path::Path::new(""));
     let path = base.join(&file);
-    let request = crate::netcdf::GridRequest {
+    let request = crate::model::netcdf::GridRequest {
         variables: variables.clone(),
         origin: f.origin,
         start: f.start.clone(),
     };
-    let data = crate::netcdf::read_grid(&path, &request)
+    let data = crate::model::netcdf::read_grid(&path, &request)
         .map_err(|e| ctx.key_err(span, "file", format!("[environment] {which}.file: {e}")))?;
     let max_speed = data
         .u

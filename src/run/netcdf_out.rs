@@ -8,8 +8,8 @@
 //! otherwise 1970-01-01 as a nominal date (`comment` says so). Written
 //! atomically like the other outputs.
 
-use super::reader::NcInput;
-use crate::run::TrajectoryRow;
+use super::TrajectoryRow;
+use crate::model::netcdf::reader::NcInput;
 use netcdf3::{DataSet, FileWriter, Version, NC_FILL_F64};
 use std::path::Path;
 
