@@ -22,7 +22,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 
 pub use case::{load_case_with, parse_case_with, CaseError};
-pub use forcing::{VelocityField, VelocitySeries};
+pub use forcing::{OutsideLog, VelocityField, VelocitySeries};
 pub use fracture::{FloeHistory, FractureSettings};
 pub use settings::{SettingsReader, SettingsTable, TableSpec};
 
@@ -221,6 +221,12 @@ pub struct Environment {
     pub air: Fluid,
     /// Water: drag from the relative velocity `U_w − Ṗ` at each point.
     pub water: Fluid,
+    /// The first point outside a field's extent that the fields of this
+    /// environment were evaluated at: a run's log, not case data (not
+    /// serialised, always equal); the runner takes it after each output
+    /// interval (docs/physics.md §2.4).
+    #[serde(skip)]
+    pub outside: OutsideLog,
 }
 
 impl Default for Environment {
@@ -229,6 +235,7 @@ impl Default for Environment {
             coriolis: 0.0,
             air: Fluid::none(),
             water: Fluid::none(),
+            outside: OutsideLog::default(),
         }
     }
 }

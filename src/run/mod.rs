@@ -311,7 +311,7 @@ impl Runner {
         let e0 = sys.kinetic_energy(scn);
         // A point outside a forcing field's extent left by an earlier run
         // of this thread is not this run's.
-        let _ = crate::model::forcing::take_outside();
+        let _ = scn.environment.outside.take();
         let mut trajectory = Vec::new();
         let mut energy = Vec::new();
         let mut end = EndReason::Completed;
@@ -352,7 +352,7 @@ impl Runner {
             next.t = t;
             // A forcing field evaluated outside its extent ends the run at
             // the last output before (docs/physics.md §2.4).
-            if let Some(message) = crate::model::forcing::take_outside() {
+            if let Some(message) = scn.environment.outside.take() {
                 end = EndReason::Failed {
                     message: format!("between t = {} s and t = {t} s: {message}", sys.t),
                 };

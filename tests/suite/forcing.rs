@@ -128,12 +128,12 @@ fn a_linear_field_is_interpolated_exactly_by_the_grid() {
         let s = k as f64 / 200.0;
         let p = Vec2::new(-5000.0 + 11000.0 * s, -3000.0 + 7000.0 * (s * 7.3).fract());
         let t = 3600.0 * (s * 3.1).fract();
-        let u = field.at(&p, t);
+        let u = field.at(&p, t, &scn.environment.outside);
         let (ex, ey) = lin(p.x, p.y, t);
         worst = worst.max((u.x - ex).abs().max((u.y - ey).abs()) / ex.abs().max(ey.abs()));
     }
     assert!(worst <= 1e-12, "largest relative error {worst:e}");
-    assert!(floebench::model::forcing::take_outside().is_none());
+    assert!(scn.environment.outside.first().is_none());
 }
 
 #[test]

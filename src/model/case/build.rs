@@ -135,6 +135,7 @@ fn environment(ctx: &Ctx, spec: Option<Spanned<EnvSpec>>) -> Result<Environment,
                 coriolis: env.coriolis,
                 air: fluid(ctx, &span, "air", env.air)?,
                 water: fluid(ctx, &span, "water", env.water)?,
+                outside: Default::default(),
             }
         }
     })
