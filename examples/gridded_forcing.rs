@@ -5,7 +5,7 @@
 //! classic.
 //!
 //! The values are the analytic fields of [`wind`] and [`current`] at the
-//! nodes' projected positions (`floebench::netcdf::project_lon`,
+//! nodes' projected positions (`floebench::model::netcdf::project_lon`,
 //! `project_lat`, the projection the reader applies with `origin = [0, 79]`):
 //! both are linear in space, so bilinear interpolation reproduces them
 //! exactly and the gridded case must give the trajectory of the same case
@@ -13,7 +13,7 @@
 //!
 //! Run with `cargo run --release --example gridded_forcing [OUT.nc]`.
 
-use floebench::netcdf::{project_lat, project_lon, write_grid, GridFile};
+use floebench::model::netcdf::{project_lat, project_lon, write_grid, GridFile};
 
 /// The reference point of the projection, degrees.
 const ORIGIN: [f64; 2] = [0.0, 79.0];

@@ -15,7 +15,8 @@
 //! counter-clockwise, without repeated or aligned consecutive vertices.
 //! A non-convex outline is split once into convex parts
 //! ([`decompose::convex_parts`]: ear clipping, then Hertel–Mehlhorn) for the
-//! contact detection.
+//! contact detection. The sweep-and-prune broad phase on bounding boxes
+//! is [`broad`].
 //!
 //! # References
 //!
@@ -25,6 +26,7 @@
 //! - S. Hertel, K. Mehlhorn (1983), *Fast triangulation of simple polygons*,
 //!   LNCS 158 (the convex decomposition within four times the optimum).
 
+pub mod broad;
 pub mod decompose;
 
 use nalgebra::Vector2;

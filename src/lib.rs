@@ -10,25 +10,43 @@
 //!        report (pages, tables, plots) ◀── analysis (checks, divergence, metrics) ◀──┘
 //! ```
 //!
-//! The layers, each using only those before it: [`model`] → [`formulation`]
-//! → [`run`] → [`analysis`] → [`report`] (with the shared foundations
-//! [`geometry`], [`state`], [`physics`], [`contact`], [`lcp`], [`iterative`], [`record`],
-//! [`rng`] below the formulations). [`compare`] combines the batch runner
-//! and the analysis; only the command line writes reports. The command line
-//! is the binary, the top layer above [`report`]: `src/main.rs` parses the
-//! arguments and `src/cli/` holds one module per command (its clap
-//! arguments and its `run`), calling this library.
+//! LAYERS: each module imports only modules of its own layer or of the
+//! layers before it (`python3 tools/arch/imports.py` lists the imports
+//! that do not):
 //!
-//! - [`model`]: the case file, validated into a [`model::Scenario`] (floes,
+//! 0. geometry, rng, fsio, record, lcp: the foundations (polygons and the broad
+//!    phase, the seeded generator, atomic file writes, the reporting vocabulary,
+//!    LCPs and their solvers);
+//! 1. model: pure data (floes, cases, fields, forcing, limits, material
+//!    constants) and its input readers (case files, CF NetCDF forcing);
+//! 2. contact: detection and the contact problems;
+//! 3. state: the dynamic state, kinematics and the energy ledger;
+//! 4. physics: the force law and the smooth integrator;
+//! 5. iterative: the iterative contact solvers;
+//! 6. formulation: the formulations and their registry;
+//! 7. fracture: floes that break;
+//! 8. run: the runner, the output writers, the batch;
+//! 9. analysis: checks, divergences, metrics;
+//! 10. compare, sweep: the comparison harness, work–precision sweeps;
+//! 11. report: everything written for people;
+//! 12. cli: the command line, the binary: `src/main.rs` parses the
+//!     arguments and `src/cli/` holds one module per command (its clap
+//!     arguments and its `run`), calling this library; only it writes
+//!     reports.
+//!
+//! - [`model`]: the case file (and its CF NetCDF forcing), validated into a [`model::Scenario`] (floes,
 //!   obstacles, environment, contact law, settings);
-//! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]);
+//! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]),
+//!   the sweep-and-prune broad phase;
+//! - [`fsio`]: atomic file writes (temporary file, then rename);
 //! - [`contact`]: shared contact detection (sweep and prune, convex polygon contact points);
 //! - [`lcp`]: linear complementarity problems, our Lemke solver with fallbacks, dumps;
 //! - [`iterative`]: the iterative contact solvers of dense packs (NSGS, APGD) on the sparse
 //!   contact problem, the contact cache and the natural-map residual of every solver's answer;
 //! - [`physics`]: environment forces and the smooth integrator;
 //! - [`state`]: the dynamic state and the energy ledger;
-//! - [`record`]: what formulations report with: typed counters and settings, the contact log, the stage clock;
+//! - [`record`]: what formulations report with: typed counters and settings, the contact log, the stage clock,
+//!   the spread of repeated measurements;
 //! - [`formulation`]: the [`formulation::Formulation`] trait, the registry ([`formulation::REGISTRY`]) and the formulations;
 //! - [`run`]: the [`run::Runner`] (timing, stopping, recording), output files, and the batch
 //!   runner ([`run::batch`]: every formulation on every case on a pool of threads);
@@ -49,11 +67,11 @@ pub mod compare;
 pub mod contact;
 pub mod formulation;
 pub mod fracture;
+pub mod fsio;
 pub mod geometry;
 pub mod iterative;
 pub mod lcp;
 pub mod model;
-pub mod netcdf;
 pub mod physics;
 pub mod record;
 pub mod report;

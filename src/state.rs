@@ -4,9 +4,8 @@
 //! bodies, point and normal velocities, kinetic energy, largest point speed.
 
 use crate::contact::{detect_compound, BroadPhase, Compound, Contact, NarrowOptions};
-use crate::geometry::Vec2;
+use crate::geometry::{perp, Vec2};
 use crate::model::{Body, Scenario};
-use crate::physics::forces::point_velocity;
 use serde::Serialize;
 
 /// Position and velocity of one floe (3 degrees of freedom).
@@ -32,6 +31,12 @@ impl BodyState {
             && self.velocity.y.is_finite()
             && self.angular_velocity.is_finite()
     }
+}
+
+/// Velocity of the material point at world offset `r = GP` from the centre, m/s.
+#[inline]
+pub fn point_velocity(b: &BodyState, r: &Vec2) -> Vec2 {
+    b.velocity + perp(r) * b.angular_velocity
 }
 
 /// Cumulative energy exchanges since t = 0, J.

@@ -2,7 +2,7 @@
 //! differs ([`super::divergence`]), every figure in long format
 //! ([`super::metrics`]), the physical checks of every run
 //! ([`super::check`]), the spread of the CPU times over the repeats
-//! ([`super::spread`]), whether the case is chaotic ([`super::chaos`]) and,
+//! ([`crate::record::spread`]), whether the case is chaotic ([`super::chaos`]) and,
 //! when floes can break, the floe-size distributions ([`super::floe_sizes`]).
 
 use super::chaos::{self, ChaosProbe};
@@ -10,8 +10,8 @@ use super::check::{self, CheckOutcome};
 use super::divergence::{self, PairDivergence, TimeMismatch};
 use super::floe_sizes::{floe_sizes, FloeSizes};
 use super::metrics::{self, MetricRow};
-use super::spread::Spread;
 use crate::model::Scenario;
+use crate::record::spread::Spread;
 use crate::run::batch::CaseRuns;
 use crate::run::{RunResult, Timing};
 use std::path::PathBuf;

@@ -7,7 +7,7 @@
 
 use super::chaos::ChaosProbe;
 use super::divergence::PairDivergence;
-use super::spread::Spread;
+use crate::record::spread::Spread;
 use crate::record::SettingValue;
 use crate::run::{EndReason, RunResult, RunSummary};
 use serde::Serialize;
@@ -183,7 +183,7 @@ pub fn pair_metrics(case: &str, p: &PairDivergence) -> Vec<MetricRow> {
 
 /// The spread of a run's CPU time over its repeats (`cpu_repeats`,
 /// `cpu_median`, `cpu_min`, `cpu_max`, and `cpu_q1`, `cpu_q3` from
-/// [`super::spread::IQR_FROM`] repeats on), s.
+/// [`crate::record::spread::IQR_FROM`] repeats on), s.
 pub fn cpu_spread_metrics(s: &RunSummary, c: &Spread) -> Vec<MetricRow> {
     let row = |metric: &str, value: f64, unit: &str| {
         MetricRow::new(&s.case, &s.formulation, "", metric, value, unit)

@@ -8,7 +8,7 @@
 //! - [`chaos`]: whether a case is chaotic (the growth of a 1e-12 perturbation);
 //! - [`floe_sizes`]: the floe-size distribution of a fracture case, at the
 //!   start and at the end of every run;
-//! - [`spread`]: median and spread of repeated measurements (CPU times);
+//! - the spread of repeated measurements (CPU times) is [`crate::record::spread`];
 //! - [`ranking`]: formulations ranked by a figure, with ties (errors to exact
 //!   answers, dissipation, CPU time).
 
@@ -19,4 +19,3 @@ pub mod divergence;
 pub mod floe_sizes;
 pub mod metrics;
 pub mod ranking;
-pub mod spread;

@@ -2,7 +2,7 @@
 //! answer (the checks), by the energy they dissipate, by CPU time. What is
 //! a tie depends on the figure: within rounding for deterministic physics
 //! ([`ROUNDING`] of the figure's scale), overlapping spreads for a measured
-//! time ([`super::spread::Spread::overlaps`]).
+//! time ([`crate::record::spread::Spread::overlaps`]).
 
 use super::check::CheckOutcome;
 

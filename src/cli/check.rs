@@ -57,7 +57,7 @@ pub fn run(args: Args) -> Outcome {
         println!("finding: {f}");
     }
     if let Some(file) = &args.markdown {
-        floebench::run::output::write_atomic(file, markdown_table(&rows).as_bytes())
+        floebench::fsio::write_atomic(file, markdown_table(&rows).as_bytes())
             .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
     }
     if floebench::run::interrupt::requested() {

@@ -1,10 +1,10 @@
 //! `floebench lcp`: re-solve a dumped LCP, or time every dump of a folder.
 
 use super::{count, Outcome};
+use floebench::fsio;
 use floebench::lcp::timing::{self, TimingOptions};
 use floebench::lcp::{residual, solve, Covering, LcpDump, SolveOptions};
 use floebench::report::format::fmt_num;
-use floebench::run::output;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -193,7 +193,7 @@ fn time_lcps(path: &Path, opts: &TimingOptions, csv: Option<&Path>) -> Outcome {
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| e.to_string())?;
     if let Some(file) = csv {
-        output::write_atomic(file, timing::csv(&rows).as_bytes())
+        fsio::write_atomic(file, timing::csv(&rows).as_bytes())
             .map_err(|e| format!("cannot write {}: {e}", file.display()))?;
     }
     println!(

@@ -16,7 +16,7 @@
 //!
 //! Two phases:
 //!
-//! 1. **Broad phase** ([`BroadPhase`], `broad.rs`): sweep and prune. The
+//! 1. **Broad phase** ([`BroadPhase`], `geometry/broad.rs`): sweep and prune. The
 //!    axis-aligned bounding boxes, inflated by a margin, are sorted along `x`
 //!    (insertion sort on the order kept from the previous call, nearly linear
 //!    when bodies move little), swept once to find the pairs overlapping in
@@ -40,13 +40,12 @@
 //! group is assembled in [`problem`] (the LCP) and, for the convex cone
 //! relaxation, solved in [`cone`].
 
-mod broad;
 pub mod cone;
 mod load;
 mod narrow;
 pub mod problem;
 
-pub use broad::{Aabb, BroadPhase};
+pub use crate::geometry::broad::{Aabb, BroadPhase};
 pub use load::{loads_of, Load};
 pub use narrow::{
     contacts, contacts_with, separation, signed_distance, ContactGeom, Feature, FeaturePair,

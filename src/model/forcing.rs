@@ -15,7 +15,7 @@
 //!   azimuthal speed `S R / r` outside) whose centre drifts at a constant
 //!   velocity and which drifts the fluid with it;
 //! - `grid`: values on a rectilinear grid read from a CF NetCDF file
-//!   ([`crate::netcdf`]), bilinear in space and linear in time.
+//!   ([`super::netcdf`]), bilinear in space and linear in time.
 //!
 //! The analytic fields may be multiplied by a dimensionless time series
 //! ([`Scale`]). Each field knows its largest speed over its extent and the
@@ -27,14 +27,15 @@
 //! A field with an extent (linear, grid) refuses points outside it unless
 //! the case says `outside = "clamp"` (the value at the nearest point of the
 //! extent). The force law cannot fail in the middle of a step, so an
-//! outside point is evaluated clamped and recorded for the running thread
-//! ([`take_outside`]); the runner ends the run with an error naming the
-//! file, the variable and the point (docs/physics.md §2.4).
+//! outside point is evaluated clamped and noted in the [`OutsideLog`] the
+//! caller passes (the environment's own, [`super::Environment::outside`],
+//! in the run's copy of the scenario); the runner takes it after each
+//! output interval and ends the run with an error naming the file, the
+//! variable and the point (docs/physics.md §2.4).
 
 use crate::geometry::Vec2;
 use serde::Serialize;
-use std::cell::RefCell;
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 /// A velocity that is constant or piecewise linear in time.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -346,32 +347,38 @@ impl VelocityField {
 
     /// The velocity at world point `p` (m) and time `t` (s), m/s: the one
     /// point function of the fluid velocity. A point outside the extent of
-    /// a field that refuses it is evaluated clamped and recorded
-    /// ([`take_outside`]).
+    /// a field that refuses it is evaluated clamped and noted in `log`.
     #[inline]
-    pub fn at(&self, p: &Vec2, t: f64) -> Vec2 {
+    pub fn at(&self, p: &Vec2, t: f64, log: &OutsideLog) -> Vec2 {
         match self {
             VelocityField::Uniform(s) => s.at(t),
             VelocityField::Linear(f) => {
-                let q = self.inside(&f.extent, f.outside, p, t);
+                let q = self.inside(&f.extent, f.outside, p, t, log);
                 f.value(&q) * f.scale.at(t)
             }
             VelocityField::Vortex(f) => f.value(p, t) * f.scale.at(t),
             VelocityField::Grid(g) => {
-                let q = self.inside(&g.extent(), g.outside, p, t);
+                let q = self.inside(&g.extent(), g.outside, p, t, log);
                 g.value(&q, t)
             }
         }
     }
 
-    /// `p`, or its nearest point in `extent` (recording the first outside
-    /// point of the thread when the field refuses it).
-    fn inside(&self, extent: &Extent, outside: Outside, p: &Vec2, t: f64) -> Vec2 {
+    /// `p`, or its nearest point in `extent` (noting the first outside
+    /// point in `log` when the field refuses it).
+    fn inside(
+        &self,
+        extent: &Extent,
+        outside: Outside,
+        p: &Vec2,
+        t: f64,
+        log: &OutsideLog,
+    ) -> Vec2 {
         if extent.contains(p) {
             return *p;
         }
         if outside == Outside::Error {
-            record_outside(|| self.outside_message(extent, p, t));
+            log.note(|| self.outside_message(extent, p, t));
         }
         extent.clamp(p)
     }
@@ -457,27 +464,44 @@ impl VelocityField {
     }
 }
 
-thread_local! {
-    /// The first point outside a field's extent met by this thread since
-    /// the last [`take_outside`].
-    static OUTSIDE: RefCell<Option<String>> = const { RefCell::new(None) };
-}
+/// The first point outside a field's extent met by the evaluations
+/// ([`VelocityField::at`]) given this log, as an error message naming the
+/// field (file and variables for a grid) and the point. Each environment
+/// carries one ([`super::Environment::outside`]), so a run's copy of the
+/// scenario holds its own; the runner takes it before a run and after each
+/// output interval. Noting costs nothing while every point is inside (the
+/// first message is formatted once, later ones not at all), and it can be
+/// noted through a shared reference from any thread.
+///
+/// A log is not part of the value of what holds it: two logs always
+/// compare equal.
+#[derive(Debug, Clone, Default)]
+pub struct OutsideLog(OnceLock<String>);
 
-fn record_outside(message: impl FnOnce() -> String) {
-    OUTSIDE.with(|o| {
-        let mut o = o.borrow_mut();
-        if o.is_none() {
-            *o = Some(message());
+impl OutsideLog {
+    /// Notes `message()` unless a point is noted already.
+    #[cold]
+    pub fn note(&self, message: impl FnOnce() -> String) {
+        if self.0.get().is_none() {
+            let _ = self.0.set(message());
         }
-    });
+    }
+
+    /// The first point noted since the last [`OutsideLog::take`], if any.
+    pub fn first(&self) -> Option<&str> {
+        self.0.get().map(String::as_str)
+    }
+
+    /// Hands over (and clears) the first point noted since the last call.
+    pub fn take(&mut self) -> Option<String> {
+        self.0.take()
+    }
 }
 
-/// Hands over (and clears) the first point outside a field's extent that
-/// this thread evaluated since the last call, as an error message naming
-/// the field (file and variables for a grid) and the point. The runner
-/// calls it before a run and after each output interval.
-pub fn take_outside() -> Option<String> {
-    OUTSIDE.with(|o| o.borrow_mut().take())
+impl PartialEq for OutsideLog {
+    fn eq(&self, _: &OutsideLog) -> bool {
+        true
+    }
 }
 
 #[cfg(test)]
@@ -518,29 +542,31 @@ mod tests {
     #[test]
     fn bilinear_in_space_and_linear_in_time_reproduce_an_affine_field() {
         let f = VelocityField::Grid(grid(3));
+        let mut log = OutsideLog::default();
         for (p, t) in [
             (Vec2::new(3.0, 1.0), 0.0),
             (Vec2::new(29.0, -4.0), 150.0),
             (Vec2::new(0.0, 5.0), 200.0),
         ] {
-            let u = f.at(&p, t);
+            let u = f.at(&p, t, &log);
             let ux = 1.0 + 0.1 * p.x - 0.2 * p.y + 0.001 * t;
             let uy = -0.5 + 0.05 * p.x + 0.3 * p.y;
             assert!((u.x - ux).abs() <= 1e-12 * ux.abs().max(1.0));
             assert!((u.y - uy).abs() <= 1e-12 * uy.abs().max(1.0));
         }
-        assert!(take_outside().is_none());
+        assert!(log.take().is_none());
     }
 
     #[test]
     fn an_outside_point_is_recorded_with_the_file_and_clamped() {
         let f = VelocityField::Grid(grid(1));
-        let u = f.at(&Vec2::new(40.0, 0.0), 0.0);
-        let edge = f.at(&Vec2::new(30.0, 0.0), 0.0);
+        let mut log = OutsideLog::default();
+        let u = f.at(&Vec2::new(40.0, 0.0), 0.0, &log);
+        let edge = f.at(&Vec2::new(30.0, 0.0), 0.0, &log);
         assert_eq!(u, edge);
-        let m = take_outside().expect("recorded");
+        let m = log.take().expect("recorded");
         assert!(m.contains("g.nc") && m.contains("(40, 0)"), "{m}");
-        assert!(take_outside().is_none());
+        assert!(log.take().is_none());
     }
 
     #[test]

@@ -8,6 +8,10 @@
 //! documented in docs/case-format.md). An absent table, or `model = "none"`, is no
 //! fracture: every formulation then runs exactly as without fracture.
 
+use super::limits::fracture::{
+    CONCENTRATION, CRITICAL_STRAIN, DAMPING, HIBLER_C, HIBLER_P_STAR, MIN_AREA, MOHR_Q,
+    MOHR_SIGMA_11, MOHR_SIGMA_C, POISSON, POISSON_MAX, SEED, SPACING, TOUGHNESS, WINDOW, YOUNG,
+};
 use super::limits::Limit;
 use super::settings::SettingsTable;
 use super::{CaseError, Floe};
@@ -128,66 +132,6 @@ impl std::str::FromStr for Trigger {
     }
 }
 
-/// `young`: Young's modulus of the lattice model, Pa.
-pub const YOUNG: Limit = Limit::range(
-    "young",
-    "[fracture]",
-    1e6,
-    1e12,
-    "Pa",
-    "from slush-like 1 MPa to above any ice (about 1e10 Pa)",
-);
-/// `damping`: the dashpot ratio `β` of the lattice model.
-pub const DAMPING: Limit = Limit::range(
-    "damping",
-    "[fracture]",
-    0.0,
-    10.0,
-    "",
-    "0 is no dashpot; 10 is far past critical damping of a bond",
-);
-/// `poisson`: the Poisson ratio of the lattice model (torsion springs below
-/// 1/3; docs/physics.md §7.2).
-pub const POISSON: Limit = Limit::range(
-    "poisson",
-    "[fracture]",
-    crate::fracture::lattice::POISSON_MIN,
-    crate::fracture::lattice::POISSON_MAX,
-    "",
-    "a 2D lattice of central and torsion springs reaches (-1, 1/3]; sea ice is about 0.3",
-)
-.exclusive_min();
-/// `spacing`: the lattice spacing of the lattice model, m.
-pub const SPACING: Limit = Limit::range(
-    "spacing",
-    "[fracture]",
-    1e-3,
-    1e5,
-    "m",
-    "a millimetre to 100 km; a floe's lattice needs a few nodes across",
-)
-.exclusive_min();
-/// `critical_strain`: the bond strain of `rule = "strain"`.
-pub const CRITICAL_STRAIN: Limit = Limit::range(
-    "critical_strain",
-    "[fracture]",
-    0.0,
-    1.0,
-    "",
-    "a strain; ice breaks at about 1e-4",
-)
-.exclusive_min();
-/// `seed`: the seed of the lattices' Poisson-disc sampling.
-pub const SEED: Limit = Limit::range(
-    "seed",
-    "[fracture]",
-    0.0,
-    9.007_199_254_740_992e15,
-    "",
-    "a non-negative integer that a double holds exactly",
-)
-.integers();
-
 /// Default Young's modulus of the lattice model, Pa: the 8.95 GPa of
 /// Balasoiu's (2020) numerics of sea ice.
 pub const DEFAULT_YOUNG: f64 = 8.95e9;
@@ -199,93 +143,6 @@ pub const DEFAULT_DAMPING: f64 = 0.5;
 /// the steps of a few transit times, `√N` each), so this keeps it at a few
 /// milliseconds for every impact that passes the trigger.
 pub const DEFAULT_SPACING_FRACTION: f64 = 0.125;
-
-/// `toughness`: the fracture energy `G` of sea ice, J/m².
-pub const TOUGHNESS: Limit = Limit::range(
-    "toughness",
-    "[fracture]",
-    1e-3,
-    1e6,
-    "J/m^2",
-    "the physical 1.5–3.5 J/m² and FloeDyn's ×5000 (1.25e4) both fit",
-)
-.exclusive_min();
-/// `min_area`: a floe smaller than this never breaks, m².
-pub const MIN_AREA: Limit = Limit::range(
-    "min_area",
-    "[fracture]",
-    0.0,
-    1e14,
-    "m^2",
-    "the area of a 10 000 km square, above any floe",
-);
-/// `window`: the smoothing window of the stress criterion, s.
-pub const WINDOW: Limit = Limit::range(
-    "window",
-    "[fracture]",
-    0.0,
-    1e6,
-    "s",
-    "about 12 days; the mean force of a window needs a duration",
-)
-.exclusive_min();
-/// `mohr_q`: the slope ratio of the Mohr–Coulomb curve.
-pub const MOHR_Q: Limit = Limit::range(
-    "mohr_q",
-    "[fracture]",
-    1.0,
-    100.0,
-    "",
-    "q = tan²(π/4 + φ/2) > 1 for a friction angle φ > 0 (1 makes the triangle unbounded); 100 is φ ≈ 79°",
-)
-.exclusive_min();
-/// `mohr_sigma_c`: the uniaxial compressive strength of the Mohr–Coulomb curve, Pa.
-pub const MOHR_SIGMA_C: Limit = Limit::range(
-    "mohr_sigma_c",
-    "[fracture]",
-    0.0,
-    1e9,
-    "Pa",
-    "above the strength of any ice (about 1e7 Pa for small samples)",
-)
-.exclusive_min();
-/// `mohr_sigma_11`: the tensile-side principal stress of the Mohr–Coulomb
-/// curve at its vertex, Pa.
-pub const MOHR_SIGMA_11: Limit = Limit::magnitude(
-    "mohr_sigma_11",
-    "[fracture]",
-    1e9,
-    "Pa",
-    "above the strength of any ice",
-);
-/// `hibler_p_star`: Hibler's ice strength `P*`, N/m².
-pub const HIBLER_P_STAR: Limit = Limit::range(
-    "hibler_p_star",
-    "[fracture]",
-    0.0,
-    1e9,
-    "N/m^2",
-    "above the strength of any ice",
-)
-.exclusive_min();
-/// `hibler_c`: Hibler's concentration parameter `C`.
-pub const HIBLER_C: Limit = Limit::range(
-    "hibler_c",
-    "[fracture]",
-    0.0,
-    100.0,
-    "",
-    "20 is Hibler's; exp(−100) makes open ice of any strength",
-);
-/// `concentration`: the ice concentration `A` of Hibler's strength.
-pub const CONCENTRATION: Limit = Limit::range(
-    "concentration",
-    "[fracture]",
-    0.0,
-    1.0,
-    "",
-    "an area fraction",
-);
 
 /// Default `G`, J/m²: the middle of the 1.5–3.5 J/m² of sea ice (FloeDyn's
 /// documentation, from laboratory fracture toughness `K_IC` of 0.1–0.2
@@ -358,7 +215,7 @@ impl Default for FractureSettings {
             concentration: 1.0,
             young: DEFAULT_YOUNG,
             damping: DEFAULT_DAMPING,
-            poisson: crate::fracture::lattice::POISSON_MAX,
+            poisson: POISSON_MAX,
             spacing: None,
             rule: LatticeRule::Toughness,
             critical_strain: f64::NAN,

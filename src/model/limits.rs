@@ -8,7 +8,10 @@
 //! limit and report a refusal as one line naming the file, the line and the
 //! key. The counts that decide what a run allocates (floes, outputs, steps)
 //! and the memory a run needs ([`run_memory_bytes`]) are checked before
-//! anything is generated or allocated.
+//! anything is generated or allocated. The limits of the `[fracture]`
+//! table, and the material bounds they rest on, are in [`fracture`].
+
+pub mod fracture;
 
 /// One bound on a number: `min ≤ v ≤ max` (or `min < v` when `min_open`),
 /// or on a magnitude `|v| ≤ max` (a vector's length, or a signed number).
@@ -567,21 +570,21 @@ pub const CASE_LIMITS: &[Limit] = &[
     TOLERANCE,
     FILE_BYTES,
     RUN_BYTES,
-    super::fracture::TOUGHNESS,
-    super::fracture::MIN_AREA,
-    super::fracture::WINDOW,
-    super::fracture::MOHR_Q,
-    super::fracture::MOHR_SIGMA_C,
-    super::fracture::MOHR_SIGMA_11,
-    super::fracture::HIBLER_P_STAR,
-    super::fracture::HIBLER_C,
-    super::fracture::CONCENTRATION,
-    super::fracture::YOUNG,
-    super::fracture::DAMPING,
-    super::fracture::POISSON,
-    super::fracture::SPACING,
-    super::fracture::CRITICAL_STRAIN,
-    super::fracture::SEED,
+    fracture::TOUGHNESS,
+    fracture::MIN_AREA,
+    fracture::WINDOW,
+    fracture::MOHR_Q,
+    fracture::MOHR_SIGMA_C,
+    fracture::MOHR_SIGMA_11,
+    fracture::HIBLER_P_STAR,
+    fracture::HIBLER_C,
+    fracture::CONCENTRATION,
+    fracture::YOUNG,
+    fracture::DAMPING,
+    fracture::POISSON,
+    fracture::SPACING,
+    fracture::CRITICAL_STRAIN,
+    fracture::SEED,
 ];
 
 /// Bytes a run keeps per output time and floe: the trajectory row (64 B)

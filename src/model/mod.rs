@@ -5,13 +5,16 @@
 //! (wind, current, Coriolis), the contact law and the settings of the
 //! integrator and of each formulation. Loading and validation of case files
 //! live in [`case`], the documented bounds of every number in [`limits`]; the
-//! seeded random floe field in [`field`].
+//! seeded random floe field in [`field`]; the gridded forcing read from CF
+//! NetCDF files in [`netcdf`]. The model imports only the foundations
+//! ([`crate::geometry`], [`crate::rng`], [`crate::fsio`]).
 
 pub mod case;
 pub mod field;
 pub mod forcing;
 pub mod fracture;
 pub mod limits;
+pub mod netcdf;
 pub mod settings;
 
 use crate::geometry::{area_properties, radius_about, Vec2};
@@ -19,7 +22,7 @@ use serde::Serialize;
 use std::collections::BTreeMap;
 
 pub use case::{load_case_with, parse_case_with, CaseError};
-pub use forcing::{VelocityField, VelocitySeries};
+pub use forcing::{OutsideLog, VelocityField, VelocitySeries};
 pub use fracture::{FloeHistory, FractureSettings};
 pub use settings::{SettingsReader, SettingsTable, TableSpec};
 
@@ -218,6 +221,12 @@ pub struct Environment {
     pub air: Fluid,
     /// Water: drag from the relative velocity `U_w − Ṗ` at each point.
     pub water: Fluid,
+    /// The first point outside a field's extent that the fields of this
+    /// environment were evaluated at: a run's log, not case data (not
+    /// serialised, always equal); the runner takes it after each output
+    /// interval (docs/physics.md §2.4).
+    #[serde(skip)]
+    pub outside: OutsideLog,
 }
 
 impl Default for Environment {
@@ -226,6 +235,7 @@ impl Default for Environment {
             coriolis: 0.0,
             air: Fluid::none(),
             water: Fluid::none(),
+            outside: OutsideLog::default(),
         }
     }
 }
@@ -425,7 +435,7 @@ impl Scenario {
                 VelocityField::Grid(g) => g.data.epoch,
                 _ => None,
             })
-            .map(crate::netcdf::cf::format_date)
+            .map(netcdf::cf::format_date)
     }
 
     /// Times in (0, duration) where the wind or the current has a kink in

@@ -32,7 +32,7 @@ use crate::state::BodyState;
 /// air's [`VelocityField::at`](crate::model::VelocityField::at).
 #[inline]
 pub fn air_velocity(env: &Environment, p: &Vec2, t: f64) -> Vec2 {
-    env.air.velocity.at(p, t)
+    env.air.velocity.at(p, t, &env.outside)
 }
 
 /// Whether the wind of `env` is uniform in space (a constant or a time
@@ -122,7 +122,8 @@ impl ForceModel {
                 })
             } else {
                 integrate_traction(&floe.quadrature, b, |p, r| {
-                    let u = field.at(p, t) - b.velocity - perp(r) * b.angular_velocity;
+                    let u =
+                        field.at(p, t, &env.outside) - b.velocity - perp(r) * b.angular_velocity;
                     drag_traction(kw, &u)
                 })
             }

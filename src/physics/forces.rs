@@ -14,7 +14,7 @@
 //! has a kink where the relative velocity vanishes) and the rule is then
 //! only approximate.
 
-use crate::geometry::{cross, perp, Vec2};
+use crate::geometry::{cross, Vec2};
 use crate::state::BodyState;
 
 /// Quadrature nodes of one floe in its body frame: `(GP at θ = 0, weight m²)`.
@@ -138,10 +138,4 @@ where
         torque += cross(&r, &tau);
     }
     (force, torque)
-}
-
-/// Velocity of the material point at world offset `r = GP` from the centre, m/s.
-#[inline]
-pub fn point_velocity(b: &BodyState, r: &Vec2) -> Vec2 {
-    b.velocity + perp(r) * b.angular_velocity
 }

@@ -8,13 +8,15 @@
 //!   ([`ContactLog`], [`ImpulseRecord`], [`ContactEvent`]);
 //! - [`clock`]: CPU time per stage ([`StageClock`]);
 //! - [`profile`]: LCP solves by size ([`SolveProfile`]);
-//! - [`accuracy`]: the residual and work of every contact solve ([`accuracy::Accuracy`]).
+//! - [`accuracy`]: the residual and work of every contact solve ([`accuracy::Accuracy`]);
+//! - [`spread`]: median and spread of repeated measurements (CPU times, [`spread::Spread`]).
 
 pub mod accuracy;
 pub mod clock;
 pub mod counters;
 pub mod log;
 pub mod profile;
+pub mod spread;
 
 pub use clock::{thread_cpu_seconds, Stage, StageClock, StageTimes};
 pub use counters::{

@@ -17,7 +17,7 @@
 //! folder holds exactly what its page shows.
 
 use super::ReportError;
-use crate::run::output::write_atomic;
+use crate::fsio::write_atomic;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 

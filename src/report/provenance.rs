@@ -39,9 +39,9 @@ fn cpu_model() -> Option<String> {
 
 /// `YYYY-MM-DD HH:MM:SS UTC` of `secs` seconds after the Unix epoch (the
 /// proleptic Gregorian calendar; the one date formatter,
-/// [`crate::netcdf::cf::format_date`]).
+/// [`crate::model::netcdf::cf::format_date`]).
 pub fn utc(secs: u64) -> String {
-    format!("{} UTC", crate::netcdf::cf::format_date(secs as f64))
+    format!("{} UTC", crate::model::netcdf::cf::format_date(secs as f64))
 }
 
 impl Provenance {

@@ -23,7 +23,7 @@ use super::format::fmt_num;
 use super::page::{self, Block};
 use super::plot::{marked_panels, MarkedLine, MarkedPanel, Scale};
 use super::ReportError;
-use crate::run::output::write_atomic;
+use crate::fsio::write_atomic;
 use crate::sweep::orders::{lines, observed_order, Line, Order, Span};
 use crate::sweep::plan::{format_value, value_number};
 use crate::sweep::Collected;

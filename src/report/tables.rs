@@ -6,7 +6,6 @@ use super::format::{fmt_measured, fmt_num, fmt_spread};
 use super::page::Block;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
-use crate::analysis::spread::Spread;
 use crate::formulation::contact_solver::{
     CONE_FALLBACK_LCP, CONE_SOLVES, LCP_LAST_RESORT_FRICTIONLESS, LCP_SOLVED_BY_FALLBACK,
     LCP_SOLVES, LCP_UNRESOLVED,
@@ -15,6 +14,7 @@ use crate::record::accuracy::{
     ITERATIONS_MAX, ITERATIONS_MEDIAN, RESIDUAL_MAX, RESIDUAL_MEDIAN, RESIDUAL_P95, UNCONVERGED,
 };
 use crate::record::counters::common::{IMPACTS, MAX_PENETRATION, STEPS};
+use crate::record::spread::Spread;
 use crate::record::Counter;
 use crate::run::{EndReason, RunSummary};
 use std::fmt::Write as _;

@@ -22,7 +22,7 @@ use super::format::{fmt_num, fmt_spread};
 use super::tables::{end_text, ratio_text};
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::ranking::{self, within_rounding, CheckRanking};
-use crate::analysis::spread::Spread;
+use crate::record::spread::Spread;
 use crate::run::EndReason;
 use std::fmt::Write as _;
 

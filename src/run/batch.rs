@@ -377,7 +377,7 @@ fn top_up(jobs: &[CaseJob], runs: &[(usize, usize)], results: &[Outcome]) -> Vec
             if cpu.len() != job.repeat {
                 continue;
             }
-            let median = crate::analysis::spread::Spread::of(&cpu).median;
+            let median = crate::record::spread::Spread::of(&cpu).median;
             *more = top_up_count(median, job.repeat) - job.repeat;
         }
         // Round robin over the case's formulations, so that a slow spell of

@@ -9,12 +9,13 @@
 //! integration ([`energy`]).
 //!
 //! [`energy`] holds the ledger's samples and totals; [`output`] writes a
-//! run's files; [`batch`] runs several formulations on several cases on a
+//! run's files ([`netcdf_out`] its `trajectory.nc`); [`batch`] runs several formulations on several cases on a
 //! pool of threads; [`repeat`] merges the repeats of a run.
 
 pub mod batch;
 pub mod energy;
 pub mod interrupt;
+pub mod netcdf_out;
 pub mod output;
 pub mod repeat;
 
@@ -318,7 +319,7 @@ impl Runner {
         let e0 = sys.kinetic_energy(scn);
         // A point outside a forcing field's extent left by an earlier run
         // of this thread is not this run's.
-        let _ = crate::model::forcing::take_outside();
+        let _ = scn.environment.outside.take();
         let mut trajectory = Vec::new();
         let mut energy = Vec::new();
         let mut end = EndReason::Completed;
@@ -360,7 +361,7 @@ impl Runner {
             next.t = t;
             // A forcing field evaluated outside its extent ends the run at
             // the last output before (docs/physics.md §2.4).
-            if let Some(message) = crate::model::forcing::take_outside() {
+            if let Some(message) = scn.environment.outside.take() {
                 end = EndReason::Failed {
                     message: format!("between t = {} s and t = {t} s: {message}", sys.t),
                 };

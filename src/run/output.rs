@@ -5,41 +5,14 @@
 //! largest percussion, [`crate::model::fracture::PercussionRecord`]).
 //!
 //! Every file is written to a temporary name in the output folder and renamed
-//! into place, so a reader never sees a half-written file.
+//! into place ([`crate::fsio`]), so a reader never sees a half-written file.
 
 use super::energy::Column;
 use super::RunResult;
+use crate::fsio::write_atomic;
 use std::fmt::Write as _;
 use std::io;
 use std::path::{Path, PathBuf};
-
-/// Writes `contents` to `path` atomically (temporary file, then rename);
-/// on failure the temporary file is removed.
-pub fn write_atomic(path: &Path, contents: &[u8]) -> io::Result<()> {
-    write_atomic_with(path, |tmp| std::fs::write(tmp, contents))
-}
-
-/// Writes `path` atomically with `write`, which creates the file at the
-/// temporary path it is given (a writer that opens the file itself, such
-/// as NetCDF's); then renames it into place. On failure the temporary file
-/// is removed.
-pub fn write_atomic_with<W>(path: &Path, write: W) -> io::Result<()>
-where
-    W: FnOnce(&Path) -> io::Result<()>,
-{
-    let dir = path.parent().unwrap_or_else(|| Path::new("."));
-    std::fs::create_dir_all(dir)?;
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "out".into());
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    let done = write(&tmp).and_then(|()| std::fs::rename(&tmp, path));
-    if done.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    done
-}
 
 /// The first line of `trajectory.csv`.
 pub const TRAJECTORY_HEADER: &str = "t,floe,x,y,theta,vx,vy,omega";
@@ -212,17 +185,22 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
 }
 
 /// Writes `trajectory.nc` (the trajectory as CF NetCDF,
-/// [`crate::netcdf::write_trajectory`]) into `dir` for a run of `scn`;
+/// [`super::netcdf_out::write_trajectory`]) into `dir` for a run of `scn`;
 /// returns its path.
 pub fn write_netcdf(
     dir: &Path,
     result: &RunResult,
     scn: &crate::model::Scenario,
 ) -> io::Result<PathBuf> {
-    let p = dir.join(crate::netcdf::TRAJECTORY_FILE);
+    let p = dir.join(super::netcdf_out::TRAJECTORY_FILE);
     let title = format!("floebench {}: {}", result.summary.formulation, scn.name);
-    crate::netcdf::write_trajectory(&p, &result.trajectory, &title, scn.start_date().as_deref())
-        .map_err(io::Error::other)?;
+    super::netcdf_out::write_trajectory(
+        &p,
+        &result.trajectory,
+        &title,
+        scn.start_date().as_deref(),
+    )
+    .map_err(io::Error::other)?;
     Ok(p)
 }
 

@@ -19,7 +19,7 @@ use super::plan::{settings_label, table_of, Plan, Reference};
 use super::points::{reference_fingerprint, Point, Task};
 use super::SweepError;
 use crate::formulation::{self, FormulationOptions};
-use crate::run::output::write_atomic;
+use crate::fsio::write_atomic;
 use crate::run::{interrupt, EndReason, RunOptions, RunResult, Runner, TrajectoryRow};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

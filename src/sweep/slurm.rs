@@ -29,7 +29,7 @@
 use super::plan::Plan;
 use super::points::{plan_digest, tasks, Point, Task};
 use super::SweepError;
-use crate::run::output::write_atomic;
+use crate::fsio::write_atomic;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

@@ -383,8 +383,8 @@ pub fn sliding_expected(scn: &Scenario) -> Sliding {
 /// `U_w + sqrt(ρ_a C_a / (ρ_w C_w)) U_a` at t = 0, m/s.
 pub fn drift_velocity(scn: &Scenario) -> Vec2 {
     let env = &scn.environment;
-    env.water.velocity.at(&Vec2::zeros(), 0.0)
-        + env.air.velocity.at(&Vec2::zeros(), 0.0)
+    env.water.velocity.at(&Vec2::zeros(), 0.0, &env.outside)
+        + env.air.velocity.at(&Vec2::zeros(), 0.0, &env.outside)
             * (env.air.drag_factor() / env.water.drag_factor()).sqrt()
 }
 

@@ -5,8 +5,8 @@
 use crate::common::{bad_case, case_path, floebench, load, run, tempdir};
 use floebench::analysis::comparison::CaseComparison;
 use floebench::analysis::divergence;
-use floebench::analysis::spread::Spread;
 use floebench::compare::{self, CompareOptions};
+use floebench::record::spread::Spread;
 use floebench::report::verdict::verdict;
 use floebench::run::batch::{top_up_count, MAX_REPEATS, TOP_UP_CPU};
 use floebench::run::repeat::{merge, physics_difference};

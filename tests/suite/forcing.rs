@@ -8,11 +8,10 @@ use crate::common::{case_path, load, run, scenario, tempdir};
 use floebench::formulation::load_case;
 use floebench::geometry::{area_properties, Vec2};
 use floebench::model::forcing::GridData;
+use floebench::model::netcdf::{read_grid, write_grid, GridFile, GridRequest};
 use floebench::model::Scenario;
-use floebench::netcdf::{
-    read_grid, read_trajectory, write_grid, write_trajectory, GridFile, GridRequest,
-};
 use floebench::physics::ForceModel;
+use floebench::run::netcdf_out::{read_trajectory, write_trajectory};
 use floebench::run::{EndReason, RunResult};
 use floebench::state::BodyState;
 use std::path::Path;
@@ -129,12 +128,12 @@ fn a_linear_field_is_interpolated_exactly_by_the_grid() {
         let s = k as f64 / 200.0;
         let p = Vec2::new(-5000.0 + 11000.0 * s, -3000.0 + 7000.0 * (s * 7.3).fract());
         let t = 3600.0 * (s * 3.1).fract();
-        let u = field.at(&p, t);
+        let u = field.at(&p, t, &scn.environment.outside);
         let (ex, ey) = lin(p.x, p.y, t);
         worst = worst.max((u.x - ex).abs().max((u.y - ey).abs()) / ex.abs().max(ey.abs()));
     }
     assert!(worst <= 1e-12, "largest relative error {worst:e}");
-    assert!(floebench::model::forcing::take_outside().is_none());
+    assert!(scn.environment.outside.first().is_none());
 }
 
 #[test]
@@ -198,12 +197,12 @@ fn the_gridded_case_equals_its_analytic_fields() {
     // the step bounds, are then the same).
     let (o, lon, lat) = ([0.0, 79.0], 0.6, 0.2);
     let (x0, x1) = (
-        floebench::netcdf::project_lon(-lon, o),
-        floebench::netcdf::project_lon(lon, o),
+        floebench::model::netcdf::project_lon(-lon, o),
+        floebench::model::netcdf::project_lon(lon, o),
     );
     let (y0, y1) = (
-        floebench::netcdf::project_lat(79.0 - lat, o),
-        floebench::netcdf::project_lat(79.0 + lat, o),
+        floebench::model::netcdf::project_lat(79.0 - lat, o),
+        floebench::model::netcdf::project_lat(79.0 + lat, o),
     );
     let extent = format!("[[{x0:?}, {y0:?}], [{x1:?}, {y1:?}]]");
     let air = format!("air   = {{ density = 1.3,    drag = 1.7e-3, field = \"linear\", velocity = [8.0, 2.0], gradient = [[-5.0e-5, 2.0e-5], [1.0e-5, 0.0]], extent = {extent}, scale = [[0.0, 0.6], [10800.0, 1.0], [21600.0, 1.2], [32400.0, 0.9], [43200.0, 0.5]] }}");

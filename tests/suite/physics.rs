@@ -194,6 +194,7 @@ fn windy(ua: Vec2) -> Environment {
             velocity: VelocityField::Uniform(VelocitySeries::Constant(ua)),
         },
         water: Fluid::none(),
+        outside: Default::default(),
     }
 }
 

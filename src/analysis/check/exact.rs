@@ -19,7 +19,10 @@ pub fn head_on_velocities(m1: f64, v1: f64, m2: f64, v2: f64, e: f64) -> (f64, f
 /// (docs/physics.md §2.3: constant wind as gravity), m/s².
 pub fn wind_acceleration(scn: &Scenario, i: usize) -> f64 {
     let air = &scn.environment.air;
-    let u = air.velocity.at(&scn.floes[i].position, 0.0).norm();
+    let u = air
+        .velocity
+        .at(&scn.floes[i].position, 0.0, &scn.environment.outside)
+        .norm();
     air.drag_factor() * u * u / scn.floes[i].surface_density()
 }
 

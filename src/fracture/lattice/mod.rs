@@ -36,6 +36,7 @@ pub mod rectangle;
 
 use super::chain::positive;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, Vec2};
+use crate::model::limits::fracture::{POISSON_MAX, POISSON_MIN};
 use crate::rng::SplitMix64;
 use nalgebra::{Matrix2, Matrix3, Matrix4, Vector4};
 use std::collections::HashMap;
@@ -90,15 +91,6 @@ pub enum Mesh {
         offset: [f64; 2],
     },
 }
-
-/// The Poisson ratio of central springs alone (the Cauchy relation
-/// `λ = μ`), the largest a lattice of springs and torsion springs has: 1/3.
-pub const POISSON_MAX: f64 = 1.0 / 3.0;
-
-/// The lower bound (excluded) of the Poisson ratio: −1, where the torsion
-/// stiffness would be infinite (the 2D isotropic stability bound
-/// `λ + μ > 0`, `μ > 0`).
-pub const POISSON_MIN: f64 = -1.0;
 
 impl Default for LatticeSpec {
     /// Ice at the lattice's usual resolution: spacing 1 m, thickness 1 m,

@@ -7,10 +7,13 @@
 //!
 //! This file holds the entry points, the error and its location helpers;
 //! `spec.rs` is the file as written (serde), `build.rs` turns it into a
-//! [`Scenario`] table by table, `overlap.rs` checks that no bodies overlap
-//! at t = 0.
+//! [`Scenario`] table by table (`environment.rs` the `[environment]` table
+//! and its velocity fields, `fields.rs` the `[[field]]` tables),
+//! `overlap.rs` checks that no bodies overlap at t = 0.
 
 mod build;
+mod environment;
+mod fields;
 mod overlap;
 mod spec;
 
@@ -19,6 +22,7 @@ pub use spec::FieldSpec;
 use super::limits;
 use super::settings::TableSpec;
 use super::Scenario;
+use crate::geometry::Vec2;
 use build::build;
 use spec::CaseFile;
 use std::ops::Range;
@@ -235,6 +239,11 @@ fn check_version(ctx: &Ctx, raw: &toml::Table) -> Result<(), CaseError> {
             format!("[case] version = {v} is not supported; this reader knows version = 1"),
         )),
     }
+}
+
+/// A point of the file (`[x, y]`) as a vector.
+fn vec2(v: [f64; 2]) -> Vec2 {
+    Vec2::new(v[0], v[1])
 }
 
 #[cfg(test)]

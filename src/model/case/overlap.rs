@@ -3,7 +3,7 @@
 //! allowed, to [`OVERLAP_TOLERANCE`]).
 
 use super::{CaseError, Ctx};
-use crate::contact::{Aabb, BroadPhase};
+use crate::geometry::broad::{Aabb, BroadPhase};
 use crate::geometry::{sat_separation, Vec2};
 use crate::model::{Floe, FloeOrigin, Obstacle};
 use std::ops::Range;

@@ -15,13 +15,13 @@
 //!   with no change is one transparent pixel, so the frame count stays the
 //!   number of times shown.
 //! - **File**: encoded in memory and written atomically
-//!   ([`crate::run::output::write_atomic`]): an interrupted run leaves no
+//!   ([`crate::fsio::write_atomic`]): an interrupted run leaves no
 //!   partial GIF.
 
 use super::grid::{shared_bounds, Grid};
 use super::render::{ensure_font, Figure};
 use super::{AnimationFrame, PlotError};
-use crate::run::output::write_atomic;
+use crate::fsio::write_atomic;
 use plotters::prelude::*;
 use std::borrow::Cow;
 use std::collections::HashMap;

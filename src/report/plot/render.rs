@@ -4,7 +4,7 @@
 
 use super::style::{FONT, SIZE};
 use super::PlotError;
-use crate::run::output::write_atomic;
+use crate::fsio::write_atomic;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::{register_font, FontStyle};

@@ -8,8 +8,8 @@
 //! otherwise 1970-01-01 as a nominal date (`comment` says so). Written
 //! atomically like the other outputs.
 
-use super::reader::NcInput;
-use crate::run::TrajectoryRow;
+use super::TrajectoryRow;
+use crate::model::netcdf::reader::NcInput;
 use netcdf3::{DataSet, FileWriter, Version, NC_FILL_F64};
 use std::path::Path;
 
@@ -128,7 +128,7 @@ pub fn write_trajectory(
         .iter()
         .map(|&f| i32::try_from(f).map_err(|_| format!("{file}: floe id {f} does not fit")))
         .collect::<Result<_, _>>()?;
-    crate::run::output::write_atomic_with(path, |tmp| {
+    crate::fsio::write_atomic_with(path, |tmp| {
         let io = |e: netcdf3::WriteError| std::io::Error::other(format!("{e:?}"));
         let mut w = FileWriter::open(tmp).map_err(io)?;
         w.set_def(&ds, Version::Offset64Bit, 0).map_err(io)?;

@@ -3,7 +3,8 @@
 //! 64-bit offset CDF-2, 64-bit data CDF-5) and NetCDF-4 (HDF5, through its
 //! own pure-Rust `hdf5-reader`: contiguous and chunked storage, deflate
 //! (zlib), shuffle and Fletcher-32 filters), so that `cargo` alone builds
-//! the project. This module gives the rest of [`crate::netcdf`] the few
+//! the project. This module gives the rest of [`crate::model::netcdf`] (and the
+//! reader of `trajectory.nc`, [`crate::run::netcdf_out`]) the few
 //! questions the CF logic asks (variables, dimensions, attributes, values
 //! as `f64`) the same way for every format; the CF meaning of those values
 //! (packing, fill values, units, time axes) is decided once, in

@@ -1,6 +1,8 @@
-//! CF NetCDF in and out: gridded winds and currents read for
-//! `field = "netcdf"` ([`read_grid`]), and a run's trajectory written for
-//! `run --netcdf` and `compare --netcdf` ([`write_trajectory`]).
+//! CF NetCDF in: gridded winds and currents read for `field = "netcdf"`
+//! ([`read_grid`]), with the writer of such grids ([`write_grid`]) that makes
+//! the bundled gridded case's forcing and the tests' files, and the CF
+//! calendar ([`cf`]). The run's own NetCDF output (`trajectory.nc`) is
+//! written with the other output files, by [`crate::run::netcdf_out`].
 //!
 //! Files are read by one low-level reader (`reader.rs`, the pure-Rust
 //! `netcdf-reader` crate): NetCDF classic (CDF-1), 64-bit offset (CDF-2),
@@ -18,10 +20,8 @@
 
 pub mod cf;
 mod grid;
-mod reader;
-mod trajectory;
+pub(crate) mod reader;
 
 pub use grid::{
     project_lat, project_lon, read_grid, write_grid, GridFile, GridRequest, EARTH_RADIUS,
 };
-pub use trajectory::{read_trajectory, write_trajectory, NetcdfTrajectory, TRAJECTORY_FILE};

@@ -14,8 +14,12 @@
 //! Boxes touching at a boundary overlap (comparisons are `≤`), so touching
 //! bodies are reported. A box with a NaN or an empty box (`min > max`, as
 //! [`crate::geometry::aabb`] gives for an empty polygon) pairs with nothing.
+//!
+//! It is pure geometry, below both the contact detection
+//! ([`crate::contact`], which re-exports it) and the case validation's
+//! overlap check.
 
-use crate::geometry::{aabb, Vec2};
+use super::{aabb, Vec2};
 use std::cmp::Ordering;
 
 /// An axis-aligned bounding box in world coordinates.
@@ -54,9 +58,9 @@ pub struct BroadPhase {
     /// Box indices sorted by `min.x`, from the previous call.
     order: Vec<usize>,
     /// Scratch boxes for [`crate::contact::detect`].
-    pub(super) boxes: Vec<Aabb>,
+    pub(crate) boxes: Vec<Aabb>,
     /// Scratch candidate pairs for [`crate::contact::detect`].
-    pub(super) candidates: Vec<(usize, usize)>,
+    pub(crate) candidates: Vec<(usize, usize)>,
 }
 
 /// Sort key: lower `x` bound (total order, NaN last), then index.

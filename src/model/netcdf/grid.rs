@@ -330,7 +330,7 @@ pub fn write_grid(path: &Path, g: &GridFile) -> Result<(), String> {
         ds.add_var_attr_string(n, "long_name", long)
             .map_err(|e| err(&e))?;
     }
-    crate::run::output::write_atomic_with(path, |tmp| {
+    crate::fsio::write_atomic_with(path, |tmp| {
         let mut w = FileWriter::open(tmp).map_err(|e| std::io::Error::other(format!("{e:?}")))?;
         let io = |e: netcdf3::WriteError| std::io::Error::other(format!("{e:?}"));
         w.set_def(&ds, Version::Offset64Bit, 0).map_err(io)?;
