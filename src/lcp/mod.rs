@@ -29,7 +29,7 @@
 //! a relative 1e-14 (a looser, absolute tolerance let non-minimal rows leave
 //! and lost the path); a basic value that rounding left slightly negative
 //! counts as 0 there (see [`lemke`]). A plain minimum-ratio test with a
-//! documented tie-break ([`lemke::PivotRule`]) is offered as an alternative.
+//! documented tie-break ([`PivotRule`]) is offered as an alternative.
 //! If `z0` is among the rows tied in the ratio test it is always chosen (the
 //! method then stops on a complementary solution), and so it is when the
 //! step would leave it negligible ([`LemkeOptions::z0_tol`]). A
@@ -73,18 +73,21 @@
 pub mod dump;
 mod json_f64;
 pub mod lemke;
+pub mod lemke_options;
 pub(crate) mod path;
 pub(crate) mod pivoting;
 pub(crate) mod polish;
 pub mod predict;
 pub(crate) mod revised;
+pub mod scaling;
 pub mod solve;
 pub(crate) mod sparse;
 pub(crate) mod sparse_lu;
 pub mod timing;
 
 pub use dump::{DumpError, LcpDump};
-pub use lemke::{lemke, lemke_with, LemkeOptions, LemkeResult, PivotRule, Termination, Workspace};
+pub use lemke::{lemke, lemke_with, LemkeResult, Workspace};
+pub use lemke_options::{LemkeOptions, PivotRule, Termination};
 pub use solve::{
     solve, solve_into, solve_warm, solve_warm_into, solve_warm_with, solve_with, Attempt,
     BasisGuess, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus, SolveSummary,
@@ -458,15 +461,22 @@ fn dot2_plus_lanes<const L: usize>(x: &[f64], y: &[f64], c: f64) -> f64 {
     }
     // Scale x and y to magnitudes near 1 (powers of two: exact), and c by
     // the product of the two scalings, then undo.
-    let ex = lemke::pow2_exponent(lemke::max_abs(x));
-    let ey = lemke::pow2_exponent(lemke::max_abs(y));
-    let fx = lemke::ldexp(1.0, -ex);
-    let fy = lemke::ldexp(1.0, -ey);
+    let ex = scaling::pow2_exponent(scaling::max_abs(x));
+    let ey = scaling::pow2_exponent(scaling::max_abs(y));
+    let fx = scaling::ldexp(1.0, -ex);
+    let fy = scaling::ldexp(1.0, -ey);
     if !(fx.is_normal() && fy.is_normal()) {
         return x.iter().zip(y.iter()).map(|(a, b)| a * b).sum::<f64>() + c;
     }
-    let v = dot2_plus_scaled::<L>(x, y, lemke::ldexp(lemke::ldexp(c, -ex), -ey), fx, fy, 1.0);
-    lemke::ldexp(lemke::ldexp(v, ex), ey)
+    let v = dot2_plus_scaled::<L>(
+        x,
+        y,
+        scaling::ldexp(scaling::ldexp(c, -ex), -ey),
+        fx,
+        fy,
+        1.0,
+    );
+    scaling::ldexp(scaling::ldexp(v, ex), ey)
 }
 
 /// `Σ (fx x_i)(fy y_i) + fc c` with Dot2 compensation in `L` interleaved
@@ -595,7 +605,7 @@ impl ResidualScale {
     }
 
     /// [`ResidualScale::of`] given `qmax = max|q_i|` (as
-    /// [`lemke::max_abs`] computes it, NaN entries skipped) and whether `q`
+    /// [`scaling::max_abs`] computes it, NaN entries skipped) and whether `q`
     /// is finite: the same scale, without reading `q` for them again.
     pub(crate) fn with_max(q: &[f64], qmax: f64, q_finite: bool) -> Self {
         Self {

@@ -217,7 +217,7 @@ impl Pivoting {
         self.z.resize(n, 0.0);
         let scale = ResidualScale::of(q);
         let tau_w = FEASIBILITY_FRACTION * tolerance * super::norm2(q);
-        let tau_z = tau_w / super::lemke::max_abs(m).max(1.0);
+        let tau_z = tau_w / super::scaling::max_abs(m).max(1.0);
         let mut best = usize::MAX;
         let mut patience = BLOCK_STEPS_WITHOUT_PROGRESS;
         while out.solves < max_solves {
@@ -327,7 +327,7 @@ impl Pivoting {
         let delta = if dmax > 0.0 {
             SHIFT * dmax
         } else {
-            SHIFT * super::lemke::max_abs(m)
+            SHIFT * super::scaling::max_abs(m)
         };
         if self.sparse {
             if !self.factor_sparse(delta) {

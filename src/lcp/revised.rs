@@ -50,8 +50,8 @@
 //! * R. W. Cottle, J.-S. Pang, R. E. Stone, *The Linear Complementarity
 //!   Problem*, 1992, §4.4 and §4.9.
 
-use super::lemke::ldexp;
 use super::path::{Basis, NONE};
+use super::scaling::ldexp;
 use super::sparse::Columns;
 use super::sparse_lu::{colamd_rank, Csc, SparseLu};
 

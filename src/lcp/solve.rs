@@ -68,10 +68,9 @@
 //! its buffers: with a reused [`Workspace`] a solve then allocates nothing.
 
 use super::json_f64;
-use super::lemke::{
-    max_abs, max_abs_finite, with_thread_workspace, LemkeOptions, PivotRule, Scratch, Termination,
-    Workspace, REVISED_FROM,
-};
+use super::lemke::{with_thread_workspace, Scratch, Workspace};
+use super::lemke_options::{LemkeOptions, PivotRule, Termination, REVISED_FROM};
+use super::scaling::{max_abs, max_abs_finite};
 use super::sparse::Columns;
 use super::{w_into, Lcp, ResidualScale, SUPPORT_MAX_N};
 use serde::{Deserialize, Serialize};

@@ -26,7 +26,7 @@
 //! * T. A. Davis, *Direct Methods for Sparse Linear Systems*, SIAM, 2006,
 //!   ch. 2 (compressed sparse columns).
 
-use super::lemke::max_abs_finite;
+use super::scaling::max_abs_finite;
 use super::{dot2_plus, two_prod, two_sum, SUPPORT_MAX_N};
 
 /// The compressed sparse columns of the non-zero entries of a row-major
@@ -56,7 +56,7 @@ impl Columns {
     /// into columns then reads only the non-zeros. A NaN entry is stored
     /// (it is not `== 0`).
     ///
-    /// [`max_abs`]: super::lemke::max_abs
+    /// [`max_abs`]: super::scaling::max_abs
     pub(crate) fn scan(&mut self, m: &[f64], n: usize) -> (f64, bool) {
         self.row_ptr.clear();
         self.row_ptr.push(0);
@@ -385,7 +385,7 @@ mod tests {
         for _ in 0..2 {
             let (mmax, finite) = c.scan(&m, 70);
             assert!(finite);
-            assert_eq!(mmax, crate::lcp::lemke::max_abs(&m));
+            assert_eq!(mmax, crate::lcp::scaling::max_abs(&m));
             let (p, i, v) = (&c.ptr, &c.idx, &c.val);
             let mut back = vec![0.0; 70 * 70];
             for j in 0..70 {

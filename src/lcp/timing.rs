@@ -24,8 +24,8 @@
 //! by [`summarize`].
 
 use super::dump::{DumpError, LcpDump};
-use super::lemke::Termination;
 use super::lemke::Workspace;
+use super::lemke_options::Termination;
 use super::predict::{basis_mismatch, solve_predicted_into, Blocks, PredictOptions, Prediction};
 use super::solve::{
     solve_into, solve_warm_into, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,

@@ -1501,12 +1501,12 @@ fn psd_lcps_near_the_floating_point_range_are_solved() {
     assert!(((sol.z[0] + sol.z[1]) * 1e300 - 1.0).abs() < 1e-15);
     // The exponent of the scaling is exact over the whole range.
     for e in -1074..=1023 {
-        assert_eq!(floebench::lcp::lemke::pow2_exponent(pow2(e)), e, "2^{e}");
+        assert_eq!(floebench::lcp::scaling::pow2_exponent(pow2(e)), e, "2^{e}");
     }
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(f64::MAX), 1024);
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(1.5), 1); // 1.5 > √2
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(1.4), 0);
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(0.0), 0);
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(f64::MAX), 1024);
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(1.5), 1); // 1.5 > √2
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(1.4), 0);
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(0.0), 0);
 }
 
 #[test]
