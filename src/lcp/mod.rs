@@ -80,7 +80,9 @@ pub(crate) mod polish;
 pub mod predict;
 pub(crate) mod revised;
 pub mod scaling;
+pub mod solution;
 pub mod solve;
+pub mod solve_options;
 pub(crate) mod sparse;
 pub(crate) mod sparse_lu;
 pub mod timing;
@@ -88,11 +90,11 @@ pub mod timing;
 pub use dump::{DumpError, LcpDump};
 pub use lemke::{lemke, lemke_with, LemkeResult, Workspace};
 pub use lemke_options::{LemkeOptions, PivotRule, Termination};
-pub use solve::{
-    solve, solve_into, solve_warm, solve_warm_into, solve_warm_with, solve_with, Attempt,
-    BasisGuess, Covering, LcpSolution, SolveCounters, SolveOptions, SolveStatus, SolveSummary,
-    Strategy, WarmStart, DEFAULT_COVERING_FLOOR,
+pub use solution::{
+    Attempt, BasisGuess, LcpSolution, SolveCounters, SolveStatus, SolveSummary, Strategy, WarmStart,
 };
+pub use solve::{solve, solve_into, solve_warm, solve_warm_into, solve_warm_with, solve_with};
+pub use solve_options::{Covering, SolveOptions, DEFAULT_COVERING_FLOOR};
 
 use serde::{Deserialize, Serialize};
 

@@ -79,7 +79,7 @@
 //!   rigid body dynamics with inelastic collisions and Coulomb friction",
 //!   *Int. J. Numer. Methods Eng.* 39 (1996) 2673–2691.
 
-use super::solve::BasisGuess;
+use super::solution::BasisGuess;
 use super::{Lcp, ResidualScale};
 
 /// Largest block handled by the local enumeration (2^8 = 256 bases): a

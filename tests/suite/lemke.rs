@@ -2596,7 +2596,7 @@ fn small_path_problems(seed: u64) -> Vec<(String, Lcp)> {
 
 #[test]
 fn small_problems_take_the_same_pivots_and_skip_only_an_unneeded_refinement() {
-    use floebench::lcp::solve::SMALL_N;
+    use floebench::lcp::solve_options::SMALL_N;
     // The small-problem rule (`unpolished_below = 1e-13`, the default)
     // against the refining driver (`0`: every candidate polished, as before):
     // the same attempts with the same pivots and terminations on every
