@@ -67,13 +67,14 @@
 //! and [`solve_warm_into`] write into a caller's [`LcpSolution`], reusing
 //! its buffers: with a reused [`Workspace`] a solve then allocates nothing.
 
+use super::arith::{w_into, ResidualScale, SUPPORT_MAX_N};
 use super::lemke::{with_thread_workspace, Scratch, Workspace};
 use super::lemke_options::{LemkeOptions, PivotRule, Termination};
 use super::scaling::{max_abs, max_abs_finite};
 use super::solution::{Attempt, BasisGuess, LcpSolution, SolveStatus, Strategy, WarmStart};
 use super::solve_options::{SolveOptions, SMALL_N};
 use super::sparse::Columns;
-use super::{w_into, Lcp, ResidualScale, SUPPORT_MAX_N};
+use super::Lcp;
 
 /// Solves `lcp` with the attempt sequence described in the module doc.
 ///

@@ -56,9 +56,9 @@
 //! The dense tableau itself (its set-up, the exchange step and its
 //! elimination, its `Basis` implementation) is in `lemke/tableau.rs`.
 
+use super::arith::residual_with_w;
 use super::lemke_options::{options_valid, LemkeOptions, Termination, DEFAULT_PIVOTS_PER_DIM};
 use super::path::{self, Basis};
-use super::residual_with_w;
 use super::revised::Revised;
 use super::scaling::{exp2_factor, ldexp, max_abs, max_abs_finite, pow2_exponent};
 use super::sparse::Columns;
@@ -131,7 +131,7 @@ pub fn lemke_with(ws: &mut Workspace, m: &[f64], q: &[f64], opts: &LemkeOptions)
         w.copy_from_slice(q);
         f64::INFINITY
     } else {
-        super::w_into(m, q, &z, &mut w, false);
+        super::arith::w_into(m, q, &z, &mut w, false);
         residual_with_w(q, &z, &w)
     };
     LemkeResult {
