@@ -11,7 +11,7 @@ use super::RESIDUAL_DENOMINATOR_FLOOR;
 /// Each entry is a compensated dot product (Ogita, Rump & Oishi 2005,
 /// "Dot2"): as accurate as if computed in twice the working precision, so
 /// that the cancellation in `M z` for large `z` cannot hide a negative `w_i`
-/// from the acceptance test of [`solve`].
+/// from the acceptance test of [`super::solve()`].
 pub(crate) fn w_unchecked(m: &[f64], q: &[f64], z: &[f64]) -> Vec<f64> {
     let mut w = vec![0.0; q.len()];
     w_into(m, q, z, &mut w, false);
@@ -174,7 +174,7 @@ pub(crate) fn dot2_plus(x: &[f64], y: &[f64], c: f64) -> f64 {
 /// [`dot2_plus`] as four interleaved Dot2 sums combined error-free at the
 /// end: the same accuracy (as if in twice the working precision) with four
 /// times the instruction-level parallelism, but other last bits. For the
-/// basis solves of [`pivoting`]; the residual of the driver keeps
+/// basis solves of [`super::pivoting`]; the residual of the driver keeps
 /// [`dot2_plus`].
 pub(crate) fn dot2_plus_fast(x: &[f64], y: &[f64], c: f64) -> f64 {
     dot2_plus_lanes::<4>(x, y, c)
@@ -285,12 +285,12 @@ fn dot2_body<const L: usize>(
     pt + st
 }
 
-/// [`residual`] when `w = M z + q` is already known (no allocation).
+/// [`super::residual()`] when `w = M z + q` is already known (no allocation).
 pub(crate) fn residual_with_w(q: &[f64], z: &[f64], w: &[f64]) -> f64 {
     ResidualScale::of(q).residual(z, w)
 }
 
-/// The part of [`residual`] that depends on `q` only (its denominator and
+/// The part of [`super::residual()`] that depends on `q` only (its denominator and
 /// whether `q` is finite), computed once for the many candidates of a
 /// solve.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -318,7 +318,7 @@ impl ResidualScale {
         }
     }
 
-    /// [`residual`] of `z` with `w = M z + q` known: `INFINITY` if the sizes
+    /// [`super::residual()`] of `z` with `w = M z + q` known: `INFINITY` if the sizes
     /// differ or anything is non-finite. The same arithmetic as [`norm2`]
     /// (largest magnitude first, then the scaled sum of squares), with the
     /// finiteness check folded into the first pass ([`scaled_norm`]).

@@ -19,12 +19,15 @@ pub enum Strategy {
     /// Principal pivoting from a guessed basis ([`solve_warm`](super::solve_warm())), before any
     /// Lemke attempt.
     WarmStart,
-    /// Lemke's path from the guessed basis ([`solve_warm`](super::solve_warm()), after a
-    /// rejected principal pivoting; [`SolveOptions::warm_lemke`](super::SolveOptions::warm_lemke)), on the
+    /// Lemke's path from the guessed basis
+    /// ([`solve_warm`](super::solve_warm()), after a rejected principal
+    /// pivoting;
+    /// [`SolveOptions::warm_lemke`](super::SolveOptions::warm_lemke)), on the
     /// factorised basis, before the cold attempts.
     WarmLemke,
-    /// Lemke with [`PivotRule::Harris`] on the original problem: the first
-    /// cold attempt on problems of at least [`SolveOptions::harris_from`](super::SolveOptions::harris_from)
+    /// Lemke with [`PivotRule::Harris`] on the original problem: the first cold
+    /// attempt on problems of at least
+    /// [`SolveOptions::harris_from`](super::SolveOptions::harris_from)
     /// unknowns, before the lexicographic one.
     Harris,
 }
@@ -32,10 +35,11 @@ pub enum Strategy {
 /// Overall outcome of [`solve`](super::solve()).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum SolveStatus {
-    /// The warm start ([`solve_warm`](super::solve_warm()): its principal pivoting or its Lemke
-    /// path) or the first cold Lemke attempt (lexicographic, or Harris on
-    /// problems of at least [`SolveOptions::harris_from`](super::SolveOptions::harris_from) unknowns) was
-    /// accepted.
+    /// The warm start ([`solve_warm`](super::solve_warm()): its principal
+    /// pivoting or its Lemke path) or the first cold Lemke attempt
+    /// (lexicographic, or Harris on problems of at least
+    /// [`SolveOptions::harris_from`](super::SolveOptions::harris_from)
+    /// unknowns) was accepted.
     Solved,
     /// A later attempt was accepted.
     SolvedByFallback,

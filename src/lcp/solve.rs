@@ -15,8 +15,9 @@
 //!    [`PivotRule::MinRatioLargestPivot`], which favours numerically large
 //!    pivots where the lexicographic rule may pick small ones) and the
 //!    covering vector [`SolveOptions::alternative_covering`] (default
-//!    [`Covering::Diagonal`]); skipped if `alternative_rule` is `None`. For a
-//!    matrix that is not copositive-plus, a secondary ray depends on the
+//!    [`Covering::Diagonal`](super::Covering::Diagonal)); skipped if
+//!    `alternative_rule` is `None`. For a matrix that is not
+//!    copositive-plus, a secondary ray depends on the
 //!    covering vector, so a different `d` can succeed where `d = e` fails.
 //! 3. [`Strategy::Perturbed`]: Lemke (lexicographic) on `M + εI` for each
 //!    `ε = ε_rel · max|M_ij|` with `ε_rel` from
@@ -26,7 +27,7 @@
 //!
 //! Attempts 1 and 3 use [`SolveOptions::covering`] (default all ones).
 //! After **every** attempt, whatever Lemke reported, its `z` is projected
-//! onto `z >= 0`, its [`residual`] on the original `(M, q)` is computed
+//! onto `z >= 0`, its [`residual`](super::residual()) on the original `(M, q)` is computed
 //! (compensated `M z + q`) and, if it is not 0 and polishing is on, it is
 //! polished, each step kept only if it lowers the residual (except, on the
 //! small problems of at most [`SMALL_N`] unknowns, a candidate of a run

@@ -16,18 +16,19 @@ pub enum Covering {
     /// invariant under a symmetric diagonal scaling `D M D`, `D q` of the
     /// problem (up to the 1e-8 floor), unlike with `d = e`.
     Diagonal,
-    /// `d_i = max(|M_ii| / max_j |M_jj|, floor)` (the diagonal itself, not
-    /// its square root), and `d_i = 1` for all i if the diagonal is zero or
-    /// non-finite, or if n is at most [`SMALL_N`] (measured on 2,000
-    /// small dumps: no pivots saved, and the vector costs about a tenth of
-    /// a solve of up to 8 unknowns); a floor outside (0, 1] gives an invalid vector (the
-    /// attempt reports [`Termination::InvalidInput`](super::Termination::InvalidInput)); a floor of 1 is
-    /// [`Covering::Ones`]. `z0 d` is then the change of `w` that the
-    /// impulse `z0` on every unknown at once gives through the diagonal of
-    /// `M` alone, each contact as if alone; the rows with a zero diagonal
-    /// (the friction cone rows of Stewart–Trinkle) get the floor. The
-    /// default of the cold attempts, with [`DEFAULT_COVERING_FLOOR`]
-    /// (docs/physics.md §3.3, "The covering vector").
+    /// `d_i = max(|M_ii| / max_j |M_jj|, floor)` (the diagonal itself, not its
+    /// square root), and `d_i = 1` for all i if the diagonal is zero or
+    /// non-finite, or if n is at most [`SMALL_N`] (measured on 2,000 small
+    /// dumps: no pivots saved, and the vector costs about a tenth of a solve of
+    /// up to 8 unknowns); a floor outside (0, 1] gives an invalid vector (the
+    /// attempt reports
+    /// [`Termination::InvalidInput`](super::Termination::InvalidInput)); a
+    /// floor of 1 is [`Covering::Ones`]. `z0 d` is then the change of `w` that
+    /// the impulse `z0` on every unknown at once gives through the diagonal of
+    /// `M` alone, each contact as if alone; the rows with a zero diagonal (the
+    /// friction cone rows of Stewart–Trinkle) get the floor. The default of the
+    /// cold attempts, with [`DEFAULT_COVERING_FLOOR`] (docs/physics.md §3.3,
+    /// "The covering vector").
     DiagonalRatio(f64),
     /// A given vector (n finite positive entries, else the attempt reports
     /// [`Termination::InvalidInput`](super::Termination::InvalidInput)).
@@ -135,28 +136,28 @@ pub struct SolveOptions {
     pub revised_from: usize,
     /// Residual (relative to `‖q‖`, compensated, on the original data) at or
     /// below which an accepted candidate of a Lemke run that reported
-    /// [`Termination::Solved`](super::Termination::Solved) on a small problem, of at most [`SMALL_N`]
-    /// unknowns, is kept as Lemke left it, without the refinement of its
-    /// basis (which would only move its last digits, for up to three more
-    /// compensated residuals: about a third of a small solve). Larger
-    /// problems, a candidate above it, or one from a run that did not
-    /// report [`Termination::Solved`](super::Termination::Solved), are polished as always. Default
-    /// [`UNPOLISHED_BELOW`] (`1e-13`); `0` refines every candidate (the
-    /// driver before this default, bit for bit). Chosen, not fitted: a
-    /// thousandth of the default acceptance tolerance, so a kept candidate
-    /// still meets it a thousand times over (docs/physics.md §3.3, "Small
-    /// problems"). (Until this version two options overlapped here, this
-    /// one for every size and `small_unpolished_below` for the small
-    /// problems, both off by default; the latter's old name is still read.)
+    /// [`Termination::Solved`](super::Termination::Solved) on a small problem,
+    /// of at most [`SMALL_N`] unknowns, is kept as Lemke left it, without the
+    /// refinement of its basis (which would only move its last digits, for up
+    /// to three more compensated residuals: about a third of a small solve).
+    /// Larger problems, a candidate above it, or one from a run that did not
+    /// report [`Termination::Solved`](super::Termination::Solved), are polished
+    /// as always. Default [`UNPOLISHED_BELOW`] (`1e-13`); `0` refines every
+    /// candidate (the driver before this default, bit for bit). Chosen, not
+    /// fitted: a thousandth of the default acceptance tolerance, so a kept
+    /// candidate still meets it a thousand times over (docs/physics.md §3.3,
+    /// "Small problems"). (Until this version two options overlapped here, this
+    /// one for every size and `small_unpolished_below` for the small problems,
+    /// both off by default; the latter's old name is still read.)
     #[serde(default = "default_unpolished_below", alias = "small_unpolished_below")]
     pub unpolished_below: f64,
-    /// With a guessed basis ([`solve_warm`](super::solve_warm())) that principal pivoting did not
-    /// accept, run Lemke's path from that basis ([`Strategy::WarmLemke`](super::Strategy::WarmLemke),
-    /// docs/physics.md §3.3 "Warm Lemke") before the cold attempts. Default
-    /// `false`: on the jammed bay it cost more CPU than the cold attempts it
-    /// replaced and moved the trajectories (§3.3); `false` is the warm start
-    /// as it was before this option (principal pivoting, then the cold
-    /// attempts).
+    /// With a guessed basis ([`solve_warm`](super::solve_warm())) that
+    /// principal pivoting did not accept, run Lemke's path from that basis
+    /// ([`Strategy::WarmLemke`](super::Strategy::WarmLemke), docs/physics.md
+    /// §3.3 "Warm Lemke") before the cold attempts. Default `false`: on the
+    /// jammed bay it cost more CPU than the cold attempts it replaced and moved
+    /// the trajectories (§3.3); `false` is the warm start as it was before this
+    /// option (principal pivoting, then the cold attempts).
     #[serde(default = "default_warm_lemke")]
     pub warm_lemke: bool,
     /// Pivot cap of the warm Lemke path, per unknown (the cap is

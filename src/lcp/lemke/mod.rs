@@ -179,10 +179,10 @@ pub struct Workspace {
     prow: Vec<f64>,
     /// Non-zero positions of the pivot row.
     nz: Vec<usize>,
-    /// An upper bound on `|t_ij|` over the tableau (scaled units), kept
-    /// by every exchange; while the bound after an exchange is below
-    /// [`OVERFLOW_FREE_BOUND`] no entry can overflow, and the elimination
-    /// skips its per-entry finiteness test.
+    /// An upper bound on `|t_ij|` over the tableau (scaled units), kept by
+    /// every exchange; while the bound after an exchange is below
+    /// [`OVERFLOW_FREE_BOUND`](tableau::OVERFLOW_FREE_BOUND) no entry can
+    /// overflow, and the elimination skips its per-entry finiteness test.
     tbound: f64,
     /// Candidate rows of the ratio test.
     cand: Vec<usize>,
