@@ -4,7 +4,14 @@
 //! judges its candidates by these numbers (see [`super::residual()`]).
 
 use super::scaling;
-use super::RESIDUAL_DENOMINATOR_FLOOR;
+
+/// Floor of the denominator of [`super::residual()`]: `f64::EPSILON`.
+///
+/// When `‖q‖₂ <= RESIDUAL_DENOMINATOR_FLOOR` the residual is effectively an
+/// absolute one (divided by `f64::EPSILON`), as in Siconos'
+/// `lcp_compute_error`; this only happens for an (almost) zero `q`, whose
+/// solution `z = 0` has residual exactly 0.
+pub const RESIDUAL_DENOMINATOR_FLOOR: f64 = f64::EPSILON;
 
 /// `M z + q` without size checks; callers guarantee the sizes.
 ///

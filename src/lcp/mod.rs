@@ -58,6 +58,31 @@
 //!
 //! [`dump`] writes and reads JSON LCP dumps for reproducing a solve.
 //!
+//! # Files, lowest first
+//!
+//! Every file imports only from files above it in this list (no circle);
+//! this file declares them and re-exports their public items.
+//!
+//! 1. `scaling` (powers of two, maxima), `sparse_lu` and `polish` (the
+//!    sparse and dense LU), `json_f64` (dump encoding), `lemke_options`
+//!    (pivot rules, termination, Lemke's options, [`lemke_options::REVISED_FROM`]):
+//!    no import from this folder;
+//! 2. `arith`: compensated dot products, `w = M z + q`, the residual's scale;
+//! 3. this file's own items: [`Lcp`], [`LcpError`], [`compute_w`], [`residual`];
+//! 4. `sparse`: M's compressed columns and the sparse residual;
+//! 5. `path`: the `Basis` interface and the pivoting rules of Lemke's path;
+//! 6. the basis representations and the polish: `revised` (the factorised
+//!    basis, its solves in `revised/factor.rs`) and `pivoting` (principal
+//!    pivoting);
+//! 7. [`lemke`]: the work space and Lemke's method, its dense tableau in
+//!    `lemke/tableau.rs`;
+//! 8. [`solve_options`] (the driver's options) and [`solution`] (its records
+//!    and results);
+//! 9. [`solve`](mod@solve): the driver (attempts, residual check, polish,
+//!    fallbacks);
+//! 10. [`predict`] (the guessed basis of the warm path) and [`dump`];
+//! 11. [`timing`].
+//!
 //! # References
 //!
 //! * R. W. Cottle, J.-S. Pang, R. E. Stone, *The Linear Complementarity
@@ -97,16 +122,10 @@ pub use solution::{
 pub use solve::{solve, solve_into, solve_warm, solve_warm_into, solve_warm_with, solve_with};
 pub use solve_options::{Covering, SolveOptions, DEFAULT_COVERING_FLOOR};
 
+pub use arith::RESIDUAL_DENOMINATOR_FLOOR;
+
 use arith::{residual_with_w, w_unchecked};
 use serde::{Deserialize, Serialize};
-
-/// Floor of the denominator of [`residual`]: `f64::EPSILON`.
-///
-/// When `‖q‖₂ <= RESIDUAL_DENOMINATOR_FLOOR` the residual is effectively an
-/// absolute one (divided by `f64::EPSILON`), as in Siconos'
-/// `lcp_compute_error`; this only happens for an (almost) zero `q`, whose
-/// solution `z = 0` has residual exactly 0.
-pub const RESIDUAL_DENOMINATOR_FLOOR: f64 = f64::EPSILON;
 
 /// Error raised when LCP data have inconsistent sizes.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
