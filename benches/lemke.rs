@@ -26,7 +26,7 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
 use floebench::contact::BroadPhase;
 use floebench::formulation::parse_case;
-use floebench::lcp::solve::SMALL_N;
+use floebench::lcp::solve_options::SMALL_N;
 use floebench::lcp::timing::{bucket_label, bucket_of, dump_files, BUCKETS};
 use floebench::lcp::{solve, solve_into, Lcp, LcpDump, LcpSolution, SolveOptions, Workspace};
 use floebench::model::Scenario;

@@ -176,8 +176,8 @@ pub struct ContactLcp {
 
 /// Unknowns from which the assembly builds the compressed columns of the
 /// LCP's matrix for the solver: where the solver uses them (the factorised
-/// basis, [`crate::lcp::lemke::REVISED_FROM`]).
-const COLUMNS_FROM: usize = crate::lcp::lemke::REVISED_FROM;
+/// basis, [`crate::lcp::lemke_options::REVISED_FROM`]).
+const COLUMNS_FROM: usize = crate::lcp::lemke_options::REVISED_FROM;
 
 /// Calls `entry(row, column)` for every entry of the assembled matrix
 /// (`m` contacts, `nf` friction groups, `nf = 0` without friction) that can

@@ -38,7 +38,7 @@
 //! flushed to disk, then renamed over the target.
 
 use super::json_f64;
-use super::solve::LcpSolution;
+use super::solution::LcpSolution;
 use super::{Lcp, LcpError};
 use serde::{Deserialize, Serialize};
 use std::io::Write;

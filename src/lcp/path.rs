@@ -20,7 +20,7 @@
 //! Given the same data both make the same choices up to rounding: the
 //! entries they compare are the same numbers, computed in a different order.
 
-use super::lemke::{LemkeOptions, PivotRule, Termination};
+use super::lemke_options::{LemkeOptions, PivotRule, Termination};
 
 /// Sentinel for "no row" / "no column".
 pub(crate) const NONE: usize = usize::MAX;
@@ -261,7 +261,7 @@ fn ratio_test<B: Basis>(e: &mut B, cand: &mut Vec<usize>, opts: &LemkeOptions) -
 /// bound, so a row is returned ([`NONE`] only if rounding defeated that).
 fn harris<B: Basis>(e: &B, thresh: f64, r0: usize, prefer_z0: bool) -> usize {
     let n = e.n();
-    let delta = super::lemke::HARRIS_FEASIBILITY;
+    let delta = super::lemke_options::HARRIS_FEASIBILITY;
     let mut bound = f64::INFINITY;
     for i in 0..n {
         let c = e.c(i);

@@ -41,15 +41,15 @@
 //! (which turned feasible Lemke candidates into infeasible ones). On a
 //! regular basis the error contracts by `δ/λ` a step. Within the
 //! iterations the residuals and `w` use the four-lane compensated product
-//! ([`super::dot2_plus_fast`]); the judged candidate's `w` is recomputed
-//! with the driver's ([`super::dot2_plus`]), so that its residual is the
+//! ([`super::arith::dot2_plus_fast`]); the judged candidate's `w` is recomputed
+//! with the driver's ([`super::arith::dot2_plus`]), so that its residual is the
 //! one [`super::residual`] gives.
 
+use super::arith::{dot2_plus, dot2_plus_fast, ResidualScale};
 use super::path::NONE;
 use super::polish::Lu;
 use super::sparse::Columns;
 use super::sparse_lu::{colamd_rank, Csc, SparseLu};
-use super::{dot2_plus, dot2_plus_fast, ResidualScale};
 
 /// Solves with the shifted factorisation of a basis that is judged: the
 /// first from the starting point (plain), then iterative refinement against
@@ -216,8 +216,8 @@ impl Pivoting {
         self.sparse = sparse && self.sp.get_or_insert_with(Box::default).prepare(m, n);
         self.z.resize(n, 0.0);
         let scale = ResidualScale::of(q);
-        let tau_w = FEASIBILITY_FRACTION * tolerance * super::norm2(q);
-        let tau_z = tau_w / super::lemke::max_abs(m).max(1.0);
+        let tau_w = FEASIBILITY_FRACTION * tolerance * super::arith::norm2(q);
+        let tau_z = tau_w / super::scaling::max_abs(m).max(1.0);
         let mut best = usize::MAX;
         let mut patience = BLOCK_STEPS_WITHOUT_PROGRESS;
         while out.solves < max_solves {
@@ -327,7 +327,7 @@ impl Pivoting {
         let delta = if dmax > 0.0 {
             SHIFT * dmax
         } else {
-            SHIFT * super::lemke::max_abs(m)
+            SHIFT * super::scaling::max_abs(m)
         };
         if self.sparse {
             if !self.factor_sparse(delta) {

@@ -79,8 +79,9 @@
 //!   rigid body dynamics with inelastic collisions and Coulomb friction",
 //!   *Int. J. Numer. Methods Eng.* 39 (1996) 2673–2691.
 
-use super::solve::BasisGuess;
-use super::{Lcp, ResidualScale};
+use super::arith::ResidualScale;
+use super::solution::BasisGuess;
+use super::Lcp;
 
 /// Largest block handled by the local enumeration (2^8 = 256 bases): a
 /// contact is 4 unknowns, a flush edge pair with merged friction 5

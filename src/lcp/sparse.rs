@@ -17,7 +17,7 @@
 //! adds exact zeros to both `p_i` and `s_i`, so the result is the same
 //! number; only the sign of a zero `w_i` may differ (the dense sum adds
 //! `+0` terms). The same argument as the support sums of
-//! [`super::w_into`] for small problems.
+//! [`super::arith::w_into`] for small problems.
 //!
 //! # References
 //!
@@ -26,8 +26,8 @@
 //! * T. A. Davis, *Direct Methods for Sparse Linear Systems*, SIAM, 2006,
 //!   ch. 2 (compressed sparse columns).
 
-use super::lemke::max_abs_finite;
-use super::{dot2_plus, two_prod, two_sum, SUPPORT_MAX_N};
+use super::arith::{dot2_plus, two_prod, two_sum, SUPPORT_MAX_N};
+use super::scaling::max_abs_finite;
 
 /// The compressed sparse columns of the non-zero entries of a row-major
 /// `n × n` matrix (`ptr`, `idx`, `val`; rows increasing within each
@@ -56,7 +56,7 @@ impl Columns {
     /// into columns then reads only the non-zeros. A NaN entry is stored
     /// (it is not `== 0`).
     ///
-    /// [`max_abs`]: super::lemke::max_abs
+    /// [`max_abs`]: super::scaling::max_abs
     pub(crate) fn scan(&mut self, m: &[f64], n: usize) -> (f64, bool) {
         self.row_ptr.clear();
         self.row_ptr.push(0);
@@ -227,9 +227,9 @@ impl SparseResidual {
 
     /// `w = M z + q` for the `M` of this solve (the same `m` at every call
     /// between two [`SparseResidual::reset`]s), the number
-    /// [`super::w_into`] gives (up to the sign of a zero): up to
+    /// [`super::arith::w_into`] gives (up to the sign of a zero): up to
     /// [`SUPPORT_MAX_N`] unknowns or for a matrix not known to be finite,
-    /// by [`super::w_into`] itself; above, over the compressed columns.
+    /// by [`super::arith::w_into`] itself; above, over the compressed columns.
     pub(crate) fn w_into(
         &mut self,
         m: &[f64],
@@ -240,7 +240,7 @@ impl SparseResidual {
     ) {
         let n = q.len();
         if !m_finite || n <= SUPPORT_MAX_N || z.len() != n || m.len() != n * n {
-            super::w_into(m, q, z, w, m_finite);
+            super::arith::w_into(m, q, z, w, m_finite);
             return;
         }
         if !self.built {
@@ -295,7 +295,7 @@ impl SparseResidual {
 
     /// `w_i = p_i + s_i`; a row whose sum is not finite (an overflow of the
     /// unscaled sum) is recomputed by [`dot2_plus`] on the dense row, as
-    /// [`super::w_into`] does.
+    /// [`super::arith::w_into`] does.
     fn finish(&self, m: &[f64], q: &[f64], z: &[f64], w: &mut [f64]) {
         let n = q.len();
         for (i, wi) in w.iter_mut().enumerate().take(n) {
@@ -357,7 +357,7 @@ mod tests {
             for _ in 0..4 {
                 let (m, q, z) = problem(&mut rng, n, density);
                 let mut dense = vec![0.0; n];
-                crate::lcp::w_into(&m, &q, &z, &mut dense, false);
+                crate::lcp::arith::w_into(&m, &q, &z, &mut dense, false);
                 sp.reset();
                 let mut got = vec![f64::NAN; n];
                 sp.w_into(&m, &q, &z, &mut got, true);
@@ -385,7 +385,7 @@ mod tests {
         for _ in 0..2 {
             let (mmax, finite) = c.scan(&m, 70);
             assert!(finite);
-            assert_eq!(mmax, crate::lcp::lemke::max_abs(&m));
+            assert_eq!(mmax, crate::lcp::scaling::max_abs(&m));
             let (p, i, v) = (&c.ptr, &c.idx, &c.val);
             let mut back = vec![0.0; 70 * 70];
             for j in 0..70 {

@@ -24,12 +24,12 @@
 //! by [`summarize`].
 
 use super::dump::{DumpError, LcpDump};
-use super::lemke::Termination;
 use super::lemke::Workspace;
+use super::lemke_options::Termination;
 use super::predict::{basis_mismatch, solve_predicted_into, Blocks, PredictOptions, Prediction};
-use super::solve::{
-    solve_into, solve_warm_into, BasisGuess, LcpSolution, SolveOptions, SolveStatus, Strategy,
-};
+use super::solution::{BasisGuess, LcpSolution, SolveStatus, Strategy};
+use super::solve::{solve_into, solve_warm_into};
+use super::solve_options::SolveOptions;
 use crate::record::clock::thread_cpu_seconds;
 use std::hint::black_box;
 use std::path::{Path, PathBuf};

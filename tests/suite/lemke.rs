@@ -1501,12 +1501,12 @@ fn psd_lcps_near_the_floating_point_range_are_solved() {
     assert!(((sol.z[0] + sol.z[1]) * 1e300 - 1.0).abs() < 1e-15);
     // The exponent of the scaling is exact over the whole range.
     for e in -1074..=1023 {
-        assert_eq!(floebench::lcp::lemke::pow2_exponent(pow2(e)), e, "2^{e}");
+        assert_eq!(floebench::lcp::scaling::pow2_exponent(pow2(e)), e, "2^{e}");
     }
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(f64::MAX), 1024);
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(1.5), 1); // 1.5 > √2
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(1.4), 0);
-    assert_eq!(floebench::lcp::lemke::pow2_exponent(0.0), 0);
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(f64::MAX), 1024);
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(1.5), 1); // 1.5 > √2
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(1.4), 0);
+    assert_eq!(floebench::lcp::scaling::pow2_exponent(0.0), 0);
 }
 
 #[test]
@@ -2596,7 +2596,7 @@ fn small_path_problems(seed: u64) -> Vec<(String, Lcp)> {
 
 #[test]
 fn small_problems_take_the_same_pivots_and_skip_only_an_unneeded_refinement() {
-    use floebench::lcp::solve::SMALL_N;
+    use floebench::lcp::solve_options::SMALL_N;
     // The small-problem rule (`unpolished_below = 1e-13`, the default)
     // against the refining driver (`0`: every candidate polished, as before):
     // the same attempts with the same pivots and terminations on every
