@@ -46,7 +46,7 @@
 //! bouncing, sliding, drifting, inertial; recognising one is the
 //! applicability rule of its checks), `exact.rs` (the closed forms),
 //! `measure.rs` (measurements on a run shared by several checks),
-//! `checks.rs` (each check) and [`curves`] (the exact curves of the set-ups
+//! `checks/` (each check) and [`curves`] (the exact curves of the set-ups
 //! beside the runs, for the report's plots). Their public items are
 //! re-exported here. A check against an exact answer carries its scale
 //! ([`CheckOutcome::scale`]), on which the verdicts rank and tie.

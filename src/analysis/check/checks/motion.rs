@@ -1,275 +1,25 @@
-//! The checks, one function each: whether it applies (the case's
-//! structure), what it measures on the run, the exact answer and the
-//! tolerance it is held to (see the table of the module doc of
-//! [`super`]).
+//! The checks against exact motions (docs/physics.md §2, §3.2; the table of
+//! the module doc of [`crate::analysis::check`]): mirror symmetry, the
+//! head-on impact, the bouncing floe, the sliding floe, Newton's cradle,
+//! the cannon, free drift and the inertial oscillation.
 
-use super::exact::head_on_velocities;
-use super::exact::ram_critical_speed_of;
-use super::measure::{final_velocity, rest_time, sampled_penetration};
-use super::setup::{Bouncing, Drift, Inertial, Sliding};
-use super::structure::{
+use super::{penetration_tolerance, Rows};
+use crate::analysis::check::exact::head_on_velocities;
+use crate::analysis::check::measure::{final_velocity, rest_time};
+use crate::analysis::check::setup::{Bouncing, Drift, Inertial, Sliding};
+use crate::analysis::check::structure::{
     extent, find_symmetry, in_a_row, initial_polygon, no_forcing, self_symmetric, translation_gap,
     GEOMETRY_MATCH,
 };
-use super::{
-    CheckOutcome, CRADLE_TOLERANCE, ENERGY_CONSERVED_TOLERANCE, FRACTURE_CONSERVATION_TOLERANCE,
-    FREE_DRIFT_TOLERANCE, HEAD_ON_TOLERANCE, IMPACT_ENERGY_TOLERANCE, INERTIAL_PERIOD_TOLERANCE,
-    LEDGER_TOLERANCE, MOMENTUM_TOLERANCE, RAM_CRITICAL_SPEED_TOLERANCE, REST_SPEED_FRACTION,
-    SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
+use crate::analysis::check::{
+    CRADLE_TOLERANCE, FREE_DRIFT_TOLERANCE, HEAD_ON_TOLERANCE, INERTIAL_PERIOD_TOLERANCE,
+    REST_SPEED_FRACTION, SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
 };
-use crate::analysis::divergence::row_frames;
 use crate::contact::signed_distance;
-use crate::formulation::contact_solver::COULOMB_SLACK;
-use crate::formulation::event_driven::{
-    floe_length_scale, EventDrivenSettings, DEFAULT_PENETRATION_FRACTION,
-};
-use crate::fracture::split::cut;
-use crate::fracture::strike::{lattice_spacing, spin_prestress, SPIN_PRESTRESS_LIMIT};
 use crate::geometry::{cross, Vec2};
-use crate::model::fracture::FractureModel;
-use crate::model::Scenario;
-use crate::record::counters::common::MAX_PENETRATION;
-use crate::run::{EndReason, RunResult, TrajectoryRow};
+use crate::run::{RunResult, TrajectoryRow};
 
-struct Rows<'a> {
-    scn: &'a Scenario,
-    run: &'a RunResult,
-    out: Vec<CheckOutcome>,
-}
-
-impl Rows<'_> {
-    #[allow(clippy::too_many_arguments)]
-    fn push(
-        &mut self,
-        check: &str,
-        description: &str,
-        measured: f64,
-        expected: Option<f64>,
-        tolerance: f64,
-        unit: &str,
-        note: String,
-    ) -> &mut CheckOutcome {
-        // A check against an exact answer sets `scale` on the row returned.
-        let pass = match expected {
-            Some(x) => (measured - x).abs() <= tolerance,
-            None => measured <= tolerance,
-        };
-        self.out.push(CheckOutcome {
-            case: self.scn.name.clone(),
-            formulation: self.run.summary.formulation.clone(),
-            check: check.to_string(),
-            description: description.to_string(),
-            measured,
-            expected,
-            tolerance,
-            unit: unit.to_string(),
-            pass,
-            claimed: true,
-            note,
-            scale: None,
-        });
-        let last = self.out.len() - 1;
-        &mut self.out[last]
-    }
-}
-
-/// Every check that applies to `scn`, measured on `run`, each claimed
-/// (the claims are [`super::check_run`]'s).
-pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
-    let mut r = Rows {
-        scn,
-        run,
-        out: Vec::new(),
-    };
-    let completed = run.summary.end == EndReason::Completed;
-    r.push(
-        "run_completed",
-        "the run reaches the case's duration",
-        if completed { 1.0 } else { 0.0 },
-        Some(1.0),
-        0.0,
-        "1",
-        match &run.summary.end {
-            EndReason::Completed => String::new(),
-            other => format!("{other}; reached t = {} s", run.summary.t_reached),
-        },
-    );
-    momentum(&mut r);
-    impact_energy(&mut r);
-    energy_conserved(&mut r);
-    coulomb(&mut r);
-    penetration(&mut r);
-    // The checks of final velocities after impacts without forcing follow
-    // each initial floe's material through its pieces when floes broke (a
-    // split conserves momentum; `final_velocity`, docs/physics.md §9.7).
-    head_on(&mut r);
-    cradle(&mut r);
-    cannon(&mut r);
-    // The other checks read from the case's initial floes follow those floes
-    // through the run: they apply to a run whose floes did not break.
-    if run.fractures.is_empty() {
-        symmetry(&mut r);
-        bouncing(&mut r);
-        sliding(&mut r);
-        free_drift(&mut r);
-        inertial(&mut r);
-    }
-    fracture_conservation(&mut r);
-    ram_critical_speed(&mut r);
-    lattice_spin(&mut r);
-    ledger(&mut r);
-    r.out
-}
-
-fn momentum(r: &mut Rows) {
-    let scn = r.scn;
-    if !no_forcing(scn) || !scn.obstacles.is_empty() || scn.floes.len() < 2 {
-        return;
-    }
-    let scale: f64 = scn.floes.iter().map(|f| f.mass * f.velocity.norm()).sum();
-    if scale == 0.0 {
-        return;
-    }
-    let p0 = scn
-        .floes
-        .iter()
-        .fold(Vec2::zeros(), |s, f| s + f.velocity * f.mass);
-    // Each floe alive at an output, with its own mass (the pieces of broken
-    // floes included).
-    let mass = |id: usize| r.run.floes.get(id).map_or(f64::NAN, |f| f.mass);
-    let worst = row_frames(&r.run.trajectory)
-        .map(|rows| {
-            let p = rows.iter().fold(Vec2::zeros(), |s, row| {
-                s + Vec2::new(row.vx, row.vy) * mass(row.floe)
-            });
-            (p - p0).norm() / scale
-        })
-        .fold(0.0, f64::max);
-    r.push(
-        "momentum",
-        "total momentum conserved across impacts (no forcing, no obstacle)",
-        worst,
-        None,
-        MOMENTUM_TOLERANCE,
-        "1",
-        "max_t |P(t) - P(0)| / sum M |v(0)|".into(),
-    )
-    .scale = Some(1.0);
-}
-
-fn impact_energy(r: &mut Rows) {
-    let log = &r.run.contacts;
-    let Some(gain) = log.max_energy_gain() else {
-        return;
-    };
-    let scale = r.run.summary.energy.exchanged.max(f64::MIN_POSITIVE);
-    r.push(
-        "impact_energy",
-        "no contact event creates kinetic energy (e <= 1)",
-        gain.max(0.0) / scale,
-        None,
-        IMPACT_ENERGY_TOLERANCE,
-        "1",
-        if gain > 0.0 {
-            format!(
-                "largest gain {gain:.3e} J over {} events / {scale:.3e} J exchanged",
-                log.event_count()
-            )
-        } else if gain == 0.0 {
-            format!(
-                "no event gained energy (the largest change is 0 J) over {} events / {scale:.3e} J exchanged",
-                log.event_count()
-            )
-        } else {
-            format!(
-                "every event lost energy: the smallest loss is {:.3e} J over {} events / {scale:.3e} J exchanged",
-                -gain,
-                log.event_count()
-            )
-        },
-    );
-}
-
-fn energy_conserved(r: &mut Rows) {
-    let scn = r.scn;
-    if scn.contact.restitution != 1.0 || scn.contact.friction != 0.0 || !no_forcing(scn) {
-        return;
-    }
-    let e0 = r.run.summary.energy.initial_kinetic;
-    if e0 <= 0.0 {
-        return;
-    }
-    let worst = r
-        .run
-        .energy
-        .iter()
-        .map(|s| (s.kinetic - e0).abs() / e0)
-        .fold(0.0, f64::max);
-    r.push(
-        "energy_conserved",
-        "kinetic energy conserved (e = 1, mu = 0, no forcing)",
-        worst,
-        None,
-        ENERGY_CONSERVED_TOLERANCE,
-        "1",
-        "max_t |E(t) - E(0)| / E(0)".into(),
-    )
-    .scale = Some(1.0);
-}
-
-fn coulomb(r: &mut Rows) {
-    let log = &r.run.contacts;
-    if log.impulse_count() == 0 {
-        return;
-    }
-    r.push(
-        "coulomb",
-        "every contact impulse in the Coulomb cone |beta| <= mu lambda",
-        log.max_coulomb_ratio(),
-        None,
-        1.0 + COULOMB_SLACK,
-        "|beta|/(mu lambda)",
-        format!(
-            "{} impulses, {} of the kept {} outside the cone",
-            log.impulse_count(),
-            log.impulses
-                .iter()
-                .filter(|i| i.coulomb_ratio() > 1.0 + COULOMB_SLACK)
-                .count(),
-            log.impulses.len()
-        ),
-    );
-}
-
-fn penetration(r: &mut Rows) {
-    let scn = r.scn;
-    if scn.floes.len() < 2 && scn.obstacles.is_empty() {
-        return;
-    }
-    let sampled = sampled_penetration(scn, r.run);
-    let own = r
-        .run
-        .summary
-        .counters
-        .value(&MAX_PENETRATION)
-        .ok()
-        .flatten();
-    let tol = penetration_tolerance(scn);
-    r.push(
-        "penetration",
-        "deepest overlap, at the outputs and as the formulation saw it",
-        own.unwrap_or(0.0).max(sampled),
-        Some(0.0),
-        tol,
-        "m",
-        format!(
-            "outputs {sampled:.3e} m, formulation {}; tolerance: the event-driven one of the case",
-            own.map_or("n/a".to_string(), |v| format!("{v:.3e} m"))
-        ),
-    );
-}
-
-fn symmetry(r: &mut Rows) {
+pub(super) fn symmetry(r: &mut Rows) {
     let scn = r.scn;
     let Some((axis, pairing)) = find_symmetry(scn) else {
         return;
@@ -307,7 +57,7 @@ fn symmetry(r: &mut Rows) {
     .scale = Some(scale);
 }
 
-fn head_on(r: &mut Rows) {
+pub(super) fn head_on(r: &mut Rows) {
     let scn = r.scn;
     if scn.floes.len() != 2 || !scn.obstacles.is_empty() || !no_forcing(scn) {
         return;
@@ -354,7 +104,7 @@ fn head_on(r: &mut Rows) {
     .scale = Some(v1 - v2);
 }
 
-fn bouncing(r: &mut Rows) {
+pub(super) fn bouncing(r: &mut Rows) {
     let scn = r.scn;
     let Some(b) = Bouncing::of(scn) else {
         return;
@@ -440,16 +190,7 @@ fn first_impact(b: &Bouncing, run: &RunResult) -> (f64, String) {
     )
 }
 
-/// The event-driven penetration tolerance of the case, m (the bound of the
-/// `penetration` check).
-fn penetration_tolerance(scn: &Scenario) -> f64 {
-    EventDrivenSettings::of(scn)
-        .map_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn), |s| {
-            s.penetration_tolerance(scn)
-        })
-}
-
-fn sliding(r: &mut Rows) {
+pub(super) fn sliding(r: &mut Rows) {
     let scn = r.scn;
     let Some(sl) = Sliding::of(scn) else {
         return;
@@ -485,7 +226,7 @@ fn sliding(r: &mut Rows) {
     .scale = Some(sl.t_stop);
 }
 
-fn cradle(r: &mut Rows) {
+pub(super) fn cradle(r: &mut Rows) {
     let scn = r.scn;
     let n = scn.floes.len();
     if n < 3 || !scn.obstacles.is_empty() || !no_forcing(scn) || scn.contact.restitution != 1.0 {
@@ -597,7 +338,7 @@ fn cradle(r: &mut Rows) {
     }
 }
 
-fn cannon(r: &mut Rows) {
+pub(super) fn cannon(r: &mut Rows) {
     let scn = r.scn;
     if scn.floes.len() != 2 || scn.obstacles.is_empty() || !no_forcing(scn) {
         return;
@@ -652,7 +393,7 @@ fn cannon(r: &mut Rows) {
     .scale = Some(1.0);
 }
 
-fn free_drift(r: &mut Rows) {
+pub(super) fn free_drift(r: &mut Rows) {
     let Some(drift) = Drift::of(r.scn) else {
         return;
     };
@@ -674,7 +415,7 @@ fn free_drift(r: &mut Rows) {
     }
 }
 
-fn inertial(r: &mut Rows) {
+pub(super) fn inertial(r: &mut Rows) {
     let Some(inr) = Inertial::of(r.scn) else {
         return;
     };
@@ -727,152 +468,4 @@ fn inertial_period(inr: &Inertial, rows: &[TrajectoryRow]) -> Option<(f64, f64, 
         first.t,
         last.t,
     ))
-}
-
-fn fracture_conservation(r: &mut Rows) {
-    let fr = &r.run.fractures;
-    if fr.is_empty() {
-        return;
-    }
-    let worst = fr.iter().map(|f| f.conservation).fold(0.0, f64::max);
-    r.push(
-        "fracture_conservation",
-        "every split conserves area, mass, momenta and kinetic energy",
-        worst,
-        Some(0.0),
-        FRACTURE_CONSERVATION_TOLERANCE,
-        "1",
-        format!(
-            "{} fractures, {} floes at the end",
-            fr.len(),
-            r.run.summary.floes_at_end
-        ),
-    )
-    .scale = Some(1.0);
-}
-
-fn ram_critical_speed(r: &mut Rows) {
-    let scn = r.scn;
-    if scn.fracture.model != FractureModel::Energy
-        || scn.floes.len() != 1
-        || !no_forcing(scn)
-        || scn.floes[0].angular_velocity != 0.0
-    {
-        return;
-    }
-    let f = &scn.floes[0];
-    let v0 = f.velocity.norm();
-    if v0 == 0.0 {
-        return;
-    }
-    let d = f.velocity / v0;
-    if translation_gap(scn, 0, &d).is_none_or(|(_, rays)| rays < 2)
-        || !self_symmetric(scn, f.position, d)
-    {
-        return;
-    }
-    let Some(chord) = cut(&initial_polygon(scn, 0), &f.position, &d) else {
-        return;
-    };
-    let vc = ram_critical_speed_of(
-        scn.fracture.toughness,
-        f.thickness,
-        chord.length,
-        scn.contact.restitution,
-        f.mass,
-    );
-    if v0 <= vc * (1.0 + RAM_CRITICAL_SPEED_TOLERANCE) {
-        return;
-    }
-    let measured = r
-        .run
-        .fractures
-        .first()
-        .map_or(f64::NAN, |fr| v0 * (fr.threshold / fr.measure).sqrt());
-    r.push(
-        "ram_critical_speed",
-        "the critical speed of a floe rammed into a coast (energy criterion)",
-        measured,
-        Some(vc),
-        RAM_CRITICAL_SPEED_TOLERANCE * vc,
-        "m/s",
-        format!(
-            "v0 = {v0} m/s, chord {:.6} m; {} fractures",
-            chord.length,
-            r.run.fractures.len()
-        ),
-    )
-    .scale = Some(vc);
-}
-
-/// `lattice_spin_prestress`: the lattice model starts each percussion
-/// unstressed, neglecting the floe's own spin (docs/physics.md §9.8); the
-/// largest centrifugal pre-strain, over its bonds' breaking strain, of a
-/// floe at its last output before a percussion that broke it (the
-/// percussions that broke nothing are not in the run's records). A piece
-/// that spins fast but is never struck again is not where the neglect
-/// acts, so the floes alive at the outputs are not all taken.
-fn lattice_spin(r: &mut Rows) {
-    let s = &r.scn.fracture;
-    if s.model != FractureModel::Lattice {
-        return;
-    }
-    let (mut worst, mut at) = (0.0, None);
-    for fr in &r.run.fractures {
-        let Some(f) = r.run.floes.iter().find(|f| f.id == fr.parent) else {
-            continue;
-        };
-        // The parent's spin at its last output at or before the fracture.
-        let Some(row) = r
-            .run
-            .trajectory
-            .iter()
-            .filter(|row| row.floe == fr.parent && row.t <= fr.t)
-            .max_by(|a, b| a.t.total_cmp(&b.t))
-        else {
-            continue;
-        };
-        let radius = f
-            .polygon
-            .iter()
-            .map(|p| p[0].hypot(p[1]))
-            .fold(0.0, f64::max);
-        let density = f.mass / (f.area * f.thickness);
-        let ratio = spin_prestress(s, density, radius, row.omega, lattice_spacing(s, f.area));
-        if at.is_none() || ratio > worst {
-            (worst, at) = (ratio, Some((fr.parent, fr.t)));
-        }
-    }
-    let note = match at {
-        Some((floe, t)) => {
-            format!("largest for floe {floe} broken at t = {t} s (its spin at the output before)")
-        }
-        None => "no fracture".to_string(),
-    };
-    r.push(
-        "lattice_spin_prestress",
-        "a floe's spin pre-stretches its lattice by little against its bonds' breaking strain when a percussion breaks it",
-        worst,
-        None,
-        SPIN_PRESTRESS_LIMIT,
-        "1",
-        note,
-    );
-}
-
-fn ledger(r: &mut Rows) {
-    let e = &r.run.summary.energy;
-    let scale = e.exchanged.max(f64::MIN_POSITIVE);
-    r.push(
-        "energy_ledger",
-        "energy ledger balances: |E - E0 - W_ext + D| at every output",
-        e.max_abs_residual / scale,
-        None,
-        LEDGER_TOLERANCE,
-        "1",
-        format!(
-            "largest residual {:.3e} J of {:.3e} J exchanged",
-            e.max_abs_residual, e.exchanged
-        ),
-    );
 }

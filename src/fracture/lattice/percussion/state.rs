@@ -1,0 +1,474 @@
+//! The lattice state of a percussion and its integrator (docs/physics.md
+//! §7.3): the [`Percussion`] (node positions and velocities, the springs'
+//! links, the torsion springs still intact, the strikers), built from a
+//! lattice and its impacts; its stable step, its forces (springs, dashpots,
+//! torsion springs and the strikers' contacts), bond breaking and the
+//! velocity Verlet step; its energies and momenta (the scheme: the module
+//! doc of [`super`]).
+
+use super::striker::{impact_energy_bound, Impact, RigidMotion, Striker};
+use super::BrokenSpring;
+use crate::fracture::chain::{damped_stable_step, drift, kick, ChainOptions, Energies, Link};
+use crate::fracture::lattice::{corner_angle, Lattice};
+use crate::geometry::{cross, perp, Vec2};
+
+/// A percussion under way: the lattice's state and the striker's.
+#[derive(Debug, Clone)]
+pub struct Percussion<'a> {
+    pub(super) lattice: &'a Lattice,
+    /// Node positions, m.
+    pub x: Vec<Vec2>,
+    /// Node velocities, m/s.
+    pub v: Vec<Vec2>,
+    pub(super) links: Vec<Link>,
+    /// Whether each triangle keeps its torsion springs (until one of its
+    /// edges breaks).
+    pub(super) intact: Vec<bool>,
+    /// The triangles on each side of each spring (`usize::MAX` for none).
+    pub(super) sides: Vec<[usize; 2]>,
+    /// The strikers (one per impact), each with its contact links.
+    pub(super) strikers: Vec<Striker>,
+    pub(super) force: Vec<Vec2>,
+    pub(super) contact_moment: f64,
+    /// Impulse (N·s) the strikers gave the floe so far.
+    pub impulse: Vec2,
+    /// Moment of that impulse about the frame's origin, N·m·s.
+    pub impulse_moment: f64,
+    /// Work (J) done on the floe by the strikers of infinite mass (which
+    /// keep their velocity; 0 for a striker at rest and for a finite mass,
+    /// whose kinetic energy is counted instead).
+    pub work: f64,
+    /// Time since the impact, s.
+    pub t: f64,
+    /// The step, s.
+    pub dt: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// The springs broken so far.
+    pub broken: Vec<BrokenSpring>,
+    /// Transit time of a P wave across the floe, s.
+    pub transit: f64,
+    /// The impact energy bound `B` (`½ μ u_N²` for one striker,
+    /// [`impact_energy_bound`] for several), J.
+    pub impact_energy: f64,
+    pub(super) options: ChainOptions,
+}
+
+impl<'a> Percussion<'a> {
+    /// A percussion of `lattice` (its floe moving rigidly at `motion`)
+    /// struck by `impact`, with the chain's `options`. Fails on an invalid
+    /// option or impact.
+    pub fn new(
+        lattice: &'a Lattice,
+        motion: RigidMotion,
+        impact: Impact,
+        options: ChainOptions,
+    ) -> Result<Percussion<'a>, String> {
+        Percussion::with_strikers(lattice, motion, &[impact], options)
+    }
+
+    /// A percussion of `lattice` (its floe moving rigidly at `motion`)
+    /// struck at once by every impact of `impacts` (at least one), each a
+    /// striker of its own (docs/physics.md §9.8), with the chain's
+    /// `options`. Fails on an invalid option or impact.
+    pub fn with_strikers(
+        lattice: &'a Lattice,
+        motion: RigidMotion,
+        impacts: &[Impact],
+        options: ChainOptions,
+    ) -> Result<Percussion<'a>, String> {
+        options.validate()?;
+        if impacts.is_empty() {
+            return Err("a percussion needs at least one impact".into());
+        }
+        for impact in impacts {
+            let n = impact.normal.norm();
+            if (n - 1.0).abs().is_nan() || (n - 1.0).abs() >= 1e-9 {
+                return Err(format!("the impact normal must be a unit vector, got {n}"));
+            }
+            if impact.mass.is_nan() || impact.mass <= 0.0 {
+                return Err(format!(
+                    "the striker's mass must be positive, got {}",
+                    impact.mass
+                ));
+            }
+            if !(impact.speed.is_finite() && impact.point.iter().all(|c| c.is_finite())) {
+                return Err("the impact speed and point must be finite".into());
+            }
+        }
+        let spec = lattice.spec;
+        let m = &lattice.mass;
+        let total: f64 = m.iter().sum();
+        let g = lattice
+            .nodes
+            .iter()
+            .zip(m)
+            .map(|(x, &mi)| x * mi)
+            .sum::<Vec2>()
+            / total;
+        let x = lattice.nodes.clone();
+        let v: Vec<Vec2> = x
+            .iter()
+            .map(|p| motion.velocity + perp(&(p - g)) * motion.angular_velocity)
+            .collect();
+        // Each spring's facet: a third of each adjacent triangle's area.
+        let mut share = vec![0.0; lattice.springs.len()];
+        for (t, row) in lattice.triangles.iter().zip(&lattice.triangle_springs) {
+            let (a, b, c) = (
+                lattice.nodes[t[0]],
+                lattice.nodes[t[1]],
+                lattice.nodes[t[2]],
+            );
+            let area = 0.5 * cross(&(b - a), &(c - a));
+            for &(k, _) in row {
+                share[k] += area / 3.0;
+            }
+        }
+        let links: Vec<Link> = lattice
+            .springs
+            .iter()
+            .zip(&share)
+            .map(|(s, &a)| {
+                let [i, j] = s.nodes;
+                let mij = 2.0 * m[i] * m[j] / (m[i] + m[j]);
+                let width = 2.0 * a / s.length;
+                Link {
+                    k: s.stiffness,
+                    c: options.damping * (s.stiffness * mij).sqrt(),
+                    rest: s.length,
+                    bonded: true,
+                    critical: options
+                        .bond
+                        .critical(s.stiffness, s.length, spec.thickness * width),
+                }
+            })
+            .collect();
+        let mean_k =
+            lattice.springs.iter().map(|s| s.stiffness).sum::<f64>() / lattice.springs.len() as f64;
+        let contacts_of = |impact: &Impact| -> Vec<(usize, Link)> {
+            (0..x.len())
+                .filter(|&i| lattice.on_boundary[i])
+                .map(|i| {
+                    let mu = if impact.mass.is_finite() {
+                        m[i] * impact.mass / (m[i] + impact.mass)
+                    } else {
+                        m[i]
+                    };
+                    (
+                        i,
+                        Link {
+                            k: mean_k,
+                            c: options.damping * (mean_k * mu).sqrt(),
+                            rest: 0.0,
+                            bonded: false,
+                            critical: f64::INFINITY,
+                        },
+                    )
+                })
+                .collect()
+        };
+        let strikers: Vec<Striker> = impacts
+            .iter()
+            .map(|impact| {
+                let contacts = contacts_of(impact);
+                let position = contacts
+                    .iter()
+                    .map(|&(i, _)| impact.normal.dot(&(x[i] - impact.point)))
+                    .fold(f64::INFINITY, f64::min);
+                let at_point =
+                    motion.velocity + perp(&(impact.point - g)) * motion.angular_velocity;
+                Striker {
+                    impact: *impact,
+                    contacts,
+                    position,
+                    velocity: impact.normal.dot(&at_point) + impact.speed,
+                    force: 0.0,
+                }
+            })
+            .collect();
+        let impact_energy = match impacts {
+            [impact] => {
+                let mu = if impact.mass.is_finite() {
+                    impact.mass * total / (impact.mass + total)
+                } else {
+                    total
+                };
+                0.5 * mu * impact.speed * impact.speed
+            }
+            _ => {
+                let inertia: f64 = x
+                    .iter()
+                    .zip(m)
+                    .map(|(p, &mi)| mi * (p - g).norm_squared())
+                    .sum();
+                let velocity: Vec<f64> = strikers.iter().map(|s| s.velocity).collect();
+                impact_energy_bound(total, inertia, motion, impacts, &velocity)
+            }
+        };
+        let radius = x.iter().map(|p| (p - g).norm()).fold(0.0, f64::max);
+        let wave = (spec.young / (spec.density * (1.0 - spec.poisson * spec.poisson))).sqrt();
+        let mut sides = vec![[usize::MAX; 2]; lattice.springs.len()];
+        for (t, row) in lattice.triangle_springs.iter().enumerate() {
+            for &(k, _) in row {
+                let side = if sides[k][0] == usize::MAX { 0 } else { 1 };
+                sides[k][side] = t;
+            }
+        }
+        let mut p = Percussion {
+            lattice,
+            force: vec![Vec2::zeros(); x.len()],
+            x,
+            v,
+            links,
+            intact: vec![true; lattice.triangles.len()],
+            sides,
+            strikers,
+            contact_moment: 0.0,
+            impulse: Vec2::zeros(),
+            impulse_moment: 0.0,
+            work: 0.0,
+            t: 0.0,
+            dt: 0.0,
+            steps: 0,
+            broken: Vec::new(),
+            transit: 2.0 * radius / wave,
+            impact_energy,
+            options,
+        };
+        p.dt = options.safety * p.stable_step();
+        p.forces();
+        Ok(p)
+    }
+
+    /// The stable step of the scheme, s (module doc).
+    pub fn stable_step(&self) -> f64 {
+        let m = &self.lattice.mass;
+        let n = m.len();
+        let rows = n + self.strikers.len();
+        let (mut ks, mut cs) = (vec![0.0; rows], vec![0.0; rows]);
+        let mut add = |i: usize, j: usize, mi: f64, mj: f64, l: &Link| {
+            let w = 1.0 / mi + 1.0 / (mi * mj).sqrt();
+            ks[i] += l.k * w;
+            cs[i] += l.c * w;
+            let w = 1.0 / mj + 1.0 / (mi * mj).sqrt();
+            ks[j] += l.k * w;
+            cs[j] += l.c * w;
+        };
+        for (s, l) in self.lattice.springs.iter().zip(&self.links) {
+            let [i, j] = s.nodes;
+            add(i, j, m[i], m[j], l);
+        }
+        // Striker k is unknown n + k (infinite mass: its row is empty).
+        for (k, st) in self.strikers.iter().enumerate() {
+            for (i, l) in &st.contacts {
+                add(*i, n + k, m[*i], st.impact.mass, l);
+            }
+        }
+        // A torsion spring's linearised stiffness is c ∇θ ∇θᵀ: its (i, j)
+        // block has norm c |∇_i θ| |∇_j θ|.
+        for c in &self.lattice.corners {
+            for (&i, gi) in c.nodes.iter().zip(&c.grad) {
+                let row: f64 = c
+                    .nodes
+                    .iter()
+                    .zip(&c.grad)
+                    .map(|(&j, gj)| gj.norm() / (m[i] * m[j]).sqrt())
+                    .sum();
+                ks[i] += c.stiffness * gi.norm() * row;
+            }
+        }
+        let omega = ks.iter().fold(0.0, |a: f64, &b| a.max(b)).sqrt();
+        let gamma = cs.iter().fold(0.0, |a: f64, &b| a.max(b));
+        damped_stable_step(omega, gamma / (2.0 * omega))
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether the lattice has no node (never, once built).
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    /// Elongation (m), its rate (m/s) and direction of spring `k`.
+    fn spring_state(&self, k: usize) -> (f64, f64, Vec2) {
+        let [i, j] = self.lattice.springs[k].nodes;
+        let d = self.x[j] - self.x[i];
+        let l = d.norm();
+        let dir = d / l;
+        (
+            l - self.links[k].rest,
+            dir.dot(&(self.v[j] - self.v[i])),
+            dir,
+        )
+    }
+
+    /// The node forces and the striker's at the current state, N.
+    fn forces(&mut self) {
+        self.force.iter_mut().for_each(|f| *f = Vec2::zeros());
+        for k in 0..self.links.len() {
+            let (d, dv, dir) = self.spring_state(k);
+            let f = self.links[k].force(d, dv);
+            let [i, j] = self.lattice.springs[k].nodes;
+            self.force[i] += dir * f;
+            self.force[j] -= dir * f;
+        }
+        let intact = &self.intact;
+        self.lattice
+            .torsion_forces(&self.x, |t| intact[t], &mut self.force);
+        self.contact_moment = 0.0;
+        for k in 0..self.strikers.len() {
+            let mut total = 0.0;
+            let normal = self.strikers[k].impact.normal;
+            for c in 0..self.strikers[k].contacts.len() {
+                let (i, link) = self.strikers[k].contacts[c];
+                let (g, dg) = self.gap(k, i);
+                let f = link.force(g, dg);
+                if f != 0.0 {
+                    let push = -normal * f;
+                    self.force[i] += push;
+                    total += f;
+                    self.contact_moment += cross(&self.x[i], &push);
+                }
+            }
+            self.strikers[k].force = total;
+        }
+    }
+
+    /// Breaks every bond stretched past its critical elongation; the
+    /// triangles on its sides lose their torsion springs, whose energy goes
+    /// with the bond's.
+    fn break_bonds(&mut self) {
+        for k in 0..self.links.len() {
+            let (d, _, _) = self.spring_state(k);
+            let l = &mut self.links[k];
+            if l.bonded && d > l.critical {
+                l.bonded = false;
+                let mut energy = 0.5 * l.k * d * d;
+                for t in self.sides[k] {
+                    if t != usize::MAX && self.intact[t] {
+                        energy += self.triangle_torsion_energy(t);
+                        self.intact[t] = false;
+                    }
+                }
+                self.broken.push(BrokenSpring {
+                    spring: k,
+                    t: self.t,
+                    energy,
+                });
+            }
+        }
+    }
+
+    /// The energy of triangle `t`'s torsion springs now, J.
+    fn triangle_torsion_energy(&self, t: usize) -> f64 {
+        self.lattice
+            .corners
+            .iter()
+            .skip(3 * t)
+            .take(3)
+            .map(|c| {
+                let [o, a, b] = c.nodes;
+                let d = corner_angle(&self.x[o], &self.x[a], &self.x[b]).0 - c.angle;
+                0.5 * c.stiffness * d * d
+            })
+            .sum()
+    }
+
+    /// One velocity Verlet step.
+    pub fn step(&mut self) {
+        let h = 0.5 * self.dt;
+        self.book_contact(h);
+        kick(&mut self.v, &self.force, &self.lattice.mass, h);
+        self.kick_striker(h);
+        drift(&mut self.x, &self.v, self.dt);
+        for s in &mut self.strikers {
+            s.position += self.dt * s.velocity;
+        }
+        self.t += self.dt;
+        self.steps += 1;
+        self.break_bonds();
+        self.forces();
+        self.book_contact(h);
+        kick(&mut self.v, &self.force, &self.lattice.mass, h);
+        self.kick_striker(h);
+    }
+
+    /// The energies now (the strikers' kinetic energy when their mass is
+    /// finite).
+    pub fn energies(&self) -> Energies {
+        let striker = self.striker_energy();
+        let springs: f64 = (0..self.links.len())
+            .map(|k| self.links[k].energy(self.spring_state(k).0))
+            .sum();
+        let contacts: f64 = self
+            .strikers
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                s.contacts
+                    .iter()
+                    .map(|&(i, l)| l.energy(self.gap(k, i).0))
+                    .sum::<f64>()
+            })
+            .sum();
+        let torsion: f64 = (0..self.intact.len())
+            .filter(|&t| self.intact[t])
+            .map(|t| self.triangle_torsion_energy(t))
+            .sum();
+        Energies {
+            torsion,
+            kinetic: striker
+                + self
+                    .lattice
+                    .mass
+                    .iter()
+                    .zip(&self.v)
+                    .map(|(m, v)| 0.5 * m * v.norm_squared())
+                    .sum::<f64>(),
+            elastic: springs + contacts,
+            fracture: self.broken.iter().map(|b| b.energy).sum(),
+        }
+    }
+
+    /// Linear momentum (kg·m/s) and angular momentum about the frame's
+    /// origin (kg·m²/s) of the nodes.
+    pub fn momentum(&self) -> (Vec2, f64) {
+        let m = &self.lattice.mass;
+        (
+            (0..self.len()).map(|i| self.v[i] * m[i]).sum(),
+            (0..self.len())
+                .map(|i| m[i] * cross(&self.x[i], &self.v[i]))
+                .sum(),
+        )
+    }
+
+    /// The smallest energy that breaks a bond, `½ κ δ_c²` over the springs,
+    /// J (`∞` for unbreakable bonds): the trigger bound's threshold
+    /// (docs/physics.md §9.8).
+    pub fn weakest_bond_energy(&self) -> f64 {
+        self.links
+            .iter()
+            .map(|l| 0.5 * l.k * l.critical * l.critical)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether spring `k` still holds.
+    pub fn bonded(&self, k: usize) -> bool {
+        self.links[k].bonded
+    }
+
+    /// The lattice.
+    pub fn lattice(&self) -> &Lattice {
+        self.lattice
+    }
+}
+
+/// The rule a bond breaks by, for a lattice of `spacing` (m) and Young's
+/// modulus `young` (Pa): the critical strain `√(4 G / (3 E s))` a toughness
+/// `G` amounts to in an equilateral lattice (docs/physics.md §7.3).
+pub fn strain_of_toughness(toughness: f64, young: f64, spacing: f64) -> f64 {
+    (4.0 * toughness / (3.0 * young * spacing)).sqrt()
+}
