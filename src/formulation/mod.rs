@@ -16,7 +16,13 @@
 //! ([`NotClaimed`]). To add a formulation: write one module here (its
 //! `Formulation` implementation and its `pub const ENTRY: Entry`), declare
 //! it with `pub mod`, and add one line to [`REGISTRY`]. Run labels come
-//! from the entry, not from the instance.
+//! from the entry, not from the instance. To let it break floes
+//! (`supports_fracture: true`): report each contact solve's impulses to
+//! `cx.topology` ([`Topology::percussion`], built with
+//! [`crate::contact::loads_of`]), call [`Context::change_floes`] at the safe
+//! points of the scheme, and rebuild in [`Formulation::floes_changed`]
+//! (docs/physics.md §9.5). The fracture criteria themselves live in
+//! [`crate::fracture`], in one place for every formulation.
 //!
 //! **Output times do not change the dynamics.** Every formulation steps on
 //! a grid of its own, set by its scheme alone, and keeps its state on that

@@ -11,6 +11,15 @@
 //! and the history together. Without a `[fracture]` table (or
 //! `model = "none"`) nothing here runs. The lattice model (`strike`) keeps
 //! the crack of its largest percussion in the history ([`crack`]).
+//!
+//! To add a fracture rule: its name in [`FractureModel`] and the case
+//! keys it reads with their limits (`src/model/fracture.rs`,
+//! `src/model/limits/fracture.rs`, docs/case-format.md); its decision in
+//! one file of this folder, called from one arm of
+//! [`Fracturer::decide_over`] (a [`Decision`] with its cut line, or its
+//! pieces); whether it reads sustained forces ([`stage::FractureStage::new`]);
+//! its section in docs/physics.md §9 and its tests. No formulation changes:
+//! every formulation that reports its solves runs it.
 
 pub mod chain;
 pub mod crack;

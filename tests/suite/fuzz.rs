@@ -8,7 +8,8 @@
 //! keys of two lines swapped, a vector made longer or shorter.
 //!
 //! A case mutant goes through the library's case loading (`validate`); an
-//! accepted one with at most [`MAX_RUN_FLOES`] floes is run by one
+//! accepted one with at most [`MAX_RUN_FLOES`] floes (and floe lattices of
+//! at most [`MAX_RUN_LATTICE_NODES`] nodes) is run by one
 //! formulation of the registry (rotating among those that apply), its
 //! duration cut to a few outputs and steps so that every run is cheap, and
 //! its files are written by the library's writer into a fresh folder and
@@ -57,6 +58,13 @@ const SEED: u64 = 17;
 /// Accepted cases with more floes are loaded but not run (their runs would
 /// dominate the budget; the generator and the loader still see them).
 const MAX_RUN_FLOES: usize = 300;
+/// Accepted lattice cases in which a floe's lattice holds more nodes than
+/// this (its area over the area per node, `√3/2 s²` for spacing `s`: an
+/// estimate) are loaded but not run, for the same reason: a percussion
+/// costs `O(N^{3/2})`; `lattice_ram` at its spacing, 0.5 m, has about 230
+/// nodes per floe by this estimate, and a mutant at 0.25 m (about 920) ran
+/// 21 s on an idle core, beyond a hang detector's margin on a loaded machine.
+const MAX_RUN_LATTICE_NODES: f64 = 500.0;
 /// A run lasts at most this many output intervals…
 const RUN_OUTPUTS: f64 = 3.0;
 /// …and at most this many fixed steps (Moreau–Jean, rapier, explicit Euler)…
@@ -381,6 +389,21 @@ fn fuzz(
 // ---------------------------------------------------------------------------
 // Case files
 
+/// The nodes of the case's largest floe lattice (0 without the lattice
+/// model), estimated from each floe's area and lattice spacing.
+fn lattice_nodes(scn: &Scenario) -> f64 {
+    if scn.fracture.model != floebench::model::fracture::FractureModel::Lattice {
+        return 0.0;
+    }
+    scn.floes
+        .iter()
+        .map(|f| {
+            let s = floebench::fracture::strike::lattice_spacing(&scn.fracture, f.area);
+            f.area / (0.5 * 3f64.sqrt() * s * s)
+        })
+        .fold(0.0, f64::max)
+}
+
 /// Cuts the run to [`RUN_OUTPUTS`] outputs, [`RUN_STEPS`] fixed steps of
 /// the formulation `name` and [`RUN_FLOE_SECONDS`], so that every run is
 /// cheap.
@@ -601,6 +624,9 @@ fn check_case(text: String, pick: u64) -> Result<String, Defect> {
     };
     if scn.floes.len() > MAX_RUN_FLOES {
         return Ok("accepted, too many floes to run".into());
+    }
+    if lattice_nodes(&scn) > MAX_RUN_LATTICE_NODES {
+        return Ok("accepted, lattices too fine to run".into());
     }
     let entries: Vec<_> = REGISTRY.iter().filter(|e| e.applies(&scn)).collect();
     let entry = entries[(pick % entries.len() as u64) as usize];
