@@ -31,7 +31,8 @@ pub enum CompareError {
 #[derive(Debug, Clone)]
 pub struct CompareOptions {
     /// Formulations, in report order; the first is the reference of the
-    /// verdicts. Empty (the default): on each case, the formulations that
+    /// divergences and of the chaos probe (the verdicts against the exact
+    /// answers rank every formulation, the first included). Empty (the default): on each case, the formulations that
     /// apply to it ([`batch::default_formulations`]: all, `free-drift` only
     /// on contact-free cases).
     pub formulations: Vec<String>,

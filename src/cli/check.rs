@@ -1,6 +1,6 @@
 //! `floebench check`: the physical checks of cases, as a table.
 
-use super::{count, known_formulations, plural, Outcome, INTERRUPTED};
+use super::{count, known_formulations, load_cases_for, plural, Outcome, INTERRUPTED};
 use floebench::analysis::check;
 use floebench::report::checks::{format_table, markdown_table};
 use floebench::run::batch::{self, BatchOptions};
@@ -27,6 +27,10 @@ pub struct Args {
     /// again until they take about that much (at most 200 runs).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u64).range(1..))]
     repeat: u64,
+    /// Let a formulation that ignores contacts (free-drift), named in -f,
+    /// run a case where contacts can happen (floes pass through each other).
+    #[arg(long)]
+    allow_contacts: bool,
     /// No progress bars.
     #[arg(short, long)]
     quiet: bool,
@@ -45,9 +49,8 @@ pub fn run(args: Args) -> Outcome {
         opts.formulations = f;
     }
     known_formulations(&opts.formulations)?;
-    let done = batch::load_cases(&args.cases)
-        .and_then(|loaded| batch::run_cases(loaded, &opts))
-        .map_err(|e| e.to_string())?;
+    let loaded = load_cases_for(&args.cases, &opts.formulations, args.allow_contacts)?;
+    let done = batch::run_cases(loaded, &opts).map_err(|e| e.to_string())?;
     let rows: Vec<check::CheckOutcome> = done
         .iter()
         .flat_map(|c| check::check_runs(&c.scenario, &c.runs))

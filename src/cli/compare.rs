@@ -1,11 +1,12 @@
 //! `floebench compare`: several formulations on the same cases, and the
 //! comparison report.
 
-use super::{command_line, count, describe, known_formulations, plural, Outcome, INTERRUPTED};
+use super::{
+    command_line, count, describe, known_formulations, load_cases_for, plural, Outcome, INTERRUPTED,
+};
 use floebench::compare::{self, CompareOptions};
 use floebench::model::IntegratorKind;
 use floebench::report;
-use floebench::run::batch;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -16,8 +17,9 @@ pub struct Args {
     #[arg(required = true)]
     cases: Vec<PathBuf>,
     /// Formulations, comma separated, the first being the reference of the
-    /// verdicts [default: every formulation that applies; free-drift only on
-    /// contact-free cases].
+    /// divergences and of the chaos probe (the verdicts against the exact
+    /// answers rank every formulation) [default: every formulation that
+    /// applies; free-drift only on contact-free cases].
     #[arg(short, long, value_delimiter = ',')]
     formulations: Option<Vec<String>>,
     /// Report folder.
@@ -43,6 +45,10 @@ pub struct Args {
     /// Also write each run's trajectory as CF NetCDF (<formulation>/trajectory.nc).
     #[arg(long)]
     netcdf: bool,
+    /// Let a formulation that ignores contacts (free-drift), named in -f,
+    /// run a case where contacts can happen (floes pass through each other).
+    #[arg(long)]
+    allow_contacts: bool,
     /// No progress bars.
     #[arg(short, long)]
     quiet: bool,
@@ -71,7 +77,7 @@ pub fn run(args: Args) -> Outcome {
         return Err("--threshold must be a positive number".into());
     }
     known_formulations(&opts.formulations)?;
-    let loaded = batch::load_cases(&args.cases).map_err(|e| e.to_string())?;
+    let loaded = load_cases_for(&args.cases, &opts.formulations, args.allow_contacts)?;
     let names: Vec<String> = loaded.iter().map(|(_, s)| s.name.clone()).collect();
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     // The output folder is checked before any run: a mistake costs nothing.

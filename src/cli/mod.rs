@@ -17,6 +17,7 @@ use clap::{Parser, Subcommand};
 use floebench::formulation;
 use floebench::model::Scenario;
 use floebench::report::format::fmt_num;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 /// The command line.
@@ -41,7 +42,9 @@ pub enum Command {
     /// Check case files and print what they contain; reports every bad file
     /// and exits non-zero if there is one.
     Validate(validate::Args),
-    /// Run one case with one formulation; writes trajectory.csv, energy.csv and summary.json.
+    /// Run one case with one formulation; writes trajectory.csv, energy.csv,
+    /// summary.json, floes.json and fractures.csv (and percussion.json when
+    /// a lattice run broke a floe).
     Run(run::Args),
     /// Run several formulations on the same cases and write a comparison report:
     /// per case metrics.csv, divergence.csv, summary.json, each run's data and the
@@ -131,6 +134,47 @@ fn known_formulations(names: &[String]) -> Result<(), String> {
         .map_err(|e| format!("-f: {e}"))
 }
 
+/// Refuses, before any run, a formulation of `names` that ignores contacts
+/// (free-drift) on a case of `cases` where contacts can happen (its floes
+/// would pass through each other and the obstacles), unless `allow`
+/// (`--allow-contacts`): the one rule of `run`, `compare` and `check`.
+fn refuse_ignored_contacts<'a>(
+    names: &[String],
+    cases: impl IntoIterator<Item = (&'a Path, &'a Scenario)>,
+    allow: bool,
+) -> Result<(), String> {
+    if allow {
+        return Ok(());
+    }
+    let entries = names
+        .iter()
+        .map(|n| formulation::entry(n))
+        .collect::<Result<Vec<_>, _>>()
+        .map_err(|e| format!("-f: {e}"))?;
+    for (path, scn) in cases {
+        if let Some(e) = entries.iter().find(|e| !e.applies(scn)) {
+            return Err(format!(
+                "{} ignores contacts and {} has obstacles or moving floes; --allow-contacts runs it anyway",
+                e.name,
+                path.display()
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The cases of `inputs` (files, or folders of `*.toml`), loaded, for the
+/// formulations `names` ([`refuse_ignored_contacts`] with `allow`).
+fn load_cases_for(
+    inputs: &[PathBuf],
+    names: &[String],
+    allow: bool,
+) -> Result<Vec<(PathBuf, Scenario)>, String> {
+    let loaded = floebench::run::batch::load_cases(inputs).map_err(|e| e.to_string())?;
+    refuse_ignored_contacts(names, loaded.iter().map(|(p, s)| (p.as_path(), s)), allow)?;
+    Ok(loaded)
+}
+
 /// The command line, for the report pages (newlines and backquotes as spaces).
 fn command_line() -> String {
     let args: Vec<String> = std::env::args()
@@ -150,15 +194,23 @@ fn plural(n: usize, thing: &str) -> String {
 }
 
 /// One line on a case: its floes, obstacles, times, contact law and the
-/// explicit Euler step bound.
+/// explicit-Euler stability bound of the drag (docs/physics.md §4.2).
 fn describe(scn: &Scenario) -> String {
     let mass: f64 = scn.floes.iter().map(|f| f.mass).sum();
     let area: f64 = scn.floes.iter().map(|f| f.area).sum();
     let dt = (0..scn.floes.len())
         .map(|i| scn.euler_stability_bound(i))
         .fold(f64::INFINITY, f64::min);
+    // The bound (origin report eq. 3.6) is the water drag's: infinite
+    // without water drag, whatever the wind, and without wind, current or
+    // initial motion.
+    let unbounded = if scn.environment.water.drag_factor() > 0.0 {
+        "none (no wind, current or initial motion)"
+    } else {
+        "none (no water drag)"
+    };
     format!(
-        "{}: {} ({} kg, {} m^2), {}, {} s every {} s, e = {}, mu = {}, Euler bound {}",
+        "{}: {} ({} kg, {} m^2), {}, {} s every {} s, e = {}, mu = {}, explicit-Euler stability bound of the drag {}",
         scn.name,
         plural(scn.floes.len(), "floe"),
         fmt_num(mass),
@@ -171,7 +223,7 @@ fn describe(scn: &Scenario) -> String {
         if dt.is_finite() {
             format!("{} s", fmt_num(dt))
         } else {
-            "none (no drag)".into()
+            unbounded.into()
         }
     )
 }

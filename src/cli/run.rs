@@ -1,6 +1,6 @@
 //! `floebench run`: one case with one formulation, its output files written.
 
-use super::{describe, Outcome, INTERRUPTED};
+use super::{describe, refuse_ignored_contacts, Outcome, INTERRUPTED};
 use floebench::formulation::{self, load_case, FormulationOptions};
 use floebench::model::IntegratorKind;
 use floebench::report::format::fmt_num;
@@ -95,13 +95,11 @@ pub fn run(args: Args) -> Outcome {
             entry.name
         ));
     }
-    if !entry.applies(&scn) && !allow_contacts {
-        return Err(format!(
-            "{} ignores contacts and {} has obstacles or moving floes; --allow-contacts runs it anyway",
-            entry.name,
-            case.display()
-        ));
-    }
+    refuse_ignored_contacts(
+        std::slice::from_ref(&name),
+        [(case.as_path(), &scn)],
+        allow_contacts,
+    )?;
     if let Some(dir) = &dump_lcp {
         if dir.exists() {
             let empty = std::fs::read_dir(dir).map(|mut d| d.next().is_none());

@@ -358,7 +358,7 @@ impl Entry {
 }
 
 /// Every formulation, in report order (the first that applies is the
-/// reference of the verdicts).
+/// reference of the divergences and of the chaos probe).
 pub const REGISTRY: &[Entry] = &[
     event_driven::ENTRY,
     free_drift::ENTRY,

@@ -11,7 +11,7 @@
 //! ([`Spread::median_interval`], distribution-free: order statistics; the
 //! range for up to 7 samples), or their medians differ by less than
 //! [`SPEED_MARGIN`], what the same run's median moves between identical
-//! batches.
+//! batches. One run gives no spread: it is tied with nothing.
 
 use serde::Serialize;
 
@@ -105,8 +105,12 @@ impl Spread {
     /// Whether the repeats cannot tell `self` and `other` apart: the
     /// confidence intervals of their medians
     /// ([`Spread::median_interval`]) overlap, or their medians are within
-    /// [`SPEED_MARGIN`] of each other.
+    /// [`SPEED_MARGIN`] of each other. Never with fewer than two samples on
+    /// either side: one run gives no spread, so no tie is called.
     pub fn tied_with(&self, other: &Spread) -> bool {
+        if self.count() < 2 || other.count() < 2 {
+            return false;
+        }
         let ((a0, a1), (b0, b1)) = (self.median_ci, other.median_ci);
         let (lo, hi) = if self.median <= other.median {
             (self.median, other.median)
@@ -145,5 +149,8 @@ mod tests {
         let (a, b) = (Spread::of(&a), Spread::of(&[3.0; 201]));
         assert_eq!(a.median_interval(), (1.0, 1.0));
         assert!(a.overlaps(&b) && !a.tied_with(&b));
+        // One run each: no spread, no tie, even within the margin.
+        assert!(!Spread::of(&[1.0]).tied_with(&Spread::of(&[1.1])));
+        assert!(!Spread::of(&[1.0]).tied_with(&Spread::of(&[1.0, 1.1, 1.2])));
     }
 }

@@ -227,6 +227,17 @@ fn write_case(comp: &CaseComparison, dir: &Path, netcdf: bool) -> Result<CasePar
     Ok((verdict, figs, anim))
 }
 
+/// The line under a case's heading: `` `path`: description ``, or the path
+/// alone when the case has no description.
+fn case_line(comp: &CaseComparison) -> String {
+    let (path, d) = (comp.path.display(), &comp.scenario.description);
+    if d.trim().is_empty() {
+        format!("`{path}`")
+    } else {
+        format!("`{path}`: {d}")
+    }
+}
+
 /// Replaces `target` by the complete folder `staged`.
 fn swap_into_place(staged: &Path, target: &Path) -> Result<(), ReportError> {
     let old = target.with_file_name(format!(
@@ -311,11 +322,7 @@ pub fn write_report_with(
         let (verdict, figs, anim) = write_case(comp, &staged, netcdf)?;
         swap_into_place(&staged, &out.join(name))?;
         blocks.push(Block::Heading(2, name.clone()));
-        blocks.push(Block::Para(format!(
-            "`{}`: {}",
-            comp.path.display(),
-            comp.scenario.description
-        )));
+        blocks.push(Block::Para(case_line(comp)));
         blocks.push(case_parameters(&comp.scenario));
         blocks.push(Block::Para("**Verdict.**".into()));
         blocks.push(Block::List(verdict.clone()));

@@ -13,9 +13,9 @@
 //!   is not a disagreement about the physics;
 //! - **dissipation** in contacts, ranked, ties within rounding;
 //! - **speed**: the fastest by median CPU time, tied with every formulation
-//!   whose range over the repeats overlaps its own, the others given by their
-//!   ratio to it (no claim is made among them), numbers to the digits the
-//!   spread supports;
+//!   the repeats cannot tell from it ([`Spread::tied_with`]; with one run
+//!   each no tie is called), the others given by their ratio to it (no
+//!   claim is made among them), numbers to the digits the spread supports;
 //! - runs that did not complete, and repeats whose physics differed.
 
 use super::format::{fmt_num, fmt_spread};
@@ -269,15 +269,17 @@ fn speed(comp: &CaseComparison) -> Option<String> {
             .collect::<Vec<_>>()
             .join(", ")
     };
+    // One rule (`Spread::tied_with`): ties from the repeats' spread only;
+    // with one run each no tie is called, and the sentence says so.
     let single = done.iter().all(|d| d.1.count() < 2);
     let note = if single {
-        " One run each: no spread is known, so no tie can be called (--repeat N measures it)."
+        "; one run each: no spread is known, so no tie is called (--repeat N measures it)"
     } else {
         ""
     };
     if groups.len() == 1 {
         return Some(format!(
-            "CPU time: all tied (the repeats cannot tell them apart): {}.{note}",
+            "CPU time: all tied (the repeats cannot tell them apart): {}.",
             show(&groups[0])
         ));
     }
@@ -294,7 +296,7 @@ fn speed(comp: &CaseComparison) -> Option<String> {
         .map(|(n, c)| format!("{n} {}×", ratio_text(c, &fast[0].1)))
         .collect();
     Some(format!(
-        "Fastest: {}{tied}; the others' median CPU time, as a multiple of the fastest's: {}.{note}",
+        "Fastest: {}{tied}; the others' median CPU time, as a multiple of the fastest's: {}{note}.",
         show(fast),
         others.join(", ")
     ))

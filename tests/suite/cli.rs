@@ -308,6 +308,97 @@ fn run_refuses_what_would_mislead_before_running() {
 }
 
 #[test]
+fn compare_and_check_refuse_free_drift_through_contacts_as_run_does() {
+    // Issue 40: `run -f free-drift` refused a case with contacts, `compare`
+    // ran it (the floes passed through the coast). One rule for all three.
+    let dir = tempdir();
+    let out = dir.path().join("r");
+    let bouncing = case_path("bouncing_floe");
+    for cmd in ["compare", "check"] {
+        let mut args: Vec<&std::ffi::OsStr> = vec![
+            cmd.as_ref(),
+            bouncing.as_os_str(),
+            "-f".as_ref(),
+            "event-driven,free-drift".as_ref(),
+            "--quiet".as_ref(),
+        ];
+        if cmd == "compare" {
+            args.extend(["-o".as_ref(), out.as_os_str()]);
+        }
+        let (ok, _, stderr) = cli(&args);
+        assert!(
+            !ok && stderr.contains("free-drift ignores contacts")
+                && stderr.contains("--allow-contacts"),
+            "{cmd}: {stderr}"
+        );
+        assert!(
+            !stderr.contains("runs at a time"),
+            "refused before any run: {stderr}"
+        );
+    }
+    assert!(!out.exists(), "no report for a refused comparison");
+    let (ok, stdout, stderr) = cli(&[
+        "compare".as_ref(),
+        bouncing.as_os_str(),
+        "-f".as_ref(),
+        "free-drift".as_ref(),
+        "--allow-contacts".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("bouncing_floe"), "{stdout}");
+}
+
+#[test]
+fn help_names_every_file_run_writes_and_the_reference_of_compare() {
+    let run = floebench().args(["run", "--help"]).output().unwrap();
+    let text = String::from_utf8_lossy(&run.stdout).replace('\n', " ");
+    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    for f in [
+        "trajectory.csv",
+        "energy.csv",
+        "summary.json",
+        "floes.json",
+        "fractures.csv",
+        "percussion.json",
+    ] {
+        assert!(text.contains(f), "run --help omits {f}: {text}");
+    }
+    let compare = floebench().args(["compare", "--help"]).output().unwrap();
+    let text = String::from_utf8_lossy(&compare.stdout);
+    let text = text.split_whitespace().collect::<Vec<_>>().join(" ");
+    assert!(
+        text.contains("the reference of the divergences")
+            && !text.contains("reference of the verdicts"),
+        "{text}"
+    );
+    assert!(text.contains("--allow-contacts"), "{text}");
+}
+
+#[test]
+fn the_case_line_says_what_the_euler_bound_is_and_why_there_is_none() {
+    // bouncing_floe has air drag and no water drag: the bound (the water
+    // drag's, docs/physics.md §4.2) is none, and the line says why.
+    let (ok, stdout, stderr) = cli(&["validate".as_ref(), case_path("bouncing_floe").as_os_str()]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("explicit-Euler stability bound of the drag none (no water drag)"),
+        "{stdout}"
+    );
+    let (ok, stdout, stderr) = cli(&[
+        "validate".as_ref(),
+        case_path("free_drift_coriolis").as_os_str(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("explicit-Euler stability bound of the drag ") && stdout.contains(" s\n"),
+        "{stdout}"
+    );
+}
+
+#[test]
 fn an_unknown_formulation_is_named_without_blaming_a_case() {
     for cmd in ["compare", "check"] {
         let (ok, _, stderr) = cli(&[

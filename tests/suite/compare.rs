@@ -2,7 +2,7 @@
 //! docs/output-format.md promises, and the divergence metric is zero for identical runs and not
 //! for runs that must differ.
 
-use crate::common::{bad_case, case_path, floebench, load, run, tempdir};
+use crate::common::{bad_case, case_path, case_text, floebench, load, run, scenario, tempdir};
 use floebench::analysis::comparison::CaseComparison;
 use floebench::analysis::divergence;
 use floebench::compare::{self, CompareOptions};
@@ -431,6 +431,58 @@ fn speed_is_a_tie_when_the_repeats_overlap_or_the_medians_are_within_the_margin(
     assert_eq!(fastest_named(speed, &names), ["event-driven"]);
     // 5.1 / 1.1 = 4.6, from 5.0 / 1.2 = 4.2 to 5.2 / 1.0 = 5.2: one digit.
     assert!(speed.contains("rapier 5×"), "{speed}");
+}
+
+#[test]
+fn one_run_each_calls_no_speed_tie_and_says_so_once() {
+    // Issue 40: with one run each the line called a tie and said that no
+    // tie can be called. One run gives no spread: no tie, even within the
+    // 1.25 margin, and one sentence says why.
+    let opts = CompareOptions {
+        formulations: vec!["event-driven".into(), "moreau".into()],
+        chaos_probe: false,
+        ..CompareOptions::default()
+    };
+    let mut c = compare_cases(&["head_on"], &opts).remove(0);
+    c.cpu = vec![Spread::of(&[1.0]), Spread::of(&[1.1])];
+    let v = verdict(&c);
+    let speed = line(&v, "Fastest");
+    assert!(!speed.contains("tied"), "{speed}");
+    assert!(speed.contains("no tie is called"), "{speed}");
+    assert_eq!(speed.matches(". ").count(), 0, "one sentence: {speed}");
+    let names: Vec<String> = c
+        .runs
+        .iter()
+        .map(|r| r.summary.formulation.clone())
+        .collect();
+    assert_eq!(fastest_named(speed, &names), ["event-driven"]);
+    assert!(!v.iter().any(|l| l.starts_with("CPU time: all tied")));
+}
+
+#[test]
+fn a_case_without_description_is_named_by_its_file_alone() {
+    // Issue 40: without `description` the page printed "`case.toml`: "
+    // with nothing after.
+    let text = case_text("head_on");
+    let bare: String = text
+        .lines()
+        .filter(|l| !l.starts_with("description"))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    assert_ne!(bare, text, "head_on has a description to remove");
+    let scn = scenario(&bare);
+    assert!(scn.description.is_empty());
+    let opts = CompareOptions {
+        formulations: vec!["event-driven".into()],
+        chaos_probe: false,
+        ..CompareOptions::default()
+    };
+    let comps = compare::compare(vec![("inline.toml".into(), scn)], &opts).unwrap();
+    let dir = tempdir();
+    floebench::report::compare::write_report(&comps, dir.path(), "test").unwrap();
+    let page = std::fs::read_to_string(dir.path().join("index.md")).unwrap();
+    assert!(page.lines().any(|l| l == "`inline.toml`"), "{page}");
+    assert!(!page.contains("`inline.toml`:"), "{page}");
 }
 
 #[test]

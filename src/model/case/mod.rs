@@ -6,7 +6,8 @@
 //! or an error: nothing is written anywhere before a case has loaded.
 //!
 //! This file holds the entry points, the error and its location helpers;
-//! `spec.rs` is the file as written (serde), `build.rs` turns it into a
+//! `spec.rs` is the file as written (serde), `messages.rs` makes the
+//! parser's messages name their table and key, `build.rs` turns it into a
 //! [`Scenario`] table by table (`environment.rs` the `[environment]` table
 //! and its velocity fields, `fields.rs` the `[[field]]` tables),
 //! `overlap.rs` checks that no bodies overlap at t = 0.
@@ -14,6 +15,7 @@
 mod build;
 mod environment;
 mod fields;
+mod messages;
 mod overlap;
 mod spec;
 
@@ -67,7 +69,9 @@ impl Ctx<'_> {
     }
 
     /// A TOML syntax or type error at its line; a duplicate key or table is
-    /// named (the parser's own message does not say which).
+    /// named (the parser's own message does not say which), any other says
+    /// where it is ([`Ctx::explain`]: the table, the key, the closest known
+    /// name).
     fn toml_err(&self, e: &toml::de::Error) -> CaseError {
         let span = e.span();
         let message = e.message().trim_end();
@@ -90,13 +94,10 @@ impl Ctx<'_> {
                 span,
                 format!("{message} `{key}` (each key and table is written once)"),
             ),
-            None => match span.as_ref().and_then(|s| self.key_at(s.start)) {
-                // Name the key when serde's message does not (`invalid length 3`).
-                Some(key) if !message.contains(&format!("`{key}`")) => {
-                    self.err(span, format!("`{key}`: {message}"))
-                }
-                _ => self.err(span, message),
-            },
+            None => {
+                let message = self.explain(span.as_ref().map(|s| s.start), message);
+                self.err(span, message)
+            }
         }
     }
 

@@ -10,19 +10,55 @@ use toml::Spanned;
 /// a longer array (a vertex `[0.0, 5.0, 7.0]` read as `[0.0, 5.0]`).
 struct Exact<T, const N: usize>([T; N]);
 
+/// A sequence of `T`, whose errors say what was expected: `[x, y]` for a
+/// point, not serde's `a sequence` (`velocity = 15.0`).
+struct Seq<T>(
+    std::marker::PhantomData<T>,
+    fn(&mut std::fmt::Formatter) -> std::fmt::Result,
+);
+
+impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for Seq<T> {
+    type Value = Vec<T>;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        (self.1)(f)
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Vec<T>, A::Error> {
+        let mut v = Vec::new();
+        while let Some(x) = seq.next_element()? {
+            v.push(x);
+        }
+        Ok(v)
+    }
+}
+
+/// `[a, b, …]` of exactly `N` values, said so.
+struct Expect<const N: usize>;
+
+impl<const N: usize> serde::de::Expected for Expect<N> {
+    fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        Expect::<N>::write(f)
+    }
+}
+
+impl<const N: usize> Expect<N> {
+    fn write(f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "an array of exactly {N} values")
+    }
+
+    fn write_list(f: &mut std::fmt::Formatter) -> std::fmt::Result {
+        write!(f, "a list of arrays of exactly {N} values, [[…], …]")
+    }
+}
+
 impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for Exact<T, N> {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
-        struct Expect(usize);
-        impl serde::de::Expected for Expect {
-            fn fmt(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
-                write!(f, "an array of exactly {} values", self.0)
-            }
-        }
-        let v = Vec::<T>::deserialize(d)?;
+        let v = d.deserialize_seq(Seq::<T>(std::marker::PhantomData, Expect::<N>::write))?;
         let n = v.len();
         <[T; N]>::try_from(v)
             .map(Exact)
-            .map_err(|_| serde::de::Error::invalid_length(n, &Expect(N)))
+            .map_err(|_| serde::de::Error::invalid_length(n, &Expect::<N>))
     }
 }
 
@@ -44,15 +80,27 @@ fn exact_opt<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
 fn exact_list<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
     d: D,
 ) -> Result<Vec<[T; N]>, D::Error> {
-    Vec::<Exact<T, N>>::deserialize(d).map(|v| v.into_iter().map(|e| e.0).collect())
+    ExactList::<T, N>::deserialize(d).map(|l| l.0)
+}
+
+/// A list of `[a, b, …]`, each of exactly `N` values, whose type error says so.
+struct ExactList<T, const N: usize>(Vec<[T; N]>);
+
+impl<'de, T: Deserialize<'de>, const N: usize> Deserialize<'de> for ExactList<T, N> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_seq(Seq::<Exact<T, N>>(
+            std::marker::PhantomData,
+            Expect::<N>::write_list,
+        ))
+        .map(|v| ExactList(v.into_iter().map(|e| e.0).collect()))
+    }
 }
 
 /// An optional list of `[a, b, …]`, each of exactly `N` values.
 fn exact_opt_list<'de, D: Deserializer<'de>, T: Deserialize<'de>, const N: usize>(
     d: D,
 ) -> Result<Option<Vec<[T; N]>>, D::Error> {
-    Option::<Vec<Exact<T, N>>>::deserialize(d)
-        .map(|v| v.map(|v| v.into_iter().map(|e| e.0).collect()))
+    Option::<ExactList<T, N>>::deserialize(d).map(|l| l.map(|l| l.0))
 }
 
 /// A box `[[xmin, ymin], [xmax, ymax]]`, each array of exactly 2 values.
@@ -78,7 +126,10 @@ pub(super) struct CaseFile {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "the table [case] (version, name, duration, output_interval)"
+)]
 pub(super) struct CaseHeader {
     #[allow(dead_code)] // checked on the raw table before typed parsing
     pub(super) version: i64,
@@ -90,7 +141,10 @@ pub(super) struct CaseHeader {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "the table [environment] (coriolis, air, water)"
+)]
 pub(super) struct EnvSpec {
     #[serde(default)]
     pub(super) coriolis: f64,
@@ -99,7 +153,10 @@ pub(super) struct EnvSpec {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a table such as { density = 1.3, drag = 1.7e-3, velocity = [10.0, 0.0] }"
+)]
 pub(super) struct FluidSpec {
     pub(super) density: f64,
     pub(super) drag: f64,
@@ -180,7 +237,10 @@ fn exact_opt_box<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[[f64; 2]; 2]
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "the table [contact] (restitution, friction)"
+)]
 pub(super) struct ContactSpec {
     pub(super) restitution: f64,
     pub(super) friction: f64,
@@ -189,7 +249,10 @@ pub(super) struct ContactSpec {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a [[floe]] table (polygon, thickness)"
+)]
 pub(super) struct FloeSpec {
     #[serde(deserialize_with = "exact_list")]
     pub(super) polygon: Vec<[f64; 2]>,
@@ -207,7 +270,7 @@ fn default_density() -> f64 {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, expecting = "an [[obstacle]] table (polygon)")]
 pub(super) struct ObstacleSpec {
     #[serde(deserialize_with = "exact_list")]
     pub(super) polygon: Vec<[f64; 2]>,
@@ -215,7 +278,10 @@ pub(super) struct ObstacleSpec {
 
 /// A `[[field]]` table as written: see [`crate::model::field`].
 #[derive(Deserialize, Debug, Clone)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "a [[field]] table (region, count, concentration, radius, sides, thickness, seed)"
+)]
 pub struct FieldSpec {
     /// Axis-aligned box `[[xmin, ymin], [xmax, ymax]]`, m.
     #[serde(deserialize_with = "exact_box")]
@@ -250,7 +316,10 @@ pub struct FieldSpec {
 }
 
 #[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "the table [integrator] (method, tolerance, max_step)"
+)]
 pub(super) struct IntegratorSpec {
     pub(super) method: Option<String>,
     pub(super) tolerance: Option<f64>,
