@@ -47,8 +47,8 @@ impl std::str::FromStr for Choice {
 }
 
 /// Reads `solver` (default `default`) and the iterative solvers' keys:
-/// the direct solver (Lemke for an iterative choice: the impacts'
-/// compression LCPs of the event-driven scheme and the polish use it), and
+/// the direct solver (Lemke for an iterative choice: the event-driven
+/// scheme's impacts under APGD use it), and
 /// the iterative settings when `"nsgs"` or `"apgd"` was chosen.
 pub fn read_solver(
     r: &mut SettingsReader<'_>,
@@ -85,7 +85,7 @@ pub struct GroupAnswer {
 /// and the accuracy record of every solve.
 #[derive(Debug)]
 pub struct GroupSolver {
-    /// The direct solver (also the impacts' when the iterative one is on).
+    /// The direct solver (also the impacts' under APGD).
     pub direct: ContactSolver,
     /// The iterative solver (`solver = "nsgs"` or `"apgd"`).
     pub iterative: Option<IterativeSolver>,
