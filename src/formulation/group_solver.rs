@@ -16,7 +16,7 @@ use super::contact_solver::{ContactSolver, SolverKind};
 use crate::contact::problem::{ContactGroup, ContactLcp, Gen};
 use crate::contact::Contact;
 use crate::geometry::Vec2;
-use crate::iterative::{IterativeOptions, IterativeSolver, Method, SparseContacts};
+use crate::iterative::{Answer, IterativeOptions, IterativeSolver, Method, SparseContacts};
 use crate::model::settings::SettingsReader;
 use crate::model::CaseError;
 use crate::model::Scenario;
@@ -47,8 +47,8 @@ impl std::str::FromStr for Choice {
 }
 
 /// Reads `solver` (default `default`) and the iterative solvers' keys:
-/// the direct solver (Lemke for an iterative choice: the impacts'
-/// compression LCPs of the event-driven scheme and the polish use it), and
+/// the direct solver (Lemke for an iterative choice: the event-driven
+/// scheme's impacts under APGD use it), and
 /// the iterative settings when `"nsgs"` or `"apgd"` was chosen.
 pub fn read_solver(
     r: &mut SettingsReader<'_>,
@@ -85,7 +85,7 @@ pub struct GroupAnswer {
 /// and the accuracy record of every solve.
 #[derive(Debug)]
 pub struct GroupSolver {
-    /// The direct solver (also the impacts' when the iterative one is on).
+    /// The direct solver (also the impacts' under APGD).
     pub direct: ContactSolver,
     /// The iterative solver (`solver = "nsgs"` or `"apgd"`).
     pub iterative: Option<IterativeSolver>,
@@ -132,6 +132,11 @@ impl GroupSolver {
             return self.solve_direct(d, &prob, t, false);
         };
         let a = it.solve(&prob, t, h, d.scn.floes.len());
+        self.iterative_answer(&prob, a, t)
+    }
+
+    /// Records the iterative answer `a` of `prob` and returns it.
+    fn iterative_answer(&mut self, prob: &SparseContacts, a: Answer, t: f64) -> GroupAnswer {
         let o = a.outcome;
         self.accuracy.iterative(
             o.residual,
@@ -156,12 +161,20 @@ impl GroupSolver {
         }
     }
 
-    /// Solves an impact's compression LCP by Lemke (whatever the solver of
-    /// the sustained problems) and records its residual and work.
+    /// Solves an impact's compression problem (Poisson's law, zero
+    /// offsets) and records its residual and work: by NSGS, cold, when
+    /// `solver = "nsgs"`, else by Lemke on the LCP (the direct solvers, and
+    /// APGD, whose relaxation is not Coulomb's law).
     pub fn solve_impact(&mut self, d: &GroupData<'_>, t: f64) -> GroupAnswer {
         let prob =
             SparseContacts::build(d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets);
-        self.solve_direct(d, &prob, t, true)
+        match &self.iterative {
+            Some(it) if it.solves_impacts() => {
+                let a = it.solve_impact(&prob);
+                self.iterative_answer(&prob, a, t)
+            }
+            _ => self.solve_direct(d, &prob, t, true),
+        }
     }
 
     fn solve_direct(

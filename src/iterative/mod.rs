@@ -232,6 +232,29 @@ impl IterativeSolver {
         }
     }
 
+    /// Whether this solver also solves the impacts' compression problems
+    /// (NSGS: the same frictional contact problem with zero offsets; APGD's
+    /// cone relaxation would not be Poisson's law, so its impacts stay on
+    /// Lemke).
+    pub fn solves_impacts(&self) -> bool {
+        self.options.method == Method::Nsgs
+    }
+
+    /// Solves an impact's compression problem `prob` (zero offsets) by
+    /// NSGS from zero impulses: the cache is neither read nor written (an
+    /// impulse of a compression is no step's force).
+    pub fn solve_impact(&self, prob: &SparseContacts) -> Answer {
+        let o = &self.options;
+        let mut p = vec![[0.0; 2]; prob.len()];
+        let (outcome, dv) = nsgs::solve(prob, &mut p, o.tolerance, o.max_iterations, o.relaxation);
+        Answer {
+            p,
+            dv,
+            outcome,
+            warm_hits: 0,
+        }
+    }
+
     /// `settings` with `solver` set to this method's name (replacing a
     /// direct solver's) and the iterative settings added.
     pub fn settings(&self, settings: Settings) -> Settings {
@@ -242,10 +265,16 @@ impl IterativeSolver {
             None => s = s.text("solver", o.method.name()),
         }
         // One cone per contact point: a direct solver's merged friction
-        // stays only on the LCPs it still solves (impacts).
+        // stays only on the LCPs it still solves (APGD's impacts; NSGS
+        // solves them too, so none).
         if let Some(x) = s.0.iter_mut().find(|x| x.name == "merge_friction") {
             if x.value != SettingValue::Text("off".to_string()) {
-                x.value = SettingValue::Text("impact LCPs only".to_string());
+                let v = if self.solves_impacts() {
+                    "off"
+                } else {
+                    "impact LCPs only"
+                };
+                x.value = SettingValue::Text(v.to_string());
             }
         }
         let s = s

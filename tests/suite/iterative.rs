@@ -2,14 +2,15 @@
 //! docs/physics.md §3.5): the exact local Coulomb solve, the natural-map
 //! residual (zero at Lemke's answers, large at a spoiled one), NSGS and
 //! APGD against Lemke on the bundled cases and the closed-form checks, the
-//! contact cache, the counted unconverged solve, and the settings'
-//! refusals.
+//! contact cache, the counted unconverged solve, the stop test that
+//! evaluates the residual only when a sweep's change bound allows, the
+//! impacts solved by NSGS, and the settings' refusals.
 
 use crate::common::{case_text, counter, run, scenario, with_formulation_table};
 use floebench::analysis::check::check_run;
 use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
 use floebench::contact::BroadPhase;
-use floebench::iterative::{local_coulomb, SparseContacts};
+use floebench::iterative::{local_coulomb, nsgs, SparseContacts};
 use floebench::lcp::{solve, SolveOptions};
 use floebench::model::Scenario;
 use floebench::rng::SplitMix64;
@@ -150,6 +151,76 @@ fn the_residual_is_rounding_at_lemkes_answer_and_large_when_spoiled() {
         checked += 1;
     }
     assert!(checked >= 1);
+}
+
+#[test]
+fn the_stop_test_reports_the_true_residual_of_the_answer_it_returns() {
+    // NSGS evaluates the residual only when a sweep's change bound reaches
+    // the tolerance, every CHECK_EVERY sweeps, and after the last sweep: at
+    // every tolerance and cap (caps off the 16-sweep grid included) the
+    // outcome's residual must be that of the impulses returned, recomputed
+    // from scratch, and a converged answer's at most the tolerance.
+    let scn = frictional_cradle();
+    let probs = problems(&scn);
+    let mut solves = 0;
+    let mut capped = 0;
+    for (_, sp) in &probs {
+        for tol in [1e-3, 1e-6, 1e-10, 1e-13] {
+            for cap in [1, 5, 17, 2000] {
+                let mut p = vec![[0.0; 2]; sp.len()];
+                let (o, dv) = nsgs::solve(sp, &mut p, tol, cap, 1.0);
+                let truth = sp.residual(&p, true);
+                assert!(o.iterations <= cap);
+                assert!(
+                    (o.residual - truth).abs() <= 1e-9 * truth + 1e-15,
+                    "tol {tol:e} cap {cap}: reported {:e}, true {truth:e}",
+                    o.residual
+                );
+                assert_eq!(o.converged, o.residual <= tol);
+                if o.converged {
+                    assert!(truth <= tol * (1.0 + 1e-9), "{truth:e} > {tol:e}");
+                } else {
+                    assert_eq!(o.iterations, cap);
+                    capped += 1;
+                }
+                // The velocity changes returned are those of the answer.
+                let v = sp.velocity_changes(&p);
+                for (a, b) in v.iter().zip(&dv) {
+                    for k in 0..3 {
+                        assert!((a[k] - b[k]).abs() <= 1e-12 * (1.0 + a[k].abs()));
+                    }
+                }
+                solves += 1;
+            }
+        }
+    }
+    assert!(
+        solves >= 16 && capped >= 1,
+        "{solves} solves, {capped} capped"
+    );
+}
+
+#[test]
+fn impacts_are_solved_by_nsgs_when_it_is_the_solver_and_by_lemke_under_apgd() {
+    // docs/physics.md §3.5: with solver = "nsgs" the event-driven scheme's
+    // compression problems go to NSGS (no LCP is solved); APGD's cone
+    // relaxation is not Poisson's law, so its impacts stay on Lemke.
+    for (solver, lcp) in [("nsgs", false), ("apgd", true)] {
+        let text = with_settings(
+            "head_on",
+            "event-driven",
+            &format!("solver = \"{solver}\"\ntolerance = 1e-10"),
+        );
+        let r = run(&scenario(&text), "event-driven");
+        assert!(counter(&r, "impacts") >= 1.0, "{solver}: no impact");
+        let lcps = counter(&r, "lcp_solves");
+        assert_eq!(lcps > 0.0, lcp, "{solver}: {lcps} LCPs");
+        assert!(counter(&r, "contact_solves_measured") >= 1.0);
+        if solver == "nsgs" {
+            assert!(counter(&r, "contact_residual_max") <= 1e-10);
+            assert_eq!(counter(&r, "contact_unconverged"), 0.0);
+        }
+    }
 }
 
 /// The case `name` with `settings` in `[formulation.<table>]` (added to an

@@ -82,8 +82,9 @@
 //! frictionless LCP of the same contacts; if that fails too, no impulse is
 //! applied. Each outcome is counted. With `solver = "nsgs"` or `"apgd"` the
 //! sustained problems are solved iteratively on the sparse problem
-//! ([`crate::iterative`], docs/physics.md §3.5) and the impacts stay on
-//! Lemke; every contact solve's natural-map residual is recorded.
+//! ([`crate::iterative`], docs/physics.md §3.5); NSGS also solves the
+//! impacts' compression problems (cold), while under APGD they stay on
+//! Lemke. Every contact solve's natural-map residual is recorded.
 //!
 //! # References
 //!

@@ -73,8 +73,9 @@ pub struct EventDrivenSettings {
     pub merge_friction: bool,
     /// `solver = "nsgs"` or `"apgd"`: the iterative solver of the
     /// sustained problems, with its `tolerance`, `max_iterations`,
-    /// `relaxation` (default `None`: the direct `solver`; the impacts'
-    /// compression LCPs stay on Lemke; see [`crate::iterative`]).
+    /// `relaxation` (default `None`: the direct `solver`); NSGS solves the
+    /// impacts' compression problems too, APGD leaves them to Lemke (see
+    /// [`crate::iterative`]).
     pub iterative: Option<IterativeOptions>,
 }
 
