@@ -1,5 +1,6 @@
-//! Legends: in the corner of a plotting area where it hides least (line
-//! charts, plan views), or on one line above it (stacked bars).
+//! Legends: in the corner (or, failing one, the middle of a side) of a
+//! plotting area where it hides least (line charts, plan views), or on one
+//! line above it (stacked bars).
 
 use super::style::font;
 use super::PlotError;
@@ -51,6 +52,18 @@ where
             SeriesLabelPosition::LowerLeft,
             xr.start + 12,
             yr.end - h - 12,
+        ),
+        // The middles of the sides, last: taken only when every corner
+        // covers more (a corner wins a tie).
+        (
+            SeriesLabelPosition::MiddleRight,
+            xr.end - w - 12,
+            (yr.start + yr.end - h) / 2,
+        ),
+        (
+            SeriesLabelPosition::MiddleLeft,
+            xr.start + 12,
+            (yr.start + yr.end - h) / 2,
         ),
     ];
     let cost = |&(_, x0, y0): &(SeriesLabelPosition, i32, i32)| -> i64 {

@@ -154,8 +154,11 @@ impl Xy<'_> {
                 (px[0].0 + 3, dy),
                 mark_style.clone(),
             ))?;
+            // The label's own box, as wide as its text (a long label such
+            // as "t∞ (rest)" must keep the legend off it).
             let q = chart.backend_coord(&(*x, top));
-            occupied.push((q.0, q.1, q.0 + 40, q.1 + 50));
+            let width = plot.estimate_text_size(label, &mark_style)?.0 as i32;
+            occupied.push((q.0, q.1, q.0 + 3 + width + 3, q.1 + dy + 16));
         }
         let label_style = font(14)
             .style(FontStyle::Bold)
