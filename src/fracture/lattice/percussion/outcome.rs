@@ -47,14 +47,8 @@ impl Fragment {
     /// velocities `v` (m/s) and masses `m` (kg): its mass, centre of mass,
     /// momenta, inertia and the convex hull of the positions.
     pub fn of_nodes(list: Vec<usize>, x: &[Vec2], v: &[Vec2], m: &[f64]) -> Fragment {
-        let NodeMotion {
-            mass,
-            centre,
-            momentum,
-            velocity,
-            angular_momentum: l,
-            inertia,
-        } = NodeMotion::of(&list, x, v, m);
+        let nm = NodeMotion::of(&list, x, v, m);
+        let (l, inertia) = (nm.angular_momentum, nm.inertia);
         let points: Vec<Vec2> = list.iter().map(|&i| x[i]).collect();
         let hull = convex_hull(&points);
         let area = if hull.len() >= 3 {
@@ -64,12 +58,12 @@ impl Fragment {
         };
         Fragment {
             nodes: list,
-            mass,
-            centre,
-            momentum,
+            mass: nm.mass,
+            centre: nm.centre,
+            momentum: nm.momentum,
             angular_momentum: l,
             inertia,
-            velocity,
+            velocity: nm.velocity,
             angular_velocity: if inertia > 0.0 { l / inertia } else { 0.0 },
             hull,
             area,

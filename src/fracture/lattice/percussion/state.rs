@@ -451,17 +451,7 @@ impl<'a> Percussion<'a> {
     pub fn energies(&self) -> Energies {
         let striker = self.striker_energy();
         let springs = self.spring_energy();
-        let contacts: f64 = self
-            .strikers
-            .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                s.contacts
-                    .iter()
-                    .map(|&(i, l)| l.energy(self.gap(k, i).0))
-                    .sum::<f64>()
-            })
-            .sum();
+        let contacts = self.striker_sum(|l, g, _| l.energy(g));
         let torsion: f64 = (0..self.intact.len())
             .filter(|&t| self.intact[t])
             .map(|t| self.triangle_torsion_energy(t))
@@ -498,21 +488,24 @@ impl<'a> Percussion<'a> {
                 self.links[k].dissipation(d, dv)
             })
             .sum();
-        let contacts: f64 = self
-            .strikers
+        springs + self.striker_sum(|l, g, dg| l.dissipation(g, dg))
+    }
+
+    /// `Σ f(link, gap, gap rate)` over every striker's contact links.
+    fn striker_sum(&self, f: impl Fn(&Link, f64, f64) -> f64) -> f64 {
+        self.strikers
             .iter()
             .enumerate()
             .map(|(k, s)| {
                 s.contacts
                     .iter()
-                    .map(|&(i, l)| {
-                        let (g, dg) = self.gap(k, i);
-                        l.dissipation(g, dg)
+                    .map(|(i, l)| {
+                        let (g, dg) = self.gap(k, *i);
+                        f(l, g, dg)
                     })
                     .sum::<f64>()
             })
-            .sum();
-        springs + contacts
+            .sum()
     }
 
     /// Linear momentum (kg·m/s) and angular momentum about the frame's
