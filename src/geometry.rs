@@ -359,8 +359,17 @@ pub fn convex_overlap(a: &[Vec2], b: &[Vec2], tolerance: f64) -> bool {
 /// equals [`point_polygon_signed_distance`] up to rounding; callers keep the
 /// convex formula for convex bodies so that their results do not change.
 pub fn point_outline_signed_distance(p: &Vec2, poly: &[Vec2]) -> f64 {
+    outline_nearest(p, poly).0
+}
+
+/// The point of the outline of the simple counter-clockwise polygon `poly`
+/// nearest `p`: the signed distance of [`point_outline_signed_distance`]
+/// (m), the edge `i` it lies on (from `poly[i]` to `poly[i + 1]`, the first
+/// of equals) and its parameter `s ∈ [0, 1]` along that edge.
+pub fn outline_nearest(p: &Vec2, poly: &[Vec2]) -> (f64, usize, f64) {
     let n = poly.len();
     let mut best = f64::INFINITY;
+    let (mut edge, mut at) = (0, 0.0);
     let mut inside = false;
     for i in 0..n {
         let a = poly[i];
@@ -373,7 +382,10 @@ pub fn point_outline_signed_distance(p: &Vec2, poly: &[Vec2]) -> f64 {
         } else {
             0.0
         };
-        best = best.min((d - e * s).norm());
+        let dist = (d - e * s).norm();
+        if dist < best {
+            (best, edge, at) = (dist, i, s);
+        }
         // Crossing number: the edge straddles the horizontal through p and
         // crosses it to the right of p.
         if (a.y > p.y) != (b.y > p.y) {
@@ -383,11 +395,7 @@ pub fn point_outline_signed_distance(p: &Vec2, poly: &[Vec2]) -> f64 {
             }
         }
     }
-    if inside {
-        -best
-    } else {
-        best
-    }
+    (if inside { -best } else { best }, edge, at)
 }
 
 /// The largest distance from `c` to a vertex of `poly` (circumradius about `c`).

@@ -220,6 +220,19 @@ impl Link {
         }
     }
 
+    /// The power (W) its dashpot takes out at elongation `d` and rate `dv`:
+    /// the tension's power less the rate of the elastic energy it holds,
+    /// `(f − k d) ḋ`, while it holds energy (bonded or compressed; a
+    /// compressed broken link that lets go also loses the energy it held
+    /// at that rate), 0 otherwise.
+    pub fn dissipation(&self, d: f64, dv: f64) -> f64 {
+        if self.bonded || d < 0.0 {
+            (self.force(d, dv) - self.k * d) * dv
+        } else {
+            0.0
+        }
+    }
+
     /// The elastic energy held, J.
     pub fn energy(&self, d: f64) -> f64 {
         if self.bonded || d < 0.0 {

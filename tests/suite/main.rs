@@ -24,6 +24,7 @@ mod lemke;
 mod moreau;
 mod nonconvex;
 mod output_interval;
+mod pair_impact;
 mod percussion;
 mod percussion2d;
 mod physics;

@@ -28,9 +28,12 @@
 //!
 //! [`percussion`] integrates a lattice struck by a rigid impact;
 //! [`rectangle`] strikes a rectangular floe on its left face
-//! (`floebench percussion-2d`).
+//! (`floebench percussion-2d`); [`pair`] resolves both bodies of an impact
+//! as lattices (docs/physics.md §9.9).
 
+pub mod bars;
 pub mod delaunay;
+pub mod pair;
 pub mod percussion;
 pub mod rectangle;
 

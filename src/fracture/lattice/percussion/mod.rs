@@ -78,7 +78,9 @@ mod state;
 mod stop;
 mod striker;
 
+pub(super) use outcome::NodeMotion;
 pub use outcome::{BrokenSpring, Fragment, Outcome};
 pub use ramming::{critical_ram_speed, critical_ram_speed_by, mean_and_deviation, ram, Break};
+pub(super) use state::{gershgorin_weight, mean_stiffness, step_of_rows};
 pub use state::{strain_of_toughness, Percussion};
 pub use striker::{impact_energy_bound, Impact, RigidMotion};

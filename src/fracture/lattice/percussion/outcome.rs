@@ -47,16 +47,8 @@ impl Fragment {
     /// velocities `v` (m/s) and masses `m` (kg): its mass, centre of mass,
     /// momenta, inertia and the convex hull of the positions.
     pub fn of_nodes(list: Vec<usize>, x: &[Vec2], v: &[Vec2], m: &[f64]) -> Fragment {
-        let mass: f64 = list.iter().map(|&i| m[i]).sum();
-        let centre = list.iter().map(|&i| x[i] * m[i]).sum::<Vec2>() / mass;
-        let momentum: Vec2 = list.iter().map(|&i| v[i] * m[i]).sum();
-        let velocity = momentum / mass;
-        let (mut l, mut inertia) = (0.0, 0.0);
-        for &i in &list {
-            let r = x[i] - centre;
-            l += m[i] * cross(&r, &(v[i] - velocity));
-            inertia += m[i] * r.norm_squared();
-        }
+        let nm = NodeMotion::of(&list, x, v, m);
+        let (l, inertia) = (nm.angular_momentum, nm.inertia);
         let points: Vec<Vec2> = list.iter().map(|&i| x[i]).collect();
         let hull = convex_hull(&points);
         let area = if hull.len() >= 3 {
@@ -66,12 +58,12 @@ impl Fragment {
         };
         Fragment {
             nodes: list,
-            mass,
-            centre,
-            momentum,
+            mass: nm.mass,
+            centre: nm.centre,
+            momentum: nm.momentum,
             angular_momentum: l,
             inertia,
-            velocity,
+            velocity: nm.velocity,
             angular_velocity: if inertia > 0.0 { l / inertia } else { 0.0 },
             hull,
             area,
@@ -86,6 +78,54 @@ impl Fragment {
             0.0
         };
         0.5 * self.momentum.norm_squared() / self.mass + spin
+    }
+}
+
+/// The rigid motion of a set of nodes: its mass, centre of mass and
+/// momenta (the sums behind [`Fragment`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(in crate::fracture::lattice) struct NodeMotion {
+    /// Mass, kg.
+    pub mass: f64,
+    /// Centre of mass, m.
+    pub centre: Vec2,
+    /// Linear momentum, kg·m/s.
+    pub momentum: Vec2,
+    /// Velocity of the centre of mass, m/s.
+    pub velocity: Vec2,
+    /// Angular momentum about the centre of mass, kg·m²/s.
+    pub angular_momentum: f64,
+    /// Polar inertia of the nodes about the centre of mass, kg·m².
+    pub inertia: f64,
+}
+
+impl NodeMotion {
+    /// The nodes `list` at positions `x` (m) with velocities `v` (m/s)
+    /// and masses `m` (kg).
+    pub(in crate::fracture::lattice) fn of(
+        list: &[usize],
+        x: &[Vec2],
+        v: &[Vec2],
+        m: &[f64],
+    ) -> NodeMotion {
+        let mass: f64 = list.iter().map(|&i| m[i]).sum();
+        let centre = list.iter().map(|&i| x[i] * m[i]).sum::<Vec2>() / mass;
+        let momentum: Vec2 = list.iter().map(|&i| v[i] * m[i]).sum();
+        let velocity = momentum / mass;
+        let (mut l, mut inertia) = (0.0, 0.0);
+        for &i in list {
+            let r = x[i] - centre;
+            l += m[i] * cross(&r, &(v[i] - velocity));
+            inertia += m[i] * r.norm_squared();
+        }
+        NodeMotion {
+            mass,
+            centre,
+            momentum,
+            velocity,
+            angular_momentum: l,
+            inertia,
+        }
     }
 }
 

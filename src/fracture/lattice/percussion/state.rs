@@ -10,12 +10,12 @@ use super::striker::{impact_energy_bound, Impact, RigidMotion, Striker};
 use super::BrokenSpring;
 use crate::fracture::chain::{damped_stable_step, drift, kick, ChainOptions, Energies, Link};
 use crate::fracture::lattice::{corner_angle, Lattice};
-use crate::geometry::{cross, perp, Vec2};
+use crate::geometry::{cross, perp, rotate, Vec2};
 
 /// A percussion under way: the lattice's state and the striker's.
 #[derive(Debug, Clone)]
 pub struct Percussion<'a> {
-    pub(super) lattice: &'a Lattice,
+    pub(in crate::fracture::lattice) lattice: &'a Lattice,
     /// Node positions, m.
     pub x: Vec<Vec2>,
     /// Node velocities, m/s.
@@ -28,7 +28,7 @@ pub struct Percussion<'a> {
     pub(super) sides: Vec<[usize; 2]>,
     /// The strikers (one per impact), each with its contact links.
     pub(super) strikers: Vec<Striker>,
-    pub(super) force: Vec<Vec2>,
+    pub(in crate::fracture::lattice) force: Vec<Vec2>,
     pub(super) contact_moment: f64,
     /// Impulse (N·s) the strikers gave the floe so far.
     pub impulse: Vec2,
@@ -81,6 +81,37 @@ impl<'a> Percussion<'a> {
         if impacts.is_empty() {
             return Err("a percussion needs at least one impact".into());
         }
+        Percussion::build(lattice, motion, impacts, options, None)
+    }
+
+    /// A percussion of `lattice` placed in the world at centre offset `at`
+    /// (m) and angle `angle` (rad) (each node at `at + R(angle) x`), moving
+    /// rigidly at `motion` about its placed centre of mass, struck by
+    /// `impacts` (none: a body whose contacts are another lattice's, the
+    /// two-body impact of docs/physics.md §9.9), with the chain's
+    /// `options`, all in world coordinates. Fails on an invalid option or
+    /// impact.
+    pub(in crate::fracture::lattice) fn placed(
+        lattice: &'a Lattice,
+        motion: RigidMotion,
+        impacts: &[Impact],
+        options: ChainOptions,
+        at: Vec2,
+        angle: f64,
+    ) -> Result<Percussion<'a>, String> {
+        options.validate()?;
+        Percussion::build(lattice, motion, impacts, options, Some((at, angle)))
+    }
+
+    /// [`Self::with_strikers`] with the nodes placed by `frame` (the offset
+    /// and angle of [`Self::placed`]; `None` the lattice's own frame).
+    fn build(
+        lattice: &'a Lattice,
+        motion: RigidMotion,
+        impacts: &[Impact],
+        options: ChainOptions,
+        frame: Option<(Vec2, f64)>,
+    ) -> Result<Percussion<'a>, String> {
         for impact in impacts {
             let n = impact.normal.norm();
             if (n - 1.0).abs().is_nan() || (n - 1.0).abs() >= 1e-9 {
@@ -99,14 +130,15 @@ impl<'a> Percussion<'a> {
         let spec = lattice.spec;
         let m = &lattice.mass;
         let total: f64 = m.iter().sum();
-        let g = lattice
-            .nodes
-            .iter()
-            .zip(m)
-            .map(|(x, &mi)| x * mi)
-            .sum::<Vec2>()
-            / total;
-        let x = lattice.nodes.clone();
+        let x: Vec<Vec2> = match frame {
+            None => lattice.nodes.clone(),
+            Some((at, angle)) => lattice
+                .nodes
+                .iter()
+                .map(|p| at + rotate(p, angle))
+                .collect(),
+        };
+        let g = x.iter().zip(m).map(|(x, &mi)| x * mi).sum::<Vec2>() / total;
         let v: Vec<Vec2> = x
             .iter()
             .map(|p| motion.velocity + perp(&(p - g)) * motion.angular_velocity)
@@ -143,8 +175,7 @@ impl<'a> Percussion<'a> {
                 }
             })
             .collect();
-        let mean_k =
-            lattice.springs.iter().map(|s| s.stiffness).sum::<f64>() / lattice.springs.len() as f64;
+        let mean_k = mean_stiffness(lattice);
         let contacts_of = |impact: &Impact| -> Vec<(usize, Link)> {
             (0..x.len())
                 .filter(|&i| lattice.on_boundary[i])
@@ -242,15 +273,23 @@ impl<'a> Percussion<'a> {
 
     /// The stable step of the scheme, s (module doc).
     pub fn stable_step(&self) -> f64 {
+        let (ks, cs) = self.gershgorin_rows();
+        step_of_rows(&ks, &cs)
+    }
+
+    /// The rows of the block-Gershgorin bound (module doc): for each node,
+    /// then each striker, `Σ_j κ_ij w_ij` (1/s²) and `Σ_j c_ij w_ij` (1/s)
+    /// over its links, `w_ij` the [`gershgorin_weight`].
+    pub(in crate::fracture::lattice) fn gershgorin_rows(&self) -> (Vec<f64>, Vec<f64>) {
         let m = &self.lattice.mass;
         let n = m.len();
         let rows = n + self.strikers.len();
         let (mut ks, mut cs) = (vec![0.0; rows], vec![0.0; rows]);
         let mut add = |i: usize, j: usize, mi: f64, mj: f64, l: &Link| {
-            let w = 1.0 / mi + 1.0 / (mi * mj).sqrt();
+            let w = gershgorin_weight(mi, mj);
             ks[i] += l.k * w;
             cs[i] += l.c * w;
-            let w = 1.0 / mj + 1.0 / (mi * mj).sqrt();
+            let w = gershgorin_weight(mj, mi);
             ks[j] += l.k * w;
             cs[j] += l.c * w;
         };
@@ -277,9 +316,7 @@ impl<'a> Percussion<'a> {
                 ks[i] += c.stiffness * gi.norm() * row;
             }
         }
-        let omega = ks.iter().fold(0.0, |a: f64, &b| a.max(b)).sqrt();
-        let gamma = cs.iter().fold(0.0, |a: f64, &b| a.max(b));
-        damped_stable_step(omega, gamma / (2.0 * omega))
+        (ks, cs)
     }
 
     /// Number of nodes.
@@ -379,6 +416,14 @@ impl<'a> Percussion<'a> {
 
     /// One velocity Verlet step.
     pub fn step(&mut self) {
+        self.advance();
+        self.finish();
+    }
+
+    /// The first part of a velocity Verlet step: half a kick, the drift,
+    /// bond breaking and the forces at the new positions (the two-body
+    /// impact adds its contact forces before [`Self::finish`]).
+    pub(in crate::fracture::lattice) fn advance(&mut self) {
         let h = 0.5 * self.dt;
         self.book_contact(h);
         kick(&mut self.v, &self.force, &self.lattice.mass, h);
@@ -391,6 +436,11 @@ impl<'a> Percussion<'a> {
         self.steps += 1;
         self.break_bonds();
         self.forces();
+    }
+
+    /// The last half kick of a velocity Verlet step.
+    pub(in crate::fracture::lattice) fn finish(&mut self) {
+        let h = 0.5 * self.dt;
         self.book_contact(h);
         kick(&mut self.v, &self.force, &self.lattice.mass, h);
         self.kick_striker(h);
@@ -400,20 +450,8 @@ impl<'a> Percussion<'a> {
     /// finite).
     pub fn energies(&self) -> Energies {
         let striker = self.striker_energy();
-        let springs: f64 = (0..self.links.len())
-            .map(|k| self.links[k].energy(self.spring_state(k).0))
-            .sum();
-        let contacts: f64 = self
-            .strikers
-            .iter()
-            .enumerate()
-            .map(|(k, s)| {
-                s.contacts
-                    .iter()
-                    .map(|&(i, l)| l.energy(self.gap(k, i).0))
-                    .sum::<f64>()
-            })
-            .sum();
+        let springs = self.spring_energy();
+        let contacts = self.striker_sum(|l, g, _| l.energy(g));
         let torsion: f64 = (0..self.intact.len())
             .filter(|&t| self.intact[t])
             .map(|t| self.triangle_torsion_energy(t))
@@ -431,6 +469,43 @@ impl<'a> Percussion<'a> {
             elastic: springs + contacts,
             fracture: self.broken.iter().map(|b| b.energy).sum(),
         }
+    }
+
+    /// The elastic energy of the springs (bonds and compressed broken
+    /// ones, not the strikers' contacts), J.
+    pub(in crate::fracture::lattice) fn spring_energy(&self) -> f64 {
+        (0..self.links.len())
+            .map(|k| self.links[k].energy(self.spring_state(k).0))
+            .sum()
+    }
+
+    /// The power the dashpots take out now (springs and the strikers'
+    /// contacts, [`Link::dissipation`]), W.
+    pub(in crate::fracture::lattice) fn dashpot_power(&self) -> f64 {
+        let springs: f64 = (0..self.links.len())
+            .map(|k| {
+                let (d, dv, _) = self.spring_state(k);
+                self.links[k].dissipation(d, dv)
+            })
+            .sum();
+        springs + self.striker_sum(|l, g, dg| l.dissipation(g, dg))
+    }
+
+    /// `Σ f(link, gap, gap rate)` over every striker's contact links.
+    fn striker_sum(&self, f: impl Fn(&Link, f64, f64) -> f64) -> f64 {
+        self.strikers
+            .iter()
+            .enumerate()
+            .map(|(k, s)| {
+                s.contacts
+                    .iter()
+                    .map(|(i, l)| {
+                        let (g, dg) = self.gap(k, *i);
+                        f(l, g, dg)
+                    })
+                    .sum::<f64>()
+            })
+            .sum()
     }
 
     /// Linear momentum (kg·m/s) and angular momentum about the frame's
@@ -464,6 +539,28 @@ impl<'a> Percussion<'a> {
     pub fn lattice(&self) -> &Lattice {
         self.lattice
     }
+}
+
+/// The mean stiffness `κ̄` of the lattice's springs, N/m: the strikers'
+/// contact links' (module doc).
+pub(in crate::fracture::lattice) fn mean_stiffness(lattice: &Lattice) -> f64 {
+    lattice.springs.iter().map(|s| s.stiffness).sum::<f64>() / lattice.springs.len() as f64
+}
+
+/// The weight `1/m_i + 1/√(m_i m_j)` of a link between nodes of masses
+/// `mi` and `mj` (kg) in row `i` of the block-Gershgorin bound (module
+/// doc), 1/kg.
+pub(in crate::fracture::lattice) fn gershgorin_weight(mi: f64, mj: f64) -> f64 {
+    1.0 / mi + 1.0 / (mi * mj).sqrt()
+}
+
+/// The stable step (s) of the block-Gershgorin rows `ks` (1/s²) and `cs`
+/// (1/s) ([`Percussion::gershgorin_rows`]): `ω² = max ks`, `ζ = max cs /
+/// (2ω)`, [`damped_stable_step`].
+pub(in crate::fracture::lattice) fn step_of_rows(ks: &[f64], cs: &[f64]) -> f64 {
+    let omega = ks.iter().fold(0.0, |a: f64, &b| a.max(b)).sqrt();
+    let gamma = cs.iter().fold(0.0, |a: f64, &b| a.max(b));
+    damped_stable_step(omega, gamma / (2.0 * omega))
 }
 
 /// The rule a bond breaks by, for a lattice of `spacing` (m) and Young's

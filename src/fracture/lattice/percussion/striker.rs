@@ -153,7 +153,7 @@ impl Percussion<'_> {
     }
 
     /// Whether an outline node touches a striker.
-    pub(super) fn touching(&self) -> bool {
+    pub(in crate::fracture::lattice) fn touching(&self) -> bool {
         self.strikers
             .iter()
             .enumerate()
