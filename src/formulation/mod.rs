@@ -254,6 +254,55 @@ impl FixedGrid {
     }
 }
 
+/// A formulation stepping on a [`FixedGrid`] (`moreau`, `moreau-cone`,
+/// `rapier`): its one step, for the shared loop [`advance_on_grid`].
+pub trait FixedStep: Formulation {
+    /// Its grid.
+    fn grid(&mut self) -> &mut FixedGrid;
+
+    /// Called with the state the grid continues from, before the steps
+    /// (the default does nothing; rapier syncs its bodies).
+    fn resume(&mut self, cur: &System) {
+        let _ = cur;
+    }
+
+    /// One step of the grid's `h` from `sys` (its time is put on the grid
+    /// after it).
+    fn fixed_step(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        cx: &mut Context,
+    ) -> Result<(), FormulationError>;
+}
+
+/// [`Formulation::advance`] of a fixed-step formulation: its steps on the
+/// grid `t_k = k h` up to `t_end` (s), polling the interrupt before each,
+/// with the safe point of the topology stage between steps (at `t_{k+1}`,
+/// docs/physics.md §9.5: the floes break on the lines the step's contact
+/// problems chose, carried with the floes), then the state kept and
+/// reported.
+pub fn advance_on_grid<F: FixedStep + ?Sized>(
+    form: &mut F,
+    scn: &mut Scenario,
+    sys: &mut System,
+    t_end: f64,
+    cx: &mut Context,
+) -> Result<(), FormulationError> {
+    let (mut cur, _, steps) = form.grid().begin(sys, t_end)?;
+    form.resume(&cur);
+    for _ in 0..steps {
+        cx.poll_interrupt(cur.t)?;
+        form.fixed_step(scn, &mut cur, cx)?;
+        form.grid().stepped(&mut cur);
+        if let Some(old) = cx.change_floes(scn, &mut cur) {
+            form.floes_changed(scn, &cur, &old)?;
+        }
+    }
+    form.grid().finish(sys, cur, t_end);
+    Ok(())
+}
+
 /// Relative rounding allowed when an output time is matched to a step of a
 /// fixed grid (`k Δ` and `j h` computed in floating point).
 const GRID_ROUNDING: f64 = 1e-9;

@@ -135,8 +135,8 @@ use super::contact_solver::{
 };
 use super::group_solver::{read_solver, GroupAnswer, GroupData, GroupSolver};
 use super::{
-    check_output_grid, Context, Entry, FixedGrid, Formulation, FormulationError,
-    FormulationOptions, NotClaimed, Topology,
+    advance_on_grid, check_output_grid, Context, Entry, FixedGrid, FixedStep, Formulation,
+    FormulationError, FormulationOptions, NotClaimed, Topology,
 };
 use crate::contact::problem::{groups, Gen};
 use crate::contact::{loads_of, BroadPhase, Contact};
@@ -522,6 +522,21 @@ fn group_energy(scn: &Scenario, w: &[Gen], floes: &[usize]) -> f64 {
         .sum()
 }
 
+impl FixedStep for Moreau {
+    fn grid(&mut self) -> &mut FixedGrid {
+        &mut self.grid
+    }
+
+    fn fixed_step(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        cx: &mut Context,
+    ) -> Result<(), FormulationError> {
+        self.step_once(scn, sys, self.step, cx)
+    }
+}
+
 impl Formulation for Moreau {
     fn advance(
         &mut self,
@@ -530,21 +545,8 @@ impl Formulation for Moreau {
         t_end: f64,
         cx: &mut Context,
     ) -> Result<(), FormulationError> {
-        let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
         // Steps of h on the grid t_k = k h (module doc).
-        for _ in 0..steps {
-            cx.poll_interrupt(cur.t)?;
-            self.step_once(scn, &mut cur, self.step, cx)?;
-            self.grid.stepped(&mut cur);
-            // The safe point: between steps, at t_{k+1} (docs/physics.md
-            // §9.5), the floes break on the lines the step's contact
-            // problems chose, carried with the floes.
-            if let Some(old) = cx.change_floes(scn, &mut cur) {
-                self.floes_changed(scn, &cur, &old)?;
-            }
-        }
-        self.grid.finish(sys, cur, t_end);
-        Ok(())
+        advance_on_grid(self, scn, sys, t_end, cx)
     }
 
     fn floes_changed(

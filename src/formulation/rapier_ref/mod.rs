@@ -141,8 +141,8 @@ mod step;
 pub use settings::*;
 
 use super::{
-    check_output_grid, Context, Entry, FixedGrid, Formulation, FormulationError,
-    FormulationOptions, NotClaimed,
+    advance_on_grid, check_output_grid, Context, Entry, FixedGrid, FixedStep, Formulation,
+    FormulationError, FormulationOptions, NotClaimed,
 };
 use crate::contact::Load;
 use crate::model::limits::{Limit, STEP};
@@ -499,6 +499,25 @@ impl RapierReference {
     }
 }
 
+impl FixedStep for RapierReference {
+    fn grid(&mut self) -> &mut FixedGrid {
+        &mut self.grid
+    }
+
+    fn resume(&mut self, cur: &System) {
+        self.sync_in(&cur.bodies);
+    }
+
+    fn fixed_step(
+        &mut self,
+        scn: &Scenario,
+        sys: &mut System,
+        cx: &mut Context,
+    ) -> Result<(), FormulationError> {
+        self.step(scn, sys, self.settings.step, cx)
+    }
+}
+
 impl Formulation for RapierReference {
     fn advance(
         &mut self,
@@ -507,20 +526,8 @@ impl Formulation for RapierReference {
         t_end: f64,
         cx: &mut Context,
     ) -> Result<(), FormulationError> {
-        let (mut cur, _, steps) = self.grid.begin(sys, t_end)?;
-        self.sync_in(&cur.bodies);
         // Steps of h on the grid t_k = k h.
-        for _ in 0..steps {
-            cx.poll_interrupt(cur.t)?;
-            self.step(scn, &mut cur, self.settings.step, cx)?;
-            self.grid.stepped(&mut cur);
-            // The safe point: between steps (docs/physics.md §9.5).
-            if let Some(old) = cx.change_floes(scn, &mut cur) {
-                self.floes_changed(scn, &cur, &old)?;
-            }
-        }
-        self.grid.finish(sys, cur, t_end);
-        Ok(())
+        advance_on_grid(self, scn, sys, t_end, cx)
     }
 
     fn floes_changed(
