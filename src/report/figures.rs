@@ -87,18 +87,19 @@ fn field_panel(
     let mut world = Vec::new();
     // Each floe alive then, the pieces of broken ones included, by its
     // record.
-    let floes = frame
+    let (floes, labels) = frame
         .unwrap_or_default()
         .iter()
         .filter_map(|row| {
             let rec = run.floes.get(row.floe)?;
             rec.world_polygon(&Vec2::new(row.x, row.y), row.theta, &mut world);
-            Some(polygon(world.iter().copied()))
+            Some((polygon(world.iter().copied()), row.floe.to_string()))
         })
-        .collect();
+        .unzip();
     Panel {
         title,
         floes,
+        labels,
         obstacles: obstacles.to_vec(),
     }
 }

@@ -191,6 +191,7 @@ fn plan_views_and_grids_including_degenerate_ones() {
     let panel = |t: &str, floes| Panel {
         title: t.into(),
         floes,
+        labels: vec!["1".into()],
         obstacles: coast.clone(),
     };
     let panels = [
@@ -209,6 +210,7 @@ fn plan_views_and_grids_including_degenerate_ones() {
     let point = [Panel {
         title: "point".into(),
         floes: vec![vec![(1.0, 1.0); 3]],
+        labels: vec!["0".into()],
         obstacles: vec![],
     }];
     check(
@@ -373,7 +375,7 @@ fn demo_images() {
     let mut panels = Vec::new();
     for t in [0.0, 3600.0] {
         for f in ["event-driven", "Moreau-Jean", "rapier"] {
-            let floes = (0..200)
+            let floes: Vec<_> = (0..200)
                 .map(|_| {
                     let (x, y) = (50.0 + 900.0 * rand(), 200.0 + 500.0 * rand() - t / 40.0);
                     hexagon(x, y, 10.0 + 15.0 * rand(), rand())
@@ -381,6 +383,7 @@ fn demo_images() {
                 .collect();
             panels.push(Panel {
                 title: format!("{f}, t = {t} s"),
+                labels: (0..floes.len()).map(|k| k.to_string()).collect(),
                 floes,
                 obstacles: land.clone(),
             });
@@ -400,6 +403,7 @@ fn demo_images() {
             floes: (0..3000)
                 .map(|_| hexagon(1000.0 * rand(), 800.0 * rand(), 5.0, rand()))
                 .collect(),
+            labels: (0..3000).map(|i| i.to_string()).collect(),
             obstacles: land.clone(),
         })
         .collect();

@@ -1,90 +1,22 @@
 //! The event-driven LCP formulation of M. Rabatel (2015), with our own Lemke.
 //!
-//! # Scheme
-//!
-//! From a state at time `t` (docs/physics.md §3, §4; origin report §3.2):
-//!
-//! 1. **Detection.** Contacts are found by sweep and prune and exact convex
-//!    polygon distances ([`crate::contact`]; a non-convex floe or obstacle
-//!    by its convex parts): every vertex–edge point whose gap is below the
-//!    contact distance `δ` is *closed*. Every facing edge pair is clipped
-//!    ([`CONTACT_POINTS`]), so both corners of a nearly flush pair within
-//!    `δ` are contacts of the sustained problem.
-//! 2. **Impacts.** If a closed contact approaches faster than the impact
-//!    threshold (`u_N < −v_imp`, [`EventDriven::new`]), the connected
-//!    group of floes it belongs to goes through an impact: the compression
-//!    LCP of docs/physics.md §3.1 with `e = 0` and no external impulse gives `W_c`
-//!    and the impulse `P_c`; decompression applies `e P_c` more, i.e. Poisson's
-//!    law in Rabatel's energy-consistent form `W⁺ = (1 + e) W_c − e W⁻`, which
-//!    never increases the kinetic energy for `e ≤ 1` and conserves it for
-//!    `e = 1, μ = 0`. Repeated until no closed contact approaches (a
-//!    decompression may push another closed contact into approach). A slower
-//!    approach that the step's sustained force would let close more than a
-//!    tenth of the penetration tolerance is stopped at once, plastically.
-//! 3. **Smooth step with sustained contacts.** A trial step `h` is bounded by
-//!    the scheme alone, never by the output times
-//!    ([`SmoothIntegrator::step_bound`]: the drag stability bound `Δt_max`
-//!    of docs/physics.md §4.2, a quarter of the smallest floe radius of
-//!    travel from the largest point speed and acceleration, the forcing
-//!    kinks, the end of the run), and with closed contacts by the contact
-//!    horizon [`contact_horizon`]. Closed contacts that persist (resting,
-//!    sliding) receive a constant contact force over the step: the LCP is
-//!    solved with the velocity–impulse form of docs/physics.md §3.1,
-//!    `h_free = −M W_free` where `W_free` is the free velocity after `h`
-//!    (the external impulse `∫𝓗 dt` included), and its impulse divided by `h`
-//!    is added to the environment forces while the step is integrated by the
-//!    shared smooth integrator. A constant force balance is therefore exact
-//!    (a floe pressed on a wall by a constant wind stays put; a sliding floe
-//!    decelerates at exactly `μ a`). A penetrating sustained contact asks for
-//!    a separating velocity `−g/H` (Rabatel's relaxed Signorini, `JᵀW⁺ ≥ −c`
-//!    with `c = g/H`, docs/physics.md §3.1), `H` the step's nominal length
-//!    before cuts and halvings: over a halved step `−g/h` would grow without
-//!    bound and put kinetic energy in. A separating contact of an
-//!    isolated pair pulled back by the environment (`EventDriven::separation`):
-//!    its **accumulation** of bounces completes at its accumulation time
-//!    `T = 2u_N/(|a_N|(1 − e))`, by the mean motion (the normal velocity
-//!    decaying linearly to rest at `T`, asked of the same LCP, the step cut
-//!    at `T`), not at once; or its **flight within the contact distance** is
-//!    followed to its return (the pair open meanwhile); otherwise the apex
-//!    rule cuts the step at the apex of a flight that leaves the contact
-//!    distance. An isolated sliding pair that **sticks** within the step
-//!    cuts it where its slip stops (`EventDriven::stick_times`); in a pile
-//!    the constant friction force smears the stop over the step.
-//! 4. **Event location in time.** After the trial step, every vertex of each
-//!    close pair (floes and obstacles both ways) that was open (`d > δ`) and
-//!    ends below the impact gap `g_i` ([`IMPACT_GAP_FRACTION`] of `δ`), or
-//!    whose path relative to the other body passes within `g_i` of it inside
-//!    the step (a transit), is an event: the first instant its
-//!    signed distance to the other body reaches `g_i` is found by Illinois
-//!    root finding on the re-integrated motion (to `1e-3 δ`), and the step is
-//!    cut there. The default `δ` is the report's positive contact distance,
-//!    1e-3 of the smallest floe radius: each impact comes early by about
-//!    `δ / (10 × approach speed)`, and collisions closer than `δ` are treated
-//!    together rather than one by one. A case that sets a tiny
-//!    `[contact] distance` (e.g. 1e-9 m) locates each impact at the root of
-//!    the gap.
-//! 5. **Penetration.** A penetration deeper than the tolerance at the end of
-//!    a step rejects it; it is retried with half the step (counted). The
-//!    depth of a pair is its minimum translation distance
-//!    ([`crate::contact::signed_distance`], as the contact detection and
-//!    `floebench check` measure it), not its deepest vertex, which misses
-//!    two convex bodies whose edges cross with no vertex inside the other
-//!    (the scissored pieces of a split).
-//!
-//! **Outputs.** The scheme keeps its state on its own grid of steps; the
-//! state at an output time inside a step is that step's exact continuation
-//! ([`SmoothIntegrator::continuation`]): what is saved never changes the
-//! dynamics.
-//!
-//! Every LCP goes through the shared [`ContactSolver`]: [`crate::lcp::solve()`]
-//! (lexicographic Lemke, another pivot rule, a perturbed matrix), whose
-//! residual is recomputed on the original data. When all fail, the documented last resort is the
-//! frictionless LCP of the same contacts; if that fails too, no impulse is
-//! applied. Each outcome is counted. With `solver = "nsgs"` or `"apgd"` the
-//! sustained problems are solved iteratively on the sparse problem
-//! ([`crate::iterative`], docs/physics.md §3.5); NSGS also solves the
-//! impacts' compression problems (cold), while under APGD they stay on
-//! Lemke. Every contact solve's natural-map residual is recorded.
+//! **Scheme** (described once, in docs/physics.md §4; the contact problem
+//! in §3): advance the smooth dynamics to the next impact, resolve it, go
+//! on. From a state at `t`: detect the contacts closer than the contact
+//! distance `δ` (§3, §4.3 step 1); resolve every group with an approaching
+//! contact by the compression LCP and Poisson's law in Rabatel's
+//! energy-consistent form (§3.1, §3.2, §4.3 step 2; `impact.rs`); take a
+//! smooth step of the shared integrator (§4.1, §4.2) with the sustained
+//! contacts' constant force from the velocity–impulse LCP, the
+//! accumulations, flights within `δ` and sticking instants in closed form
+//! (§4.3 step 3; `sustained.rs`, `step.rs`); locate the first impact inside
+//! the step by root finding on the gaps and cut the step there (§4.3 step
+//! 4; `location.rs`); reject a step that penetrates deeper than the
+//! tolerance (§4.3 step 5). Parameters and their reasons: §4.4 and
+//! `settings.rs`; departures from the origin report: §4.5. Every contact
+//! problem goes through the shared [`ContactSolver`] (Lemke with its
+//! counted fallbacks, §3.3, or the iterative solvers of §3.5); fractures
+//! through the run's topology stage (§9.5).
 //!
 //! # References
 //!

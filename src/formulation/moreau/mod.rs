@@ -1,116 +1,23 @@
 //! The Moreau–Jean time-stepping formulation (Moreau 1988; Jean 1999;
-//! Acary & Brogliato 2008, ch. 10), with two one-step contact solvers: the
-//! Stewart–Trinkle LCP by our Lemke (`moreau`) and the Anitescu–Tasora
-//! convex cone relaxation by clarabel (`moreau-cone`).
+//! Acary & Brogliato 2008, ch. 10), with one-step contact solvers: the
+//! Stewart–Trinkle LCP by our Lemke (`moreau`), the Anitescu–Tasora
+//! convex cone relaxation by clarabel (`moreau-cone`), and the iterative
+//! NSGS and APGD.
 //!
-//! # Scheme
-//!
-//! A fixed step `h`; impacts are not located in time. From `(q_k, W_k)` at
-//! `t_k` (`q = (G, θ)` per floe, `W = (Ġ, θ̇)`, `M` the block mass matrix,
-//! `H(t, q, W)` the environment forces and torque of docs/physics.md §2,
-//! from the shared [`ForceModel::forces`]):
-//!
-//! 1. **Smooth impulse, θ-method with one predictor pass.**
-//!    `W* = W_k + h M⁻¹ H(t_k, q_k, W_k)`,
-//!    `q* = q_k + h ((1 − θ) W_k + θ W*)`,
-//!    `H_θ = (1 − θ) H(t_k, q_k, W_k) + θ H(t_k + h, q*, W*)`,
-//!    `W_free = W_k + h M⁻¹ H_θ`.
-//!    For θ = ½ this is Heun's (trapezoidal predictor–corrector) method,
-//!    second order on the smooth dynamics and exact for constant forces
-//!    (wind without drag feedback); θ = 0 is explicit Euler. The end-of-step
-//!    forces are evaluated at the free prediction: contact impulses of the
-//!    step do not feed back into the drag within the step.
-//! 2. **Active contacts.** Contact points come from the shared detection
-//!    ([`crate::contact::detect`]) at `q_k` with the margin
-//!    `2 h γ v_max` (`v_max` the largest point speed of a floe, so no pair
-//!    that the criterion could activate is missed). A contact is active when
-//!    its predicted gap is closed: `g_j + h γ u_N,j(W_k) ≤ ε`, with the
-//!    rounding allowance `ε` = 1e-9 of the smallest floe radius
-//!    ([`ACTIVATION_TOLERANCE_FRACTION`]).
-//! 3. **One frictional contact problem per step per connected group** of
-//!    floes linked by active contacts ([`crate::contact::problem::groups`]),
-//!    with Newton's impact law at velocity level on every active contact,
-//!    `u_N⁺ + e u_N⁻ ≥ 0 ⟂ λ ≥ 0`, `u_N⁻ = u_N(W_k)` the normal relative
-//!    velocity at the start of the step (as in Acary & Brogliato 2008,
-//!    ch. 10). The offset `c_j = e u_N⁻_j` enters the
-//!    shared LCP assembly ([`ContactLcp::assemble`], docs/physics.md §3.1) with
-//!    `W_free`, so that `W_{k+1} = W_free + M⁻¹ (J λ + D β̃)`. The kinetic
-//!    energy change of the impulses is `½ Σ_j λ_j (u_N⁺ + u_N,free)_j`
-//!    plus the friction work; with complementarity, each pushing contact
-//!    contributes `½ λ_j (1 − e) u_N⁻_j` when `W_free = W_k`: for `e = 1,
-//!    μ = 0` the kinetic energy is conserved to rounding at every step. The
-//!    offset is applied also when `u_N⁻ > 0` (an active contact, already
-//!    penetrated, that separates): restricting it to approaching contacts
-//!    (`u_N⁺ ≥ 0` otherwise) makes such a contact stop a separation and do
-//!    positive work `½ λ_j u_N⁻_j`, measured +17.5 % of kinetic energy on
-//!    `elastic_pool` with `h` = 1 s. The solver is either
-//!    - `lcp`: the Stewart–Trinkle LCP (exact Coulomb in 2D: two facets)
-//!      by the shared [`ContactSolver`]: Lemke with the residual check,
-//!      fallbacks, and the last resort (frictionless LCP, then no impulse),
-//!      each counted. Its Coulomb rows are scaled to velocities
-//!      ([`ContactLcp::assemble`]) so that the residual
-//!      check judges rounding consistently (unscaled, a third of the
-//!      frictional LCPs of `field_200_coast` were rejected after Lemke had
-//!      solved them); or
-//!    - `cone`: the Anitescu–Tasora relaxation ([`crate::contact::cone`]):
-//!      `min ½ pᵀ G p + pᵀ b` over `p_j = (λ_j, β_j) ∈ {|β_j| ≤ μ λ_j}`,
-//!      `G` the Delassus matrix and `b` the free relative velocities with
-//!      the Newton offset. Its KKT conditions replace `u_N⁺ + e u_N⁻ ≥ 0`
-//!      by `u_N⁺ + e u_N⁻ ≥ μ |u_T⁺|`: **a sliding contact separates at
-//!      normal speed `μ |u_T|`**, the known artefact of the convex
-//!      relaxation, documented and measured (the counters
-//!      `cone_max_pushing_normal_speed_m_per_s` and the tests), not
-//!      corrected. The interior point is polished on its active set
-//!      (`cone_polished`); a solve that clarabel does not report `Solved` or
-//!      `AlmostSolved` and whose last iterate does not polish into a
-//!      consistent point is counted (`cone_failed`) and the group falls back
-//!      to the Lemke LCP (`cone_fallback_lcp`); or
-//!    - `nsgs` / `apgd`: nonsmooth Gauss–Seidel on Coulomb's law, or the
-//!      accelerated projected gradient on the cone relaxation, on the sparse
-//!      problem of the group, warm-started from the contact cache and stopped
-//!      on the natural-map residual ([`crate::iterative`], docs/physics.md
-//!      §3.5). Every answer's residual is recorded, whichever solver gave it.
-//! 4. **Positions, θ-method.** `q_{k+1} = q_k + h ((1 − θ) W_k + θ W_{k+1})`.
-//!    For θ = ½ a free flight under constant forces is exact; at an impact
-//!    the position moves with the mean of the velocities before and after.
-//!    Positions are not projected: a contact activated at `g ≤ −hγu_N`
-//!    can end the step penetrated by `O(h |u_N|)`, the scheme's known
-//!    penetration, reported as `max_penetration_m` (measured from the gaps
-//!    at the start of every step) and bounded in the tests by `h` times the
-//!    approach speed.
-//!
-//! **Steps and output times.** Every step is `h`, on the grid `t_k = k h`
-//! from t = 0: the output times do not change the dynamics. A case whose
-//! output times (`output_interval` and `duration`) are not multiples of
-//! `h` is refused when the formulation is built, with a message naming
-//! `[formulation.moreau] step` (the scheme reports only states of its own
-//! grid, never interpolated ones).
-//!
-//! **Energy ledger.** Per step, the work of each environment force is its
-//! θ-weighted power times the step: `W_air += h ((1 − θ) P_air(q_k, W_k) +
-//! θ P_air(q*, W*))`, likewise water (force and torque) and Coriolis. The
-//! contact dissipation is the kinetic energy lost on the velocity jump of
-//! the contact impulses, `D += E(W_free) − E(W_{k+1})` (a negative value
-//! would be energy created by Newton's law on several contacts; counted as
-//! `contact_energy_increases`). The ledger residual
-//! `E(t) − E(0) − W_ext + D` therefore measures exactly the energy error of
-//! the smooth step against that quadrature of the power: zero for constant
-//! forces with θ = ½, small with drag (measured third order on
-//! `free_drift`), and the spurious work of the discrete Coriolis force.
-//!
-//! # Parameters (`[formulation.moreau]`)
-//!
-//! | key | unit | default | meaning |
-//! | --- | --- | --- | --- |
-//! | `step` | s | 1.0 | time step `h` (an upper bound, see above) |
-//! | `theta` | – | 0.5 | θ of the θ-method on forces and positions |
-//! | `gamma` | – | 0.5 | γ of the activation test `g + h γ u_N ≤ 0` |
-//! | `solver` | – | `"lcp"` | `"lcp"` (Lemke), `"cone"` (clarabel), `"nsgs"` or `"apgd"` (iterative, docs/physics.md §3.5) |
-//! | `tolerance`, `max_iterations`, `relaxation` | – | 1e-6, 2000, 1 | the iterative solvers' stop rule and NSGS's ω ([`crate::iterative`]) |
-//!
-//! The entry `moreau` uses the case's solver (and is labelled `moreau`
-//! whichever it is; the `solver` setting of `summary.json` says which);
-//! `moreau-cone` always the cone.
+//! **Scheme** (described once, in docs/physics.md §5): fixed steps `h` on
+//! the grid `t_k = k h`, impacts not located in time. Per step: the smooth
+//! impulse by the θ-method with one predictor pass (§5.1 step 1, the shared
+//! [`ForceModel::forces`]); the contacts whose predicted gap
+//! `g + h γ u_N` is closed are active (§5.1 step 2); one frictional
+//! contact problem per connected group with Newton's impact law on every
+//! active contact, `u_N⁺ + e u_N⁻ ≥ 0 ⟂ λ ≥ 0` (§5.1 step 3; the LCP
+//! assembly of §3.1, [`crate::contact::problem::ContactLcp::assemble`]), solved by the solver of
+//! §5.2 through the shared [`ContactSolver`] (Lemke with its counted
+//! fallbacks, §3.3; the cone, §3.4; NSGS or APGD, §3.5); positions by the
+//! θ-method, not projected (§5.1 step 4). The energy ledger: §5.3; the
+//! parameters and their reasons: §5.4 and `settings.rs`. The steps are
+//! taken by the shared fixed-step loop ([`super::advance_on_grid`]);
+//! fractures through the run's topology stage (§9.5).
 //!
 //! # References
 //!

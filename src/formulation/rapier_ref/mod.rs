@@ -1,127 +1,22 @@
-//! rapier as the regularised reference formulation (docs/physics.md §8).
+//! rapier as the regularised reference formulation.
 //!
 //! The widely used Rust physics engine [rapier] (`rapier2d-f64` 0.36.1, on
 //! parry2d-f64 0.31) runs the same case files as the nonsmooth schemes, so
-//! that researchers can see what a soft-constraint engine gives against them.
-//!
-//! # Mapping of a scenario onto rapier
-//!
-//! - Each floe is a dynamic rigid body whose origin is the floe's centre of
-//!   mass, with one convex polygon collider (the floe's outline about the
-//!   centre of mass, taken as it is: no convex hull); a non-convex floe has
-//!   one compound collider of its convex parts ([`crate::geometry::decompose`],
-//!   built in `convert.rs`). The collider carries the
-//!   floe's own mass `M` and polar inertia `I` about the centre of mass (its
-//!   density is not used), so rapier integrates the same bodies as the other
-//!   formulations. Sleeping is disabled, linear and angular damping are zero,
-//!   and rapier's angular speed cap is lifted (`allow_fast_rotation`).
-//! - Each obstacle is a fixed body with one convex polygon collider in world
-//!   coordinates (a compound of its convex parts when it is not convex).
-//! - No gravity. The environment forces (docs/physics.md §2) are computed
-//!   by the project's one force law, [`ForceModel::forces`] (Dunavant
-//!   quadrature of the water drag), from the state at the start of each step,
-//!   and given to rapier with `add_force`/`add_torque` after clearing the
-//!   previous step's (rapier keeps user forces until they are reset). They
-//!   are held constant over the step and its substeps: an explicit,
-//!   first-order treatment of the drag, so a free-drift trajectory differs
-//!   from the project's integrator by `O(h)`.
-//! - Every collider has the case's restitution `e` and friction `μ` with the
-//!   combine rule `Max`: the pair's coefficient is `max(e, e) = e`, exactly
-//!   the case's value, whatever pair touches.
-//! - rapier's continuous collision detection is turned off
-//!   (`max_ccd_substeps = 0`): its motion clamping drops part of a step's
-//!   motion, which would break the trajectory and the energy ledger. The
-//!   speculative contacts within the prediction distance (below) stop
-//!   approaching bodies instead.
-//! - rapier's linear velocity cap is lifted (`Real::MAX`); contact recycling
-//!   is off, so every contact is recomputed at every step (its `dist` is
-//!   never stale).
-//!
-//! # The scheme (as far as rapier documents it)
-//!
-//! One call to `PhysicsPipeline::step(dt)` is one step `h`:
-//!
-//! 1. collision detection at the poses at the start of the step: broad phase
-//!    (a BVH), then contact manifolds (at most 2 points in 2D) for every pair
-//!    closer than the prediction distance; separated points within it are
-//!    *speculative* contacts;
-//! 2. the TGS-soft solver ("temporal Gauss–Seidel with soft constraints",
-//!    after Catto's *Solver2D*, 2024): the step is cut into `iterations`
-//!    substeps `h/n`; each substep adds the external impulse `F h/n` to the
-//!    velocities, runs one projected Gauss–Seidel sweep on the contacts with
-//!    a soft penetration bias (a damped spring of natural frequency
-//!    `natural_frequency` and damping ratio `damping_ratio`), integrates the
-//!    positions with those velocities (symplectic Euler), then runs one rigid
-//!    sweep without bias ("relax"). Friction is solved in the relax sweep
-//!    only. A speculative contact lets the bodies close their gap within the
-//!    substep but not more;
-//! 3. after the last substep, restitution (Box2D style): every contact that
-//!    is *new* (it carried no impulse at the previous step) and was
-//!    approaching at the start of the step has its normal velocity driven to
-//!    `−e` times that approach velocity. A contact that persists from one step
-//!    to the next never bounces: this is how rapier reaches the accumulation
-//!    point of a bouncing body;
-//! 4. the contact impulses are stored and warm-start the next step.
-//!
-//! # Parameters (`[formulation.rapier]`)
-//!
-//! | key | unit | default | meaning |
-//! | --- | --- | --- | --- |
-//! | `step` | s | 0.1 | step `h`, on the grid `t_k = k h` from t = 0; a case whose `output_interval` or `duration` is not a multiple of it is refused (the scheme reports only states of its grid) |
-//! | `iterations` | – | 4 | substeps `n` (rapier's solver iterations) per step |
-//! | `natural_frequency` | Hz | `n/(4h)` = 10 | contact softness: frequency of the spring that pushes penetration out (a quarter of the substep rate) |
-//! | `damping_ratio` | – | 1 | its damping ratio (critical: no overshoot) |
-//! | `prediction` | m | `h` × 1 m/s = 0.1 | speculative contact distance: approaches up to 1 m/s stop at contact |
-//!
-//! Why these and not rapier's game defaults (1/60 s, 30 Hz with ratio 10,
-//! 2 cm): see [`RapierSettings`] and docs/results/2026-12-04-formulations-notes.md ("The rapier
-//! reference").
-//!
-//! Derived, not settable: rapier's `length_unit` is the smallest floe
-//! radius (it scales rapier's internal tolerances, e.g. the broad phase's
-//! fat-AABB margin `0.04 length_unit`); the largest speed at which a
-//! penetration is pushed out is [`MAX_CORRECTIVE_VELOCITY`]; fixed bodies
-//! get the same softness as floe–floe contacts (rapier's default would make
-//! them twice as stiff).
-//!
-//! # Energy ledger
-//!
-//! Per step of length `h`, with the forces `F` (torque `τ`) from the start
-//! state, the displacement `ΔG` and rotation `Δθ` over the step, and the
-//! kinetic energies `E₀`, `E₁` at its start and end:
-//!
-//! - work of each environment force: `W = F · ΔG + τ Δθ` (the exact work of a
-//!   force held constant along the actual path), split into air, water and
-//!   Coriolis;
-//! - contact dissipation: `D += E₀ + W − E₁`, summed over the floes that
-//!   belong to a pair with contacts seen by the solver during the step
-//!   (speculative ones included). For the other floes, `E₀ + W − E₁` is the
-//!   kinetic-energy defect of rapier's substepped symplectic Euler under a
-//!   constant force, `δ = h² (|F|²/M + τ²/I) / (2n)` over `n` substeps (plus
-//!   the effect of rapier's linearised rotation, `atan(ω h/n)` per substep),
-//!   and it is left in the ledger's residual `E − E₀ − W + D`, which is then
-//!   `−Σδ`: the integration error, as for the other formulations. Free flight
-//!   gives `D = 0` exactly; `Σδ` is reported as `integration_defect_j`.
-//!
-//! The dissipation is therefore measured from kinetic energy and work, not
-//! from rapier's contact impulses (accumulated over substeps with a soft
-//! bias, their power is not available per substep). Steps where contacts
-//! *gave* energy (`D` decreasing) are summed in the counter
-//! `contact_energy_gained_j`.
-//!
-//! # Counters and CPU time
-//!
-//! `steps`, `contact_pair_steps` (sum over steps of the pairs with contacts
-//! seen by the solver, speculative ones included), `max_contact_pairs`,
-//! `max_penetration_m` (the most negative manifold `dist`, i.e. at the
-//! start of each step, as rapier's narrow phase saw it), `force_evaluations`,
-//! and the settings in use. rapier's `step` is one call: its CPU time
-//! (thread CPU time) is split between the stages in the proportions of
-//! rapier's own stage timers (crate feature `profiler`, wall clock):
-//! collision detection → `detection`, island construction, constraint
-//! collection and solver → `solve`, the rest (user changes, position
-//! update) → `integration`. The evaluation of the environment forces is
-//! charged to `integration`.
+//! that researchers can see what a soft-constraint engine gives against
+//! them. **Described once, in docs/physics.md §8**: the mapping of a case
+//! onto rapier (each floe a dynamic body at its centre of mass with the
+//! floe's own mass and inertia, obstacles fixed, the environment forces of
+//! the project's one force law [`ForceModel::forces`] held constant over a
+//! step, `e` and `μ` combined by `Max`, the game safeguards that change the
+//! physics off), its scheme (TGS-soft: substeps of one soft projected
+//! Gauss–Seidel sweep and one rigid relax sweep, restitution after the
+//! substeps on new contacts only), the parameters and why their defaults
+//! differ from rapier's game defaults (`settings.rs`,
+//! [`RapierSettings`]), the energy ledger (dissipation from kinetic
+//! energy and work, the integration defect `δ` of the substepped
+//! symplectic Euler left in the residual), the counters and how the CPU
+//! time is split between stages. rapier's glam types meet the project's
+//! `Vec2` in one place, `convert.rs`.
 //!
 //! # References
 //!

@@ -4,8 +4,9 @@
 use super::axis::{bounds, Fmt};
 use super::line::equal_aspect;
 use super::render::Figure;
-use super::style::{color, font, polygons, titled, OBSTACLE, OBSTACLE_EDGE, TITLE_H};
+use super::style::{color, finite, font, polygons, titled, OBSTACLE, OBSTACLE_EDGE, TITLE_H};
 use super::{Panel, PlotError};
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
@@ -154,7 +155,101 @@ impl Figure for Grid<'_> {
                 OBSTACLE_EDGE,
             )?;
             polygons(&mut chart, panel.floes.iter(), fill, edge)?;
+            floe_labels(&mut chart, panel)?;
         }
         Ok(())
+    }
+}
+
+/// Height of a floe label's font (pixels).
+const LABEL_FONT: u32 = 11;
+
+/// Writes each floe's label of `panel` at its centroid, where the floe is
+/// drawn at least as wide as the label plus 4 pixels and as tall as its
+/// font plus 4: a few large floes get their ids, a dense field none (the
+/// labels would hide the floes).
+fn floe_labels<DB: DrawingBackend>(
+    chart: &mut ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
+    panel: &Panel,
+) -> Result<(), PlotError> {
+    let style = font(LABEL_FONT)
+        .color(&BLACK.mix(0.8))
+        .pos(Pos::new(HPos::Center, VPos::Center));
+    let mut texts = Vec::new();
+    for (poly, label) in panel.floes.iter().zip(&panel.labels) {
+        let poly = finite(poly);
+        let Some(c) = centroid(&poly) else { continue };
+        if label.is_empty() {
+            continue;
+        }
+        let px: Vec<(i32, i32)> = poly.iter().map(|&p| chart.backend_coord(&p)).collect();
+        let span = |f: fn(&(i32, i32)) -> i32| {
+            px.iter().map(f).max().unwrap_or(0) - px.iter().map(f).min().unwrap_or(0)
+        };
+        // DejaVu Sans digits are about 0.64 em wide.
+        let width = (label.chars().count() as f64 * 0.64 * LABEL_FONT as f64).ceil() as i32;
+        if span(|p| p.0) >= width + 4 && span(|p| p.1) >= LABEL_FONT as i32 + 4 {
+            texts.push(Text::new(label.clone(), c, style.clone()));
+        }
+    }
+    chart.draw_series(texts)?;
+    Ok(())
+}
+
+/// The area centroid of the polygon `poly` (m), its vertices' mean when
+/// its area vanishes, `None` when it has no vertex.
+fn centroid(poly: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let n = poly.len();
+    if n == 0 {
+        return None;
+    }
+    let (mut a, mut cx, mut cy) = (0.0, 0.0, 0.0);
+    for (k, p) in poly.iter().enumerate() {
+        let q = poly[(k + 1) % n];
+        let w = p.0 * q.1 - q.0 * p.1;
+        a += w;
+        cx += (p.0 + q.0) * w;
+        cy += (p.1 + q.1) * w;
+    }
+    let scale = poly
+        .iter()
+        .map(|p| p.0.abs().max(p.1.abs()))
+        .fold(0.0, f64::max);
+    if a.abs() > 1e-12 * scale * scale {
+        Some((cx / (3.0 * a), cy / (3.0 * a)))
+    } else {
+        let m = n as f64;
+        Some((
+            poly.iter().map(|p| p.0).sum::<f64>() / m,
+            poly.iter().map(|p| p.1).sum::<f64>() / m,
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::centroid;
+
+    #[test]
+    fn centroid_of_an_l_is_its_area_centroid() {
+        // An L of three unit squares: (0.5,0.5), (1.5,0.5), (0.5,1.5).
+        let l = [
+            (0.0, 0.0),
+            (2.0, 0.0),
+            (2.0, 1.0),
+            (1.0, 1.0),
+            (1.0, 2.0),
+            (0.0, 2.0),
+        ];
+        let (x, y) = centroid(&l).unwrap();
+        assert!((x - 2.5 / 3.0).abs() < 1e-12 && (y - 2.5 / 3.0).abs() < 1e-12);
+        // Clockwise gives the same point.
+        let mut cw = l;
+        cw.reverse();
+        let (xc, yc) = centroid(&cw).unwrap();
+        assert!((xc - x).abs() < 1e-12 && (yc - y).abs() < 1e-12);
+        // No area: the vertices' mean; no vertex: none.
+        assert_eq!(centroid(&[(1.0, 1.0), (3.0, 1.0)]), Some((2.0, 1.0)));
+        assert_eq!(centroid(&[]), None);
     }
 }

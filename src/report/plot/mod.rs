@@ -199,6 +199,10 @@ pub struct Panel {
     pub title: String,
     /// Floe polygons (vertices in metres).
     pub floes: Vec<Vec<(f64, f64)>>,
+    /// The floes' labels (their ids), in the order of `floes` (missing or
+    /// empty: none); each is written at its floe's centroid when the floe
+    /// is drawn wide and tall enough to hold it.
+    pub labels: Vec<String>,
     /// Obstacle polygons (vertices in metres).
     pub obstacles: Vec<Vec<(f64, f64)>>,
 }
