@@ -58,6 +58,15 @@ COUNTERS = [
     "warm_check_impact_different",
     "warm_check_impact_rounding",
     "warm_check_cold_failed",
+    "contact_solves_measured",
+    "contact_residual_median",
+    "contact_residual_p95",
+    "contact_residual_max",
+    "contact_iterations_median",
+    "contact_iterations_p95",
+    "contact_iterations_max",
+    "contact_unconverged",
+    "contact_warm_hit_rate",
     "warm_check_max_difference",
 ]
 
@@ -123,7 +132,8 @@ def main():
     ap.add_argument("--state", default=None,
                     help="trajectory to start from (default target/dense/bay_jam_<N>/trajectory.csv)")
     ap.add_argument("--case", default=None,
-                    help="case file (default cases/fields/bay_jam_<N>.toml)")
+                    help="case file, `{n}` standing for N (default cases/fields/bay_jam_{n}.toml;"
+                         " e.g. cases/fields/bay_jam_{n}_nsgs.toml for the iterative solvers)")
     ap.add_argument("--out", default="target/dense/scaling", help="run folders")
     ap.add_argument("--csv", default=None, help="folder of runs.csv and exponents.csv (default --out)")
     ap.add_argument("--bin", default="target/release/floebench")
@@ -139,13 +149,14 @@ def main():
     os.makedirs(csv_dir, exist_ok=True)
     rows = []
     for n in sizes:
-        case = a.case or f"cases/fields/bay_jam_{n}.toml"
+        case = (a.case or "cases/fields/bay_jam_{n}.toml").replace("{n}", str(n))
         state = a.state or f"target/dense/bay_jam_{n}/trajectory.csv"
         if not os.path.isfile(state):
             print(f"bay_jam_{n}: no {state}; make it with `cargo run --release -- run "
                   f"{case} -f rapier -o {os.path.dirname(state)} --quiet`", file=sys.stderr)
             continue
-        tag = f"bay_jam_{n}_{a.span:g}s_warm_{a.warm}"
+        stem = os.path.splitext(os.path.basename(case))[0]
+        tag = f"{stem}_{a.span:g}s_warm_{a.warm}"
         copy = os.path.join(a.out, tag + ".toml")
         case_copy(case, copy, a.span, warm)
         for form in forms:

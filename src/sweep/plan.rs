@@ -797,8 +797,21 @@ fn plan_formulation(
     // The grid, keys in the order written.
     let mut keys: Vec<(&String, &Spanned<Vec<Spanned<toml::Value>>>)> = f.grid.iter().collect();
     keys.sort_by_key(|(_, v)| v.span().start);
+    // Each other key at its first value: a value that a case refuses alone
+    // may need another key of the grid (`tolerance` with `solver =
+    // "nsgs"`).
+    let firsts: Vec<Setting> = keys
+        .iter()
+        .filter_map(|(key, values)| {
+            let v = values.get_ref().first()?;
+            Some(Setting {
+                key: (*key).clone(),
+                value: v.get_ref().clone(),
+            })
+        })
+        .collect();
     let mut grid = Vec::new();
-    for (key, values) in keys {
+    for &(key, values) in &keys {
         let here = |span: &Range<usize>, m: String| {
             at.err(Some(span), format!("{label}: grid {key}: {m}"))
         };
@@ -819,8 +832,23 @@ fn plan_formulation(
                 key: key.clone(),
                 value: value.clone(),
             }];
+            let mut with_others: Vec<Setting> =
+                firsts.iter().filter(|s| &s.key != key).cloned().collect();
+            with_others.extend(setting.iter().cloned());
             for &c in &chosen {
-                scenario_with(&cases[c], table_of(entry), &setting).map_err(|e| {
+                let checked = scenario_with(&cases[c], table_of(entry), &setting)
+                    .map(|_| ())
+                    .or_else(|e| {
+                        // Accepted beside the others' first values: every
+                        // combination is checked below, with its label.
+                        let others = scenario_with(&cases[c], table_of(entry), &with_others);
+                        if with_others.len() > 1 && others.is_ok() {
+                            Ok(())
+                        } else {
+                            Err(e)
+                        }
+                    });
+                checked.map_err(|e| {
                     here(
                         &v.span(),
                         format!(

@@ -438,6 +438,16 @@ const BAD_PLANS: &[(&str, Option<usize>, &str)] = &[
         Some(5),
         "[formulation.event-driven] unknown key `step`",
     ),
+    (
+        "tolerance_without_solver",
+        Some(9),
+        "tolerance is a setting of the iterative solvers",
+    ),
+    (
+        "negative_tolerance",
+        Some(11),
+        "tolerance = -1e-4 must be finite",
+    ),
 ];
 
 fn bad_plans_dir() -> PathBuf {
@@ -497,6 +507,21 @@ fn bad_plans_are_refused_with_one_line_errors_naming_file_line_and_key() {
         "{stderr}"
     );
     assert!(!out.path().join("o").exists());
+}
+
+#[test]
+fn the_dense_plan_loads_with_each_tolerance_beside_its_solver() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/sweeps/dense_work_precision.toml");
+    let plan = load(&path);
+    let pts = points(&plan);
+    assert_eq!(pts.len(), 18);
+    let p = pts
+        .iter()
+        .find(|p| p.id == "bay_jam_200__moreau__solver=nsgs__tolerance=0.0001")
+        .unwrap_or_else(|| panic!("{:?}", pts.iter().map(|p| &p.id).collect::<Vec<_>>()));
+    let scn = plan.scenario(p.case, p.table, &p.settings).unwrap();
+    let s = floebench::formulation::moreau::MoreauSettings::of(&scn).unwrap();
+    assert_eq!(s.iterative.map(|o| o.tolerance), Some(1e-4));
 }
 
 #[test]
