@@ -132,7 +132,51 @@ impl GroupSolver {
             return self.solve_direct(d, &prob, t, false);
         };
         let a = it.solve(&prob, t, h, d.scn.floes.len());
-        self.iterative_answer(&prob, a, t)
+        self.finish(d, &prob, a, t, false)
+    }
+
+    /// The iterative answer `a` of `prob`, finished exactly when `polish`
+    /// is on (docs/physics.md §3.5, "Exact polish"): the LCP of the same
+    /// problem solved by the pivoting solver from `a`'s active set. The
+    /// record gets the answer returned: the polished one (its residual,
+    /// the iterations plus the pivots), or `a` when the polish failed
+    /// (counted).
+    fn finish(
+        &mut self,
+        d: &GroupData<'_>,
+        prob: &SparseContacts,
+        a: Answer,
+        t: f64,
+        impact: bool,
+    ) -> GroupAnswer {
+        if !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
+            return self.iterative_answer(prob, a, t);
+        }
+        let layout = self.direct.friction_layout(impact);
+        let lcp = ContactLcp::assemble(
+            d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets, layout,
+        );
+        let guess = lcp.guess_from(&a.normal(), &a.tangential());
+        let work = self.direct.work();
+        let Some(z) = self.direct.polish(&lcp, &guess, t) else {
+            return self.iterative_answer(prob, a, t);
+        };
+        let answer = direct_answer(&lcp, &z);
+        let p: Vec<[f64; 2]> = answer
+            .normal
+            .iter()
+            .zip(&answer.tangential)
+            .map(|(l, b)| [*l, *b])
+            .collect();
+        let o = a.outcome;
+        self.accuracy.iterative(
+            prob.residual(&p, true),
+            o.iterations + (self.direct.work() - work),
+            true,
+            prob.len(),
+            a.warm_hits,
+        );
+        answer
     }
 
     /// Records the iterative answer `a` of `prob` and returns it.
@@ -171,7 +215,7 @@ impl GroupSolver {
         match &self.iterative {
             Some(it) if it.solves_impacts() => {
                 let a = it.solve_impact(&prob);
-                self.iterative_answer(&prob, a, t)
+                self.finish(d, &prob, a, t, true)
             }
             _ => self.solve_direct(d, &prob, t, true),
         }
@@ -202,13 +246,7 @@ impl GroupSolver {
             .collect();
         let res = prob.residual(&p, true);
         self.accuracy.direct(res, self.direct.work() - work);
-        GroupAnswer {
-            compliance: (0..lcp.m).map(|j| lcp.tangential_compliance(j)).collect(),
-            impulses: lcp.impulses(&z),
-            dv: lcp.velocity_changes(&z),
-            normal,
-            tangential,
-        }
+        direct_answer(&lcp, &z)
     }
 
     /// The counters of both solvers and of the accuracy record.
@@ -225,5 +263,16 @@ impl GroupSolver {
             Some(it) => it.settings(s),
             None => s,
         }
+    }
+}
+
+/// The answer of the LCP `lcp` whose unknowns are `z`.
+fn direct_answer(lcp: &ContactLcp, z: &[f64]) -> GroupAnswer {
+    GroupAnswer {
+        compliance: (0..lcp.m).map(|j| lcp.tangential_compliance(j)).collect(),
+        impulses: lcp.impulses(z),
+        dv: lcp.velocity_changes(z),
+        normal: lcp.normal(z),
+        tangential: lcp.tangential(z),
     }
 }

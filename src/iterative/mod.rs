@@ -133,6 +133,11 @@ pub struct IterativeOptions {
     /// `relaxation`: NSGS over-relaxation ω (default 1: plain
     /// Gauss–Seidel; APGD takes no relaxation).
     pub relaxation: f64,
+    /// `polish`: finish every NSGS answer exactly, by the pivoting solver
+    /// started from the answer's active set (docs/physics.md §3.5, "Exact
+    /// polish"; default off: the answer at the tolerance is the result).
+    /// APGD has none: its answer solves the cone relaxation, not the LCP.
+    pub polish: bool,
 }
 
 impl IterativeOptions {
@@ -143,6 +148,7 @@ impl IterativeOptions {
             tolerance: DEFAULT_TOLERANCE,
             max_iterations: DEFAULT_MAX_ITERATIONS,
             relaxation: 1.0,
+            polish: false,
         }
     }
 
@@ -158,11 +164,13 @@ impl IterativeOptions {
         let tolerance = r.bounded(&TOLERANCE)?;
         let max_iterations = r.integer(&MAX_ITERATIONS)?;
         let relaxation = r.bounded(&RELAXATION)?;
+        let polish = r.boolean("polish")?;
         let Some(method) = method else {
             let given = [
                 ("tolerance", tolerance.is_some()),
                 ("max_iterations", max_iterations.is_some()),
                 ("relaxation", relaxation.is_some()),
+                ("polish", polish.is_some()),
             ];
             return match given.iter().find(|(_, g)| *g) {
                 Some((key, _)) => Err(r.error(
@@ -180,12 +188,19 @@ impl IterativeOptions {
                 "relaxation is a setting of solver = \"nsgs\" (Gauss-Seidel's ω); apgd chooses its own step",
             ));
         }
+        if method == Method::Apgd && polish.is_some() {
+            return Err(r.error(
+                "polish",
+                "polish is a setting of solver = \"nsgs\": apgd's answer solves the cone relaxation, which has no exact Coulomb LCP to finish on",
+            ));
+        }
         let d = IterativeOptions::new(method);
         Ok(Some(IterativeOptions {
             method,
             tolerance: tolerance.unwrap_or(d.tolerance),
             max_iterations: max_iterations.map_or(d.max_iterations, |k| k.max(1) as u64),
             relaxation: relaxation.unwrap_or(d.relaxation),
+            polish: polish.unwrap_or(d.polish),
         }))
     }
 }
@@ -281,7 +296,9 @@ impl IterativeSolver {
             .number("tolerance", o.tolerance, Unit::Dimensionless)
             .number("max_iterations", o.max_iterations as f64, Unit::Count);
         match o.method {
-            Method::Nsgs => s.number("relaxation", o.relaxation, Unit::Dimensionless),
+            Method::Nsgs => s
+                .number("relaxation", o.relaxation, Unit::Dimensionless)
+                .text("polish", if o.polish { "on" } else { "off" }),
             Method::Apgd => s,
         }
     }

@@ -383,6 +383,71 @@ fn apgd_solves_the_frictionless_problems_as_lemke_does() {
     }
 }
 
+/// The largest distance between the centres of mass of `a` and `b` at
+/// their common output times, m.
+fn largest_distance(a: &floebench::run::RunResult, b: &floebench::run::RunResult) -> f64 {
+    a.trajectory
+        .iter()
+        .zip(&b.trajectory)
+        .map(|(p, q)| {
+            assert_eq!((p.t, p.floe), (q.t, q.floe));
+            (p.x - q.x).hypot(p.y - q.y)
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn polish_finishes_a_loose_nsgs_answer_on_lemkes() {
+    // docs/physics.md §3.5, "Exact polish": NSGS stopped at a loose 1e-2,
+    // then finished by the pivoting solver from its active set, gives
+    // Lemke's trajectories (these problems have one solution); without the
+    // polish it misses them by the tolerance's effect.
+    for (case, formulation) in [
+        ("newtons_cannon", "moreau"),
+        ("newtons_cannon", "event-driven"),
+        ("cradle_touching", "moreau"),
+        ("cradle_touching", "event-driven"),
+    ] {
+        let lemke = run(&scenario(&case_text(case)), formulation);
+        let loose = "solver = \"nsgs\"\ntolerance = 1e-2";
+        let raw = run(
+            &scenario(&with_settings(case, formulation, loose)),
+            formulation,
+        );
+        let polished = run(
+            &scenario(&with_settings(
+                case,
+                formulation,
+                &format!("{loose}\npolish = true"),
+            )),
+            formulation,
+        );
+        let solves = counter(&polished, "polish_solves");
+        assert!(solves >= 1.0, "{case} {formulation}: no polish");
+        assert_eq!(counter(&polished, "polish_failed"), 0.0);
+        assert_eq!(
+            solves,
+            counter(&polished, "contact_solves_measured"),
+            "{case} {formulation}: every answer polished"
+        );
+        let res = counter(&polished, "contact_residual_max");
+        assert!(
+            res <= 1e-9,
+            "{case} {formulation}: polished residual {res:e}"
+        );
+        let (d_polished, d_raw) = (
+            largest_distance(&lemke, &polished),
+            largest_distance(&lemke, &raw),
+        );
+        eprintln!("{case} {formulation}: off Lemke by {d_polished:e} m polished, {d_raw:e} m not");
+        assert!(
+            d_polished <= 1e-9,
+            "{case} {formulation}: polished answer {d_polished:e} m off Lemke's"
+        );
+        assert!(d_raw > 1e3 * d_polished.max(1e-12), "{case} {formulation}");
+    }
+}
+
 #[test]
 fn the_contact_cache_starts_sustained_contacts_warm() {
     let scn = scenario(&with_settings(
@@ -445,6 +510,21 @@ fn bad_iterative_settings_are_refused_with_their_line() {
             "moreau",
             "solver = \"lcp\"\ntolerance = 1e-6",
             "not of solver = \"lcp\"",
+        ),
+        (
+            "moreau",
+            "solver = \"apgd\"\npolish = true",
+            "apgd's answer solves the cone relaxation",
+        ),
+        (
+            "moreau",
+            "solver = \"lcp\"\npolish = true",
+            "polish is a setting of the iterative solvers",
+        ),
+        (
+            "moreau",
+            "solver = \"nsgs\"\npolish = 1",
+            "must be true or false",
         ),
         ("event-driven", "tolerance = 1e-6", "iterative solvers"),
         ("event-driven", "solver = \"gauss\"", "`nsgs` or `apgd`"),

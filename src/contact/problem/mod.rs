@@ -88,7 +88,7 @@ pub use pattern::spare_matrix_capacity;
 
 use super::{Contact, ContactKey};
 use crate::lcp::sparse::Columns;
-use crate::lcp::Lcp;
+use crate::lcp::{BasisGuess, Lcp};
 use faer::Mat;
 
 /// Generalised velocity (or impulse) of one floe: `(x, y, θ)` components.
@@ -326,6 +326,48 @@ impl ContactLcp {
         }
         let (n, r) = (self.lcp.n, self.m + 2 * self.friction_group(j));
         self.lcp.m[r * n + r] * self.scale
+    }
+
+    /// The basis and starting point that the impulses `normal`, `tangential`
+    /// (N·s per contact, e.g. an iterative answer) give this LCP: `λ_j > 0`
+    /// basic; a friction group's resultant `β = Σ β_j` in `β̃⁺` (positive)
+    /// or `β̃⁻` (negative); its slip `α` basic when `|β|` reaches the cone
+    /// `μ Σ λ_j` (to 1e-6 of it: sliding), else its slack. The exact
+    /// finish of an iterative answer starts there (docs/physics.md §3.5).
+    pub fn guess_from(&self, normal: &[f64], tangential: &[f64]) -> BasisGuess {
+        let n = self.lcp.n;
+        let mut g = BasisGuess {
+            basic: vec![false; n],
+            z: vec![0.0; n],
+        };
+        for (j, &l) in normal.iter().enumerate().take(self.m) {
+            if l > 0.0 {
+                g.basic[j] = true;
+                g.z[j] = l * self.scale;
+            }
+        }
+        if !self.friction {
+            return g;
+        }
+        let (m, nf) = (self.m, self.friction_groups);
+        let mut lam = vec![0.0; nf];
+        let mut beta = vec![0.0; nf];
+        for j in 0..m {
+            let k = self.friction_group(j);
+            lam[k] += normal.get(j).copied().unwrap_or(0.0).max(0.0);
+            beta[k] += tangential.get(j).copied().unwrap_or(0.0);
+        }
+        for k in 0..nf {
+            let (plus, minus, alpha) = (m + 2 * k, m + 2 * k + 1, m + 2 * nf + k);
+            let b = beta[k] * self.scale;
+            if b > 0.0 {
+                (g.basic[plus], g.z[plus]) = (true, b);
+            } else if b < 0.0 {
+                (g.basic[minus], g.z[minus]) = (true, -b);
+            }
+            g.basic[alpha] = lam[k] > 0.0 && beta[k].abs() >= (1.0 - 1e-6) * self.mu * lam[k];
+        }
+        g
     }
 
     /// The frictionless sub-problem (normal block only), for the last resort

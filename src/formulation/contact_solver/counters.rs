@@ -30,6 +30,26 @@ pub const LCP_UNRESOLVED: Counter = Counter::sum(
     "lcp_unresolved",
     "contact problems left without impulse: every attempt failed",
 );
+/// Iterative answers finished exactly by the pivoting solver (`polish`).
+pub const POLISH_SOLVES: Counter = Counter::sum(
+    "polish_solves",
+    "NSGS answers finished exactly by the pivoting solver from their active set (polish)",
+);
+/// Polished answers whose active set was the exact one (the basis solve
+/// from it was accepted: no Lemke pivot).
+pub const POLISH_ACTIVE_SET_EXACT: Counter = Counter::sum(
+    "polish_active_set_exact",
+    "polished answers whose active set was the exact one (accepted by the basis solve, no Lemke pivot)",
+);
+/// Polishes that failed: the NSGS answer was kept.
+pub const POLISH_FAILED: Counter = Counter::sum(
+    "polish_failed",
+    "polishes whose LCP no attempt solved: the NSGS answer was kept",
+);
+/// The polish counters, declared when polish is on.
+pub const POLISH_COUNTERS: &[&Counter] =
+    &[&POLISH_SOLVES, &POLISH_ACTIVE_SET_EXACT, &POLISH_FAILED];
+
 /// Lemke pivots over every attempt.
 pub const LEMKE_PIVOTS: Counter = Counter::sum("lemke_pivots", "Lemke pivots over every attempt");
 /// Most pivots of one solve.

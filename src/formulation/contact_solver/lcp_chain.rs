@@ -77,6 +77,27 @@ impl ContactSolver {
         sol
     }
 
+    /// The exact finish of an iterative answer (`polish`,
+    /// docs/physics.md §3.5): `lcp` solved from `guess`, the iterative
+    /// answer's active set and impulses (basis solves from it, then the
+    /// cold chain), recorded like every LCP. Returns `z` when an attempt
+    /// solved it, `None` (counted) when none did.
+    pub fn polish(&mut self, lcp: &ContactLcp, guess: &BasisGuess, t: f64) -> Option<Vec<f64>> {
+        self.counters.declare(POLISH_COUNTERS);
+        self.counters.add(&POLISH_SOLVES, 1);
+        let sol = self.lemke(lcp, Some(guess));
+        self.record_solve(lcp, &sol, t);
+        if sol.accepted_by == Some(Strategy::WarmStart) {
+            self.counters.add(&POLISH_ACTIVE_SET_EXACT, 1);
+        }
+        if sol.status.is_solved() {
+            Some(sol.z)
+        } else {
+            self.counters.add(&POLISH_FAILED, 1);
+            None
+        }
+    }
+
     /// Counts one solve from a predicted basis `p` with outcome `sol`.
     pub(super) fn count_prediction(&mut self, lcp: &ContactLcp, p: &Prediction, sol: &LcpSolution) {
         let c = &mut self.counters;
