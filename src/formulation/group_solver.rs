@@ -13,7 +13,7 @@
 //! docs/physics.md §3.5), which the direct solvers refuse.
 
 use super::contact_solver::{ContactSolver, SolverKind};
-use crate::contact::problem::{ContactGroup, ContactLcp, Gen};
+use crate::contact::problem::{ContactGroup, ContactLcp, Friction, Gen};
 use crate::contact::Contact;
 use crate::geometry::Vec2;
 use crate::iterative::{Answer, IterativeOptions, IterativeSolver, Method, SparseContacts};
@@ -132,7 +132,7 @@ impl GroupSolver {
             return self.solve_direct(d, &prob, t, false);
         };
         let a = it.solve(&prob, t, h, d.scn.floes.len());
-        self.finish(d, &prob, a, t, false)
+        self.finish(d, &prob, a, t)
     }
 
     /// The iterative answer `a` of `prob`, finished exactly when `polish`
@@ -147,14 +147,21 @@ impl GroupSolver {
         prob: &SparseContacts,
         a: Answer,
         t: f64,
-        impact: bool,
     ) -> GroupAnswer {
         if !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
             return self.iterative_answer(prob, a, t);
         }
-        let layout = self.direct.friction_layout(impact);
+        // The NSGS problem itself: one friction pair per point (merged
+        // friction would change the problem, and its answers are not
+        // per-point Coulomb).
         let lcp = ContactLcp::assemble(
-            d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets, layout,
+            d.scn,
+            d.centres,
+            d.contacts,
+            d.group,
+            d.w_free,
+            d.offsets,
+            Friction::PerPoint,
         );
         let guess = lcp.guess_from(&a.normal(), &a.tangential());
         let work = self.direct.work();
@@ -215,7 +222,7 @@ impl GroupSolver {
         match &self.iterative {
             Some(it) if it.solves_impacts() => {
                 let a = it.solve_impact(&prob);
-                self.finish(d, &prob, a, t, true)
+                self.finish(d, &prob, a, t)
             }
             _ => self.solve_direct(d, &prob, t, true),
         }
