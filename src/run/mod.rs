@@ -5,7 +5,7 @@
 //! trajectory) and the energy ledger: kinetic energy `E`, the cumulative work
 //! of air, water and Coriolis forces `W_ext`, the energy dissipated by
 //! contacts `D`, the energy fractures spent on cracks `F`, and the balance
-//! residual `E(t) − E(0) − W_ext + D + F`, which is zero for an exact
+//! residual `E(t) − E(0) − W_ext + D + F + L`, which is zero for an exact
 //! integration ([`energy`]).
 //!
 //! [`energy`] holds the ledger's samples and totals; [`output`] writes a
