@@ -396,7 +396,10 @@ impl Runner {
         // are zero, not the non-finite initial energy.
         let gain = scn.history.fractures.iter().map(|f| f.kinetic_gain).sum();
         let totals = EnergyTotals::of(&energy, gain);
-        let counters = form.counters();
+        // The topology stage's counters (the lattice impacts', §9.10) with
+        // the formulation's.
+        let mut counters = form.counters();
+        counters.absorb(&crate::formulation::Topology::counters(&topology));
         let summary = RunSummary {
             case: scn.name.clone(),
             formulation: label.to_string(),
