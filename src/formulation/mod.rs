@@ -452,6 +452,17 @@ impl Instance {
     }
 }
 
+/// The names of the registry's entries for which `pred` holds,
+/// comma-separated, in registry order.
+fn names_where(pred: impl Fn(&Entry) -> bool) -> String {
+    REGISTRY
+        .iter()
+        .filter(|e| pred(e))
+        .map(|e| e.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The formulation called `name`, set up for `scn`.
 pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<Instance, String> {
     let entry = entry(name)?;
@@ -460,24 +471,14 @@ pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<In
             "{name} does not break floes yet, and case `{}` asks for it ([fracture] model = \"{}\"); formulations that do: {}",
             scn.name,
             scn.fracture.model.name(),
-            REGISTRY
-                .iter()
-                .filter(|e| e.supports_fracture)
-                .map(|e| e.name)
-                .collect::<Vec<_>>()
-                .join(", ")
+            names_where(|e| e.supports_fracture)
         ));
     }
     if scn.fracture.lattice_impacts() && !entry.lattice_impacts {
         return Err(format!(
             "{name} has no impact event to resolve in the lattices, and case `{}` asks for it ([fracture] impact = \"lattice\", docs/physics.md §9.10); formulations that do: {}",
             scn.name,
-            REGISTRY
-                .iter()
-                .filter(|e| e.lattice_impacts)
-                .map(|e| e.name)
-                .collect::<Vec<_>>()
-                .join(", ")
+            names_where(|e| e.lattice_impacts)
         ));
     }
     Ok(Instance {
