@@ -57,17 +57,26 @@ pub struct Ledger {
     pub dissipated: f64,
     /// Of the energy contacts removed, the part fractures spent on their
     /// cracks, J (docs/physics.md §9.4; zero without fracture). It is not
-    /// in `dissipated`: the balance is `E − E(0) − W_ext + D + F = 0`.
+    /// in `dissipated`: the balance is `E − E(0) − W_ext + D + F + L = 0`.
     pub fracture: f64,
+    /// Of the energy impacts removed, the part the floes' lattices keep in
+    /// internal vibration (`impact = "lattice"`, docs/physics.md §9.10;
+    /// zero otherwise), J. Not in `dissipated`.
+    pub vibration: f64,
+    /// Of the energy impacts removed, the part the lattices' dashpots took
+    /// (`impact = "lattice"`, docs/physics.md §9.10; zero otherwise), J.
+    /// Not in `dissipated`.
+    pub dashpot: f64,
 }
 
 /// How an exchange of the [`Ledger`] enters the energy balance
-/// `E − E(0) − W_ext + D + F = 0`.
+/// `E − E(0) − W_ext + D + F + L = 0` (`L` the lattices' vibration and
+/// dashpot energies, docs/physics.md §9.10).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Exchange {
     /// Work of an external force on the floes, in `W_ext`.
     External,
-    /// Energy contacts removed from the floes, in `D + F`.
+    /// Energy contacts removed from the floes, in `D + F + L`.
     Removed,
 }
 
@@ -141,6 +150,24 @@ impl Ledger {
             fracture_only: true,
             get: |l| l.fracture,
         },
+        LedgerField {
+            name: "vibration",
+            metric: "vibration_energy",
+            unit: "J",
+            description: "energy left in the lattices' vibration",
+            exchange: Exchange::Removed,
+            fracture_only: true,
+            get: |l| l.vibration,
+        },
+        LedgerField {
+            name: "dashpot",
+            metric: "dashpot_energy",
+            unit: "J",
+            description: "energy taken by the lattices' dashpots",
+            exchange: Exchange::Removed,
+            fracture_only: true,
+            get: |l| l.dashpot,
+        },
     ];
 
     /// Every field with its value, in the order of [`Ledger::FIELDS`].
@@ -164,12 +191,12 @@ impl Ledger {
     }
 
     /// Energy removed from the floes by contacts, dissipated or spent on
-    /// cracks, `D + F`, J.
+    /// cracks or left in the lattices, `D + F + L`, J.
     pub fn removed(&self) -> f64 {
         self.sum(Exchange::Removed)
     }
 
-    /// The balance residual `E − E(0) − W_ext + D + F` of kinetic energy
+    /// The balance residual `E − E(0) − W_ext + D + F + L` of kinetic energy
     /// `kinetic` against `initial_kinetic` (J), which is zero for an exact
     /// integration, J. The removed energies are added one by one, in the
     /// order of [`Ledger::FIELDS`].
@@ -434,12 +461,14 @@ mod tests {
             work_coriolis: 3.0,
             dissipated: 4.0,
             fracture: 5.0,
+            vibration: 6.0,
+            dashpot: 7.0,
         };
         let mut read: Vec<f64> = l.values().map(|(_, v)| v).collect();
         read.sort_by(f64::total_cmp);
         let every: Vec<f64> = (1..=Ledger::FIELDS.len()).map(|k| k as f64).collect();
         assert_eq!(read, every);
-        assert_eq!(Ledger::FIELDS.len(), 5, "a field added to the literal");
+        assert_eq!(Ledger::FIELDS.len(), 7, "a field added to the literal");
         for (i, a) in Ledger::FIELDS.iter().enumerate() {
             for b in &Ledger::FIELDS[i + 1..] {
                 assert!(a.name != b.name && a.metric != b.metric, "{}", a.name);
@@ -457,6 +486,8 @@ mod tests {
             work_coriolis: 1e-17,
             dissipated: 0.3,
             fracture: 0.2,
+            vibration: 0.0,
+            dashpot: 0.0,
         };
         let ext = l.work_air + l.work_water + l.work_coriolis;
         assert_eq!(l.external_work().to_bits(), ext.to_bits());
@@ -477,7 +508,7 @@ mod tests {
         let json = serde_json::to_string(&l).unwrap();
         assert_eq!(
             json,
-            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0}"#
+            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0,"vibration":0.0,"dashpot":0.0}"#
         );
     }
 }

@@ -152,7 +152,10 @@ fn refuse_ignored_contacts<'a>(
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| format!("-f: {e}"))?;
     for (path, scn) in cases {
-        if let Some(e) = entries.iter().find(|e| !e.applies(scn)) {
+        if let Some(e) = entries
+            .iter()
+            .find(|e| !(e.resolves_contacts || scn.contact_free()))
+        {
             return Err(format!(
                 "{} ignores contacts and {} has obstacles or moving floes; --allow-contacts runs it anyway",
                 e.name,

@@ -14,6 +14,14 @@
 //! - [`Topology::sustained`]: the impulses that sustained contact forces
 //!   delivered over a step (an event-driven scheme's smooth step);
 //!
+//! and, before applying its rigid impact law to a group of contacts, asks
+//! [`Topology::impact`] whether the stage resolves it instead (`[fracture]
+//! impact = "lattice"`: the pair's lattices, docs/physics.md §9.10): the
+//! query is built from the group's impacting contacts by
+//! [`ImpactQuery::of`], the answer's velocities replace the rigid law's and
+//! [`ImpactAnswer::book`] books its energies, the same way in every
+//! formulation;
+//!
 //! and names the *safe points* of its scheme, where the floe set may change
 //! (between two steps of a fixed grid; at an impact instant, before the
 //! instant starts again): there it calls [`Context::change_floes`], and
@@ -22,10 +30,11 @@
 //! fracture and never splits a floe; a new formulation that reports its
 //! solves gets fracture (docs/physics.md §9.5) for free.
 
-use crate::contact::Load;
-use crate::model::Scenario;
-use crate::record::StageClock;
-use crate::state::System;
+use crate::contact::{Contact, Load};
+use crate::geometry::Vec2;
+use crate::model::{Body, Scenario};
+use crate::record::{Counters, StageClock};
+use crate::state::{BodyState, Ledger, System};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
@@ -40,6 +49,119 @@ pub struct Reads {
     /// ([`Topology::sustained`]): read by the stress criterion only, which
     /// keeps a window of the floe's stress (docs/physics.md §9.3).
     pub sustained: bool,
+    /// Whether it resolves impacts ([`Topology::impact`]): `[fracture]
+    /// impact = "lattice"` (docs/physics.md §9.10).
+    pub impacts: bool,
+}
+
+/// An impact of one pair of bodies as a formulation hands it to the
+/// topology stage ([`Topology::impact`], docs/physics.md §9.10).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactQuery {
+    /// The two bodies (body ids: floes, then obstacles); the first is a
+    /// floe.
+    pub bodies: [usize; 2],
+    /// Their poses and velocities just before the impact (an obstacle's is
+    /// the first's, unused).
+    pub states: [BodyState; 2],
+    /// The contact point: the mean of the pair's impacting contact points,
+    /// m (world).
+    pub point: Vec2,
+    /// The unit normal from the first body towards the second: the mean of
+    /// the pair's contact normals.
+    pub normal: Vec2,
+    /// How many pairs of bodies the group's impacting contacts hold: the
+    /// stage resolves a group of one pair only.
+    pub pairs: usize,
+}
+
+impl ImpactQuery {
+    /// The query of a group's impacting contacts `contacts` (at least
+    /// one), the floes' states given by `state` (floe index → its pose and
+    /// velocities before the impact): the pair of the first contact, its
+    /// contacts' mean point and normal; `None` without a contact or when
+    /// the normals cancel.
+    pub fn of(
+        scn: &Scenario,
+        contacts: &[&Contact],
+        state: impl Fn(usize) -> BodyState,
+    ) -> Option<ImpactQuery> {
+        let key = |c: &Contact| (c.a.min(c.b), c.a.max(c.b));
+        let mut pairs: Vec<(usize, usize)> = contacts.iter().map(|c| key(c)).collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        let first = contacts.first()?;
+        let (mut point, mut normal, mut count) = (Vec2::zeros(), Vec2::zeros(), 0.0);
+        for c in contacts.iter().filter(|c| key(c) == key(first)) {
+            let sign = if c.a == first.a { 1.0 } else { -1.0 };
+            point += c.geom.point;
+            normal += c.geom.normal * sign;
+            count += 1.0;
+        }
+        let norm = normal.norm();
+        if !(norm > 0.0 && norm.is_finite()) {
+            return None;
+        }
+        let (bodies, normal) = match scn.body(first.a) {
+            Body::Floe(_) => ([first.a, first.b], normal / norm),
+            Body::Obstacle(_) => ([first.b, first.a], -normal / norm),
+        };
+        let states = bodies.map(|b| match scn.body(b) {
+            Body::Floe(i) => state(i),
+            Body::Obstacle(_) => state(bodies[0]),
+        });
+        Some(ImpactQuery {
+            bodies,
+            states,
+            point: point / count,
+            normal,
+            pairs: pairs.len(),
+        })
+    }
+}
+
+/// How the topology stage resolved an impact ([`Topology::impact`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ImpactAnswer {
+    /// The query's bodies' velocities (m/s) and angular velocities (rad/s)
+    /// after the impact, in its order (an obstacle's unused).
+    pub velocities: [(Vec2, f64); 2],
+    /// Energy the lattices kept in vibration (and in their contact
+    /// springs, if any), J.
+    pub vibration: f64,
+    /// Energy their dashpots took, J.
+    pub dashpot: f64,
+    /// The effective restitution of the impact (-).
+    pub restitution: f64,
+}
+
+impl ImpactAnswer {
+    /// The floes it sets: (floe index, velocity, angular velocity).
+    pub fn floes<'a>(
+        &'a self,
+        scn: &'a Scenario,
+        query: &'a ImpactQuery,
+    ) -> impl Iterator<Item = (usize, Vec2, f64)> + 'a {
+        query
+            .bodies
+            .iter()
+            .zip(&self.velocities)
+            .filter_map(|(&b, &(v, w))| match scn.body(b) {
+                Body::Floe(i) => Some((i, v, w)),
+                Body::Obstacle(_) => None,
+            })
+    }
+
+    /// Books an impact that took the pair's rigid kinetic energy from
+    /// `before` to `after` (J): the lattices' vibration and dashpot
+    /// energies in their columns, the rest (the lattice integration's
+    /// energy error and the lattices' rigid inertia against the floes') in
+    /// `dissipated` (docs/physics.md §9.10), so the ledger closes.
+    pub fn book(&self, ledger: &mut Ledger, before: f64, after: f64) {
+        ledger.vibration += self.vibration;
+        ledger.dashpot += self.dashpot;
+        ledger.dissipated += (before - after) - (self.vibration + self.dashpot);
+    }
 }
 
 /// The run's topology stage as a formulation sees it (see the module doc).
@@ -64,6 +186,29 @@ pub trait Topology {
     /// The impulses `loads` that sustained contact forces delivered over
     /// `[from, to]` (s), on the floes of `sys`.
     fn sustained(&mut self, scn: &Scenario, sys: &System, loads: &[Load], from: f64, to: f64);
+
+    /// Resolves the impact `query` in the pair's lattices when the stage
+    /// reads impacts ([`Reads::impacts`]), instead of the formulation's
+    /// rigid law (docs/physics.md §9.10); `sys` is the state the query's
+    /// positions are those of. `None`: the formulation applies its rigid
+    /// law (the default; a group of several pairs, counted; a lattice
+    /// that fails, counted). The stage may queue fractures from the
+    /// impact's impulses, for the next safe point.
+    fn impact(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        query: &ImpactQuery,
+    ) -> Option<ImpactAnswer> {
+        let _ = (scn, sys, query);
+        None
+    }
+
+    /// Its own counters, added to the formulation's in `summary.json`
+    /// (the default: none).
+    fn counters(&self) -> Counters {
+        Counters::default()
+    }
 
     /// Whether a change of the floe set waits for the formulation's next
     /// safe point.

@@ -31,6 +31,7 @@ pub const ENTRY: Entry = Entry {
     resolves_contacts: false,
     dumps_lcps: false,
     supports_fracture: true,
+    lattice_impacts: true,
     not_claimed: &[],
 };
 

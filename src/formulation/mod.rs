@@ -49,7 +49,7 @@ use crate::model::{
 use crate::physics::{SmoothIntegrator, StepRecord};
 use crate::record::{ContactLog, Counters, Settings, SolveProfile};
 use crate::state::System;
-pub use context::{Context, FixedTopology, Interrupt, Reads, Topology};
+pub use context::{Context, FixedTopology, ImpactAnswer, ImpactQuery, Interrupt, Reads, Topology};
 use std::path::Path;
 
 /// A failure that stops a run (a failed LCP is not one: it is counted and
@@ -383,6 +383,11 @@ pub struct Entry {
     /// table with a model, docs/physics.md §9); one that does not is not
     /// run on such a case (a run of it is refused).
     pub supports_fracture: bool,
+    /// Whether it offers its impacts to the topology stage
+    /// ([`Topology::impact`]), so that `[fracture] impact = "lattice"`
+    /// resolves them in the floes' lattices (docs/physics.md §9.10); one
+    /// that does not is not run on such a case (a run of it is refused).
+    pub lattice_impacts: bool,
     /// The checks it does not claim; every other check that applies is
     /// claimed.
     pub not_claimed: &'static [NotClaimed],
@@ -394,6 +399,7 @@ impl Entry {
     pub fn applies(&self, scn: &Scenario) -> bool {
         (self.resolves_contacts || scn.contact_free())
             && (self.supports_fracture || !scn.fracture.enabled())
+            && (self.lattice_impacts || !scn.fracture.lattice_impacts())
     }
 
     /// The reason the formulation does not claim `check` on `case`, or
@@ -446,6 +452,17 @@ impl Instance {
     }
 }
 
+/// The names of the registry's entries for which `pred` holds,
+/// comma-separated, in registry order.
+fn names_where(pred: impl Fn(&Entry) -> bool) -> String {
+    REGISTRY
+        .iter()
+        .filter(|e| pred(e))
+        .map(|e| e.name)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// The formulation called `name`, set up for `scn`.
 pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<Instance, String> {
     let entry = entry(name)?;
@@ -454,12 +471,14 @@ pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<In
             "{name} does not break floes yet, and case `{}` asks for it ([fracture] model = \"{}\"); formulations that do: {}",
             scn.name,
             scn.fracture.model.name(),
-            REGISTRY
-                .iter()
-                .filter(|e| e.supports_fracture)
-                .map(|e| e.name)
-                .collect::<Vec<_>>()
-                .join(", ")
+            names_where(|e| e.supports_fracture)
+        ));
+    }
+    if scn.fracture.lattice_impacts() && !entry.lattice_impacts {
+        return Err(format!(
+            "{name} has no impact event to resolve in the lattices, and case `{}` asks for it ([fracture] impact = \"lattice\", docs/physics.md §9.10); formulations that do: {}",
+            scn.name,
+            names_where(|e| e.lattice_impacts)
         ));
     }
     Ok(Instance {

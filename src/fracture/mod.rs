@@ -10,7 +10,9 @@
 //! [`apply_split`] replaces each by its pieces in the scenario, the state
 //! and the history together. Without a `[fracture]` table (or
 //! `model = "none"`) nothing here runs. The lattice model (`strike`) keeps
-//! the crack of its largest percussion in the history ([`crack`]).
+//! the crack of its largest percussion in the history ([`crack`]). With
+//! `impact = "lattice"` the stage also resolves impacts of one pair in
+//! the floes' lattices ([`impact`], docs/physics.md §9.10).
 //!
 //! To add a fracture rule: its name in [`FractureModel`] and the case
 //! keys it reads with their limits (`src/model/fracture.rs`,
@@ -23,6 +25,7 @@
 
 pub mod chain;
 pub mod crack;
+pub mod impact;
 pub mod lattice;
 pub mod split;
 pub mod stage;
@@ -284,12 +287,7 @@ impl Fracturer {
         // The decision's line is the cut of the other models; the lattice's
         // pieces do not use it, so it only records the first striker.
         let first = *impacts.first()?;
-        let lattice = match self.lattices.entry(f.id) {
-            std::collections::btree_map::Entry::Occupied(e) => e.into_mut(),
-            std::collections::btree_map::Entry::Vacant(e) => {
-                e.insert(lattice::Lattice::build(&f.shape, strike::lattice_spec(s, f)).ok()?)
-            }
-        };
+        let lattice = self.lattice_of(scn, f).ok()?;
         let always = s.trigger == crate::model::fracture::Trigger::Always;
         let out = strike::strike_all(
             lattice,

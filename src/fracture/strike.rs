@@ -48,17 +48,13 @@ use super::lattice::{Lattice, LatticeSpec};
 use super::split::{self, Piece};
 use super::PairLoad;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, rotate, Vec2};
-use crate::model::fracture::{FractureSettings, LatticeRule, DEFAULT_SPACING_FRACTION};
+pub use crate::model::fracture::lattice_spacing;
+use crate::model::fracture::{FractureSettings, LatticeRule};
 use crate::model::{Body, Floe, Scenario};
 use crate::state::{BodyState, System};
 
-/// The largest lattice spacing for a floe of area `A`, as a fraction of
-/// `√A`: four cells across, below which a lattice has no interior.
-const MAX_SPACING_FRACTION: f64 = 0.25;
-
 /// The lattice of `floe` in the case's `[fracture]` table: its spacing
-/// (`spacing`, or [`DEFAULT_SPACING_FRACTION`] of `√A`, at most
-/// [`MAX_SPACING_FRACTION`] of it), its thickness and density, `young` and
+/// ([`lattice_spacing`]), its thickness and density, `young` and
 /// `seed`. The one place a [`LatticeSpec`] of a run is made.
 pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
     LatticeSpec {
@@ -70,16 +66,6 @@ pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
         seed: s.seed,
         mesh: super::lattice::Mesh::Random,
     }
-}
-
-/// The lattice spacing (m) of a floe of area `area` (m²) in the case's
-/// `[fracture]` table: `spacing`, or [`DEFAULT_SPACING_FRACTION`] of `√A`,
-/// at most [`MAX_SPACING_FRACTION`] of it.
-pub fn lattice_spacing(s: &FractureSettings, area: f64) -> f64 {
-    let size = area.sqrt();
-    s.spacing
-        .unwrap_or(DEFAULT_SPACING_FRACTION * size)
-        .min(MAX_SPACING_FRACTION * size)
 }
 
 /// The largest centrifugal strain of a spinning floe over its bonds'

@@ -132,6 +132,94 @@ impl std::str::FromStr for Trigger {
     }
 }
 
+/// What sets the floes' velocities after an impact (docs/physics.md §9.10).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ImpactLaw {
+    /// The formulation's rigid law (Poisson's or Newton's, with the case's
+    /// `restitution`): the default, and the only law before §9.10.
+    #[default]
+    Rigid,
+    /// The two floes' lattices in unilateral contact, run until they
+    /// separate ([`crate::fracture::lattice::pair`]): for each impact of a
+    /// single pair, their rigid motions after it replace the rigid law's.
+    Lattice,
+}
+
+impl ImpactLaw {
+    /// The names as written in the case file.
+    pub const NAMES: [&'static str; 2] = ["rigid", "lattice"];
+
+    /// The name as written in the case file.
+    pub fn name(self) -> &'static str {
+        match self {
+            ImpactLaw::Rigid => "rigid",
+            ImpactLaw::Lattice => "lattice",
+        }
+    }
+}
+
+impl std::str::FromStr for ImpactLaw {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "rigid" => Ok(ImpactLaw::Rigid),
+            "lattice" => Ok(ImpactLaw::Lattice),
+            other => {
+                let hint = super::case::closest(other, &ImpactLaw::NAMES)
+                    .map_or(String::new(), |k| format!(" (did you mean \"{k}\"?)"));
+                Err(format!(
+                    "impact = \"{other}\" is not an impact law{hint}; expected \"rigid\" or \"lattice\""
+                ))
+            }
+        }
+    }
+}
+
+/// The largest lattice spacing for a floe of area `A`, as a fraction of
+/// `√A`: four cells across, below which a lattice has no interior.
+pub const MAX_SPACING_FRACTION: f64 = 0.25;
+
+/// The lattice spacing (m) of a floe of area `area` (m²) in the case's
+/// `[fracture]` table: `spacing`, or [`DEFAULT_SPACING_FRACTION`] of `√A`,
+/// at most [`MAX_SPACING_FRACTION`] of it.
+pub fn lattice_spacing(s: &FractureSettings, area: f64) -> f64 {
+    let size = area.sqrt();
+    s.spacing
+        .unwrap_or(DEFAULT_SPACING_FRACTION * size)
+        .min(MAX_SPACING_FRACTION * size)
+}
+
+/// The fewest lattice nodes across a floe's narrowest width that
+/// `impact = "lattice"` accepts (docs/physics.md §9.10): with fewer, the
+/// lattice of a bar is a chain of single cells and has no bending or
+/// interior wave to carry the impact.
+pub const MIN_NODES_ACROSS: f64 = 3.0;
+
+/// The narrowest width of a polygon, m: the least extent of its vertices
+/// along the normals of its edges (its convex hull's width, attained with
+/// a hull edge flush to a caliper).
+pub fn min_width(shape: &[crate::geometry::Vec2]) -> f64 {
+    let n = shape.len();
+    (0..n)
+        .filter_map(|k| {
+            let d = shape[(k + 1) % n] - shape[k];
+            let len = d.norm();
+            (len > 0.0).then(|| {
+                let normal = crate::geometry::Vec2::new(-d.y, d.x) / len;
+                let (lo, hi) =
+                    shape
+                        .iter()
+                        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                            let x = normal.dot(p);
+                            (lo.min(x), hi.max(x))
+                        });
+                hi - lo
+            })
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Default Young's modulus of the lattice model, Pa: the 8.95 GPa of
 /// Balasoiu's (2020) numerics of sea ice.
 pub const DEFAULT_YOUNG: f64 = 8.95e9;
@@ -197,6 +285,9 @@ pub struct FractureSettings {
     pub trigger: Trigger,
     /// Lattice model: the seed of every floe's lattice (default 1).
     pub seed: u64,
+    /// What sets the velocities after an impact (default `rigid`;
+    /// `lattice` needs `model = "lattice"`, docs/physics.md §9.10).
+    pub impact: ImpactLaw,
 }
 
 impl Default for FractureSettings {
@@ -221,6 +312,7 @@ impl Default for FractureSettings {
             critical_strain: f64::NAN,
             trigger: Trigger::Bound,
             seed: 1,
+            impact: ImpactLaw::Rigid,
         }
     }
 }
@@ -229,6 +321,11 @@ impl FractureSettings {
     /// Whether floes can break.
     pub fn enabled(&self) -> bool {
         self.model != FractureModel::None
+    }
+
+    /// Whether the lattices resolve the impacts (`impact = "lattice"`).
+    pub fn lattice_impacts(&self) -> bool {
+        self.impact == ImpactLaw::Lattice
     }
 
     /// Reads the table for the initial `floes` (the default `min_area` is a
@@ -253,6 +350,9 @@ impl FractureSettings {
         }
         if let Some(trigger) = r.choice::<Trigger>("trigger")? {
             s.trigger = trigger;
+        }
+        if let Some(impact) = r.choice::<ImpactLaw>("impact")? {
+            s.impact = impact;
         }
         let numbers: [(&Limit, &mut f64); 12] = [
             (&TOUGHNESS, &mut s.toughness),
@@ -287,7 +387,45 @@ impl FractureSettings {
             (_, _, Some(e)) => s.critical_strain = e,
             _ => {}
         }
+        s.check_lattice_impacts(t, floes)?;
         Ok(s)
+    }
+
+    /// `impact = "lattice"` needs the lattice model and a lattice of at
+    /// least [`MIN_NODES_ACROSS`] nodes across every floe's narrowest
+    /// width (docs/physics.md §9.10).
+    fn check_lattice_impacts(&self, t: &SettingsTable, floes: &[Floe]) -> Result<(), CaseError> {
+        if !self.lattice_impacts() {
+            return Ok(());
+        }
+        if self.model != FractureModel::Lattice {
+            return Err(t.error(
+                Some("impact"),
+                format!(
+                    "impact = \"lattice\" resolves impacts in the floes' lattices and needs model = \"lattice\" (got model = \"{}\")",
+                    self.model.name()
+                ),
+            ));
+        }
+        for (i, f) in floes.iter().enumerate() {
+            let width = min_width(&f.shape);
+            let spacing = lattice_spacing(self, f.area);
+            if width / spacing + 1.0 < MIN_NODES_ACROSS {
+                let key = if self.spacing.is_some() {
+                    "spacing"
+                } else {
+                    "impact"
+                };
+                return Err(t.error(
+                    Some(key),
+                    format!(
+                        "impact = \"lattice\": floe {i} is {width} m across at its narrowest, and its lattice spacing {spacing} m puts fewer than {MIN_NODES_ACROSS} nodes across it; set spacing <= {} m",
+                        width / (MIN_NODES_ACROSS - 1.0)
+                    ),
+                ));
+            }
+        }
+        Ok(())
     }
 }
 

@@ -20,7 +20,7 @@ pub struct EnergySample {
     /// The cumulative exchanges since t = 0 (the state's ledger at `t`), J.
     #[serde(flatten)]
     pub ledger: Ledger,
-    /// Balance residual `E(t) − E(0) − W_ext + D + F`, J.
+    /// Balance residual `E(t) − E(0) − W_ext + D + F + L`, J.
     pub residual: f64,
 }
 
@@ -50,7 +50,7 @@ pub enum Column {
     Kinetic,
     /// A field of the ledger.
     Ledger(&'static LedgerField),
-    /// The balance residual `E − E(0) − W_ext + D + F`.
+    /// The balance residual `E − E(0) − W_ext + D + F + L`.
     Residual,
 }
 
@@ -157,7 +157,7 @@ mod tests {
         let names: Vec<&str> = Column::all().map(Column::name).collect();
         assert_eq!(
             names.join(","),
-            "kinetic,work_air,work_water,work_coriolis,dissipated,fracture,residual"
+            "kinetic,work_air,work_water,work_coriolis,dissipated,fracture,vibration,dashpot,residual"
         );
     }
 
@@ -169,7 +169,7 @@ mod tests {
         let json = serde_json::to_string(&s).unwrap();
         assert_eq!(
             json,
-            r#"{"t":2.0,"kinetic":3.0,"work_air":0.0,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":0.0,"residual":0.0}"#
+            r#"{"t":2.0,"kinetic":3.0,"work_air":0.0,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":0.0,"vibration":0.0,"dashpot":0.0,"residual":0.0}"#
         );
     }
 }

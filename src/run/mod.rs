@@ -5,7 +5,7 @@
 //! trajectory) and the energy ledger: kinetic energy `E`, the cumulative work
 //! of air, water and Coriolis forces `W_ext`, the energy dissipated by
 //! contacts `D`, the energy fractures spent on cracks `F`, and the balance
-//! residual `E(t) − E(0) − W_ext + D + F`, which is zero for an exact
+//! residual `E(t) − E(0) − W_ext + D + F + L`, which is zero for an exact
 //! integration ([`energy`]).
 //!
 //! [`energy`] holds the ledger's samples and totals; [`output`] writes a
@@ -396,7 +396,10 @@ impl Runner {
         // are zero, not the non-finite initial energy.
         let gain = scn.history.fractures.iter().map(|f| f.kinetic_gain).sum();
         let totals = EnergyTotals::of(&energy, gain);
-        let counters = form.counters();
+        // The topology stage's counters (the lattice impacts', §9.10) with
+        // the formulation's.
+        let mut counters = form.counters();
+        counters.absorb(&crate::formulation::Topology::counters(&topology));
         let summary = RunSummary {
             case: scn.name.clone(),
             formulation: label.to_string(),

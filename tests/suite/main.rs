@@ -19,6 +19,7 @@ mod fracture;
 mod fuzz;
 mod iterative;
 mod lattice;
+mod lattice_impact;
 mod lattwire;
 mod lemke;
 mod moreau;

@@ -66,6 +66,7 @@ const ENTRY: Entry = Entry {
     resolves_contacts: true,
     dumps_lcps: true,
     supports_fracture: false,
+    lattice_impacts: false,
     not_claimed: &[NotClaimed {
         check: "sliding_stop",
         case: None,

@@ -1,6 +1,10 @@
 //! Impacts (docs/physics.md §3.2, §4.3 step 2): Poisson's law on the
 //! compression LCP of each group of approaching contacts, the slow
-//! approaches stopped, and the separation test of closed contacts.
+//! approaches stopped, and the separation test of closed contacts. With
+//! `[fracture] impact = "lattice"`, a group whose approaching contacts
+//! join one pair of bodies is first offered to the topology stage, which
+//! resolves it in the pair's lattices (docs/physics.md §9.10); a group of
+//! several pairs keeps Poisson's law (the stage counts it).
 
 use super::*;
 
@@ -52,28 +56,54 @@ impl EventDriven {
             if !g.contacts.iter().any(|&k| approaching[k]) {
                 continue;
             }
-            // The compression LCP of Poisson's law, whatever the solver of
-            // the sustained contacts.
-            let data = GroupData {
-                scn,
-                centres: &centres,
-                contacts,
-                group: &g,
-                w_free: &w,
-                offsets: &zeros,
-            };
-            let ans = self.solver.solve_impact(&data, sys.t);
-            let dv = &ans.dv;
             let before = sys.group_kinetic_energy(scn, &g.floes);
-            let w_minus: Vec<BodyState> = g.floes.iter().map(|&i| sys.bodies[i]).collect();
-            let apply = |bodies: &mut [BodyState], k: f64| {
-                for (l, &i) in g.floes.iter().enumerate() {
-                    let b = &mut bodies[i];
-                    b.velocity = w_minus[l].velocity + Vec2::new(dv[l][0], dv[l][1]) * k;
-                    b.angular_velocity = w_minus[l].angular_velocity + dv[l][2] * k;
+            // An impact of one pair may be resolved by the topology stage
+            // (`impact = "lattice"`, docs/physics.md §9.10).
+            let lattice = if slow.is_none() && topology.reads().impacts {
+                let impacting: Vec<&Contact> = g
+                    .contacts
+                    .iter()
+                    .filter(|&&k| approaching[k])
+                    .map(|&k| &contacts[k])
+                    .collect();
+                ImpactQuery::of(scn, &impacting, |i| sys.bodies[i])
+                    .and_then(|q| topology.impact(scn, sys, &q).map(|a| (q, a)))
+            } else {
+                None
+            };
+            let rigid = match &lattice {
+                Some((q, answer)) => {
+                    for (i, v, w) in answer.floes(scn, q) {
+                        sys.bodies[i].velocity = v;
+                        sys.bodies[i].angular_velocity = w;
+                    }
+                    None
+                }
+                None => {
+                    // The compression LCP of Poisson's law, whatever the
+                    // solver of the sustained contacts.
+                    let data = GroupData {
+                        scn,
+                        centres: &centres,
+                        contacts,
+                        group: &g,
+                        w_free: &w,
+                        offsets: &zeros,
+                    };
+                    let ans = self.solver.solve_impact(&data, sys.t);
+                    let dv = &ans.dv;
+                    let w_minus: Vec<BodyState> = g.floes.iter().map(|&i| sys.bodies[i]).collect();
+                    let apply = |bodies: &mut [BodyState], k: f64| {
+                        for (l, &i) in g.floes.iter().enumerate() {
+                            let b = &mut bodies[i];
+                            b.velocity = w_minus[l].velocity + Vec2::new(dv[l][0], dv[l][1]) * k;
+                            b.angular_velocity = w_minus[l].angular_velocity + dv[l][2] * k;
+                        }
+                    };
+                    apply(&mut sys.bodies, 1.0 + e);
+                    Some(ans)
                 }
             };
-            apply(&mut sys.bodies, 1.0 + e);
             // The group's velocities changed: its flights end here.
             self.flights
                 .retain(|f| !g.floes.contains(&f.pair.0) && !g.floes.contains(&f.pair.1));
@@ -81,21 +111,27 @@ impl EventDriven {
             if after > before * (1.0 + 1e-12) + 1e-300 {
                 self.counters.add(&IMPACT_ENERGY_INCREASES, 1);
             }
-            sys.ledger.dissipated += before - after;
-            if topology.reads().percussions && slow.is_none() {
-                // The impulses applied: (1 + e) times the compression's.
-                let k = 1.0 + e;
-                let normal: Vec<f64> = ans.normal.iter().map(|v| v * k).collect();
-                let tangential: Vec<f64> = ans.tangential.iter().map(|v| v * k).collect();
-                let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
-                let loads = loads_of(scn, &group, &normal, &tangential);
-                topology.percussion(scn, sys, &loads, sys.t, sys.t, before - after);
-            } else if slow.is_some() && topology.reads().sustained {
-                // A slow approach stopped is part of the sustained contact:
-                // the stress criterion reads it with the step's impulses.
-                let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
-                self.step_loads
-                    .extend(loads_of(scn, &group, &ans.normal, &ans.tangential));
+            match &lattice {
+                Some((_, answer)) => answer.book(&mut sys.ledger, before, after),
+                None => sys.ledger.dissipated += before - after,
+            }
+            if let Some(ans) = rigid {
+                if topology.reads().percussions && slow.is_none() {
+                    // The impulses applied: (1 + e) times the compression's.
+                    let k = 1.0 + e;
+                    let normal: Vec<f64> = ans.normal.iter().map(|v| v * k).collect();
+                    let tangential: Vec<f64> = ans.tangential.iter().map(|v| v * k).collect();
+                    let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
+                    let loads = loads_of(scn, &group, &normal, &tangential);
+                    topology.percussion(scn, sys, &loads, sys.t, sys.t, before - after);
+                } else if slow.is_some() && topology.reads().sustained {
+                    // A slow approach stopped is part of the sustained
+                    // contact: the stress criterion reads it with the step's
+                    // impulses.
+                    let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
+                    self.step_loads
+                        .extend(loads_of(scn, &group, &ans.normal, &ans.tangential));
+                }
             }
             self.solver.direct.log_mut().push_event(ContactEvent {
                 t: sys.t,

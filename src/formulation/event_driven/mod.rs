@@ -46,8 +46,8 @@ use super::contact_solver::{
 };
 use super::group_solver::{read_solver, GroupData, GroupSolver};
 use super::{
-    reported_state, Context, Entry, Formulation, FormulationError, FormulationOptions, NotClaimed,
-    OwnState, Topology,
+    reported_state, Context, Entry, Formulation, FormulationError, FormulationOptions, ImpactQuery,
+    NotClaimed, OwnState, Topology,
 };
 use crate::contact::problem::{groups, Gen};
 use crate::contact::{loads_of, signed_distance, Aabb, BroadPhase, Contact, Load, NarrowOptions};
@@ -76,6 +76,7 @@ pub const ENTRY: Entry = Entry {
     resolves_contacts: true,
     dumps_lcps: true,
     supports_fracture: true,
+    lattice_impacts: true,
     not_claimed: &[
         NotClaimed {
             check: "cradle_physical",

@@ -32,6 +32,7 @@
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
+mod lattice;
 mod settings;
 
 pub use settings::*;
@@ -82,6 +83,7 @@ pub const ENTRY: Entry = Entry {
     resolves_contacts: true,
     dumps_lcps: true,
     supports_fracture: true,
+    lattice_impacts: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",
@@ -102,6 +104,7 @@ pub const CONE_ENTRY: Entry = Entry {
     resolves_contacts: true,
     dumps_lcps: false,
     supports_fracture: true,
+    lattice_impacts: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",
@@ -145,6 +148,9 @@ pub struct Moreau {
     activation_tolerance: f64,
     /// The state on the step grid `t_k = k h`.
     grid: FixedGrid,
+    /// The pairs of bodies of the last step's active contacts, sorted (kept
+    /// only when the topology stage resolves impacts, [`lattice`]).
+    active_pairs: Vec<(usize, usize)>,
 }
 
 impl Moreau {
@@ -195,6 +201,7 @@ impl Moreau {
             max_penetration: 0.0,
             activation_tolerance,
             grid: FixedGrid::new(s.step),
+            active_pairs: Vec::new(),
         })
     }
 
@@ -281,6 +288,7 @@ impl Moreau {
             .time(Stage::Detection, || self.active_contacts(scn, sys, h));
         // 3. Contact problems.
         let w_new = if active.is_empty() {
+            self.active_pairs.clear();
             w_free.clone()
         } else {
             let topology = &mut *cx.topology;
@@ -359,12 +367,24 @@ impl Moreau {
                 w_free,
                 offsets: &offsets,
             };
-            let GroupAnswer {
-                normal,
-                tangential,
-                dv,
-                ..
-            } = self.solver.solve(&data, sys.t, h);
+            // An impact of one pair may be resolved in the lattices
+            // (`impact = "lattice"`, [`lattice`]).
+            let lattice = topology.reads().impacts.then(|| {
+                let group = (g, active, &u_minus[..]);
+                self.lattice_impact(scn, sys, group, w_free, topology)
+            });
+            let (rigid, dv) = match lattice.flatten() {
+                Some(answer) => (Err(answer), Moreau::lattice_dv(scn, g, &answer, w_free)),
+                None => {
+                    let GroupAnswer {
+                        normal,
+                        tangential,
+                        dv,
+                        ..
+                    } = self.solver.solve(&data, sys.t, h);
+                    (Ok((normal, tangential)), dv)
+                }
+            };
             let v_scale = g
                 .floes
                 .iter()
@@ -386,8 +406,18 @@ impl Moreau {
                 self.counters
                     .max(&CONTACT_ENERGY_INCREASE_MAX, after - before);
             }
-            sys.ledger.dissipated += before - after;
-            if topology.reads().percussions {
+            let impulses = match rigid {
+                Ok(impulses) => {
+                    sys.ledger.dissipated += before - after;
+                    Some(impulses)
+                }
+                // The stage queued the impact's cracks itself.
+                Err((_, answer)) => {
+                    answer.book(&mut sys.ledger, before, after);
+                    None
+                }
+            };
+            if let (true, Some((normal, tangential))) = (topology.reads().percussions, impulses) {
                 // The step's impulses, on the floes at q_k, delivered over
                 // the step [t_k, t_k + h] (docs/physics.md §9.3); the floes
                 // break between steps (§9.5).
@@ -405,6 +435,9 @@ impl Moreau {
             }
             e_before += before;
             e_after += after;
+        }
+        if topology.reads().impacts {
+            self.keep_active_pairs(active);
         }
         if any {
             self.counters.add(&STEPS_WITH_IMPULSES, 1);
@@ -463,6 +496,7 @@ impl Formulation for Moreau {
         _: &[usize],
     ) -> Result<(), FormulationError> {
         self.model = ForceModel::new(&scn.floes);
+        self.active_pairs.clear();
         Ok(())
     }
 

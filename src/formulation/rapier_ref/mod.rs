@@ -64,6 +64,7 @@ pub const ENTRY: Entry = Entry {
     resolves_contacts: true,
     dumps_lcps: false,
     supports_fracture: true,
+    lattice_impacts: false,
     not_claimed: &[
         NotClaimed {
             check: "ram_critical_speed",

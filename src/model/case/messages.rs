@@ -68,7 +68,7 @@ fn distance(a: &str, b: &str) -> usize {
 
 /// The known name closest to `unknown`, when within [`TYPO_DISTANCE`] and
 /// shorter than the name itself.
-fn closest<'a>(unknown: &str, known: &[&'a str]) -> Option<&'a str> {
+pub(crate) fn closest<'a>(unknown: &str, known: &[&'a str]) -> Option<&'a str> {
     known
         .iter()
         .map(|k| (distance(unknown, k), *k))

@@ -19,6 +19,8 @@ mod messages;
 mod overlap;
 mod spec;
 
+pub(crate) use messages::closest;
+
 pub use spec::FieldSpec;
 
 use super::limits;

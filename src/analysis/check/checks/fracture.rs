@@ -9,7 +9,8 @@ use crate::analysis::check::structure::{
 };
 use crate::analysis::check::{FRACTURE_CONSERVATION_TOLERANCE, RAM_CRITICAL_SPEED_TOLERANCE};
 use crate::fracture::split::cut;
-use crate::fracture::strike::{lattice_spacing, spin_prestress, SPIN_PRESTRESS_LIMIT};
+use crate::fracture::strike::{spin_prestress, SPIN_PRESTRESS_LIMIT};
+use crate::model::fracture::lattice_spacing;
 use crate::model::fracture::FractureModel;
 
 pub(super) fn fracture_conservation(r: &mut Rows) {

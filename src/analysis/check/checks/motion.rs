@@ -21,6 +21,11 @@ use crate::run::{RunResult, TrajectoryRow};
 
 pub(super) fn symmetry(r: &mut Rows) {
     let scn = r.scn;
+    // The lattices that resolve impacts (docs/physics.md §9.10) are random
+    // meshes, not mirror images of themselves.
+    if scn.fracture.lattice_impacts() {
+        return;
+    }
     let Some((axis, pairing)) = find_symmetry(scn) else {
         return;
     };
@@ -59,7 +64,13 @@ pub(super) fn symmetry(r: &mut Rows) {
 
 pub(super) fn head_on(r: &mut Rows) {
     let scn = r.scn;
-    if scn.floes.len() != 2 || !scn.obstacles.is_empty() || !no_forcing(scn) {
+    // The closed form is the restitution law's, which the lattices
+    // replace with impact = "lattice" (docs/physics.md §9.10).
+    if scn.floes.len() != 2
+        || !scn.obstacles.is_empty()
+        || !no_forcing(scn)
+        || scn.fracture.lattice_impacts()
+    {
         return;
     }
     let (f1, f2) = (&scn.floes[0], &scn.floes[1]);

@@ -1,0 +1,123 @@
+//! The two-way coupling of the lattice with the rigid schemes
+//! (`[fracture] impact = "lattice"`, docs/physics.md §9.10): the fracture
+//! stage resolves an impact of one pair of bodies in the two floes'
+//! lattices ([`super::lattice::pair`], §9.9; an obstacle stays a fixed
+//! half-plane), and the formulation takes the bodies' rigid motions after
+//! it instead of its restitution law's.
+//!
+//! The pair's lattices are those of the lattice model (the case's
+//! `spacing`, `young`, `poisson`, `damping`, `seed`; each floe's built once
+//! and kept with the percussion's), run with **unbreakable** bonds: the
+//! impact decides the bounce and what the lattices keep in vibration and
+//! in their dashpots. Cracks stay the percussion's (§9.8): the impulses the
+//! impact gave each floe (`m Δv` at the contact point) are its loads, and
+//! their crack energies are taken from the impact's vibration, not from
+//! `dissipated` ([`super::stage::FractureStage`]).
+
+use super::chain::{BondRule, ChainOptions};
+use super::lattice::pair::{PairBody, PairImpact};
+use super::lattice::Lattice;
+use super::{strike, Fracturer, Load};
+use crate::formulation::context::{ImpactAnswer, ImpactQuery};
+use crate::model::{Body, Floe, Scenario};
+use crate::record::Counter;
+
+/// Impacts resolved by the lattices.
+pub const LATTICE_IMPACTS: Counter = Counter::sum(
+    "lattice_impacts",
+    "impacts resolved by the pair's lattices ([fracture] impact = \"lattice\", docs/physics.md §9.10)",
+);
+/// Groups of several pairs left to the rigid law.
+pub const LATTICE_MULTI_PAIR: Counter = Counter::sum(
+    "lattice_impacts_multi_pair_rigid",
+    "impact groups of several pairs of bodies left to the formulation's rigid law (docs/physics.md §9.10)",
+);
+/// Pair impacts that failed (the rigid law then).
+pub const LATTICE_FAILED: Counter = Counter::sum(
+    "lattice_impacts_failed",
+    "pair impacts the lattices refused (not approaching at the mean contact point, a lattice that cannot be built): the rigid law then",
+);
+/// Steps of the lattices' integration, summed.
+pub const LATTICE_STEPS: Counter = Counter::sum(
+    "lattice_impact_steps",
+    "velocity Verlet steps of the pair impacts' lattices, summed (their cost)",
+);
+/// Every counter of the coupling.
+pub const COUNTERS: &[&Counter] = &[
+    &LATTICE_IMPACTS,
+    &LATTICE_MULTI_PAIR,
+    &LATTICE_FAILED,
+    &LATTICE_STEPS,
+];
+
+impl Fracturer {
+    /// The lattice of floe `f` (built once per floe id, kept until the
+    /// floe breaks).
+    pub(super) fn lattice_of(&mut self, scn: &Scenario, f: &Floe) -> Result<&Lattice, String> {
+        match self.lattices.entry(f.id) {
+            std::collections::btree_map::Entry::Occupied(e) => Ok(e.into_mut()),
+            std::collections::btree_map::Entry::Vacant(e) => Ok(e.insert(Lattice::build(
+                &f.shape,
+                strike::lattice_spec(&scn.fracture, f),
+            )?)),
+        }
+    }
+
+    /// The impact `q` in the pair's lattices (module doc): the answer,
+    /// the loads of its impulses on the floes, and the lattices' steps.
+    pub fn pair_impact(
+        &mut self,
+        scn: &Scenario,
+        q: &ImpactQuery,
+    ) -> Result<(ImpactAnswer, Vec<Load>, u64), String> {
+        let s = &scn.fracture;
+        let floe = |b: usize| match scn.body(b) {
+            Body::Floe(i) => Some(i),
+            Body::Obstacle(_) => None,
+        };
+        let first = floe(q.bodies[0]).ok_or("the first body of an impact must be a floe")?;
+        let second = floe(q.bodies[1]);
+        for i in std::iter::once(first).chain(second) {
+            self.lattice_of(scn, &scn.floes[i])?;
+        }
+        let lattice = |i: usize| {
+            self.lattices
+                .get(&scn.floes[i].id)
+                .ok_or_else(|| format!("floe {i}: no lattice"))
+        };
+        let body = |i: usize, k: usize| PairBody {
+            shape: &scn.floes[i].shape,
+            state: q.states[k],
+            spec: strike::lattice_spec(s, &scn.floes[i]),
+        };
+        let impact = PairImpact {
+            first: body(first, 0),
+            second: second.map(|i| body(i, 1)),
+            point: q.point,
+            normal: q.normal,
+            options: ChainOptions {
+                bond: BondRule::Unbreakable,
+                ..strike::chain_options(s)
+            },
+        };
+        let out = impact.run_on(lattice(first)?, second.map(lattice).transpose()?)?;
+        let mut velocities = [(q.states[0].velocity, q.states[0].angular_velocity); 2];
+        let mut loads = Vec::with_capacity(2);
+        for (k, b) in out.bodies.iter().enumerate() {
+            velocities[k] = (b.velocity, b.angular_velocity);
+            loads.push(Load {
+                floe: floe(q.bodies[k]).unwrap_or(first),
+                other: q.bodies[1 - k],
+                point: q.point,
+                impulse: (b.velocity - q.states[k].velocity) * b.mass,
+            });
+        }
+        let answer = ImpactAnswer {
+            velocities,
+            vibration: out.vibration() + out.contact_energy,
+            dashpot: out.damping,
+            restitution: out.restitution,
+        };
+        Ok((answer, loads, out.steps))
+    }
+}
