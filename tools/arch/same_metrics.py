@@ -6,7 +6,8 @@ A restructuring that must not change behaviour is checked with it:
     python3 tools/arch/same_metrics.py reports/sample /tmp/new
 It reads each case's metrics.csv in both folders and prints, per case, how
 many metrics differ beyond 1e-12 relative (CPU, wall and clock metrics left
-out), with the first few differences; the last line is the total.
+out), with the first few differences; the last line is the total. A case
+that only one folder holds is named, not compared.
 Usage: same_metrics.py A B [case ...]
 """
 import sys, os, csv
@@ -23,6 +24,9 @@ def load(p):
     return out
 bad = 0; total = 0
 for c in cases:
+    if not os.path.isfile(os.path.join(a, c, 'metrics.csv')):
+        print(f"{c}: only in {b}")
+        continue
     A = load(os.path.join(a, c, 'metrics.csv')); B = load(os.path.join(b, c, 'metrics.csv'))
     keys = set(A) | set(B)
     diffs = []
