@@ -9,7 +9,9 @@
 //!   `field_10000.toml`): the first 600 s of drift of 100, 1,000 and 10,000
 //!   floes at concentration 0.7 with the same floe sizes and forcing;
 //! - `dense` (only when the filter names it): the jammed phase of the bay
-//!   jam family `cases/fields/bay_jam_{200,2000,20000}.toml`, each started
+//!   jam family `cases/fields/bay_jam_{200,2000,20000}.toml` (every
+//!   formulation with the case's solvers) and of its `_nsgs` variants
+//!   (`moreau+nsgs`, `event-driven+nsgs`: the iterative solver), each started
 //!   (as `floebench run --from`) from the state of a `rapier` run of the
 //!   case at the time its pack has jammed ([`dense_start`]: its kinetic
 //!   energy three orders of magnitude below the drift's peak; 5,000 s for
@@ -151,12 +153,14 @@ fn scaling(c: &mut Criterion<ThreadCpu>) {
 /// The jammed state of `bay_jam_<n>` (see the module doc): the case
 /// restarted from its rapier run's state at [`dense_start`], for
 /// [`DENSE_SPAN`] s.
-fn jammed(n: usize) -> Result<Scenario, String> {
+fn jammed(n: usize, variant: &str) -> Result<Scenario, String> {
     use floebench::run::output;
     let start = dense_start(n).ok_or(
         "skipped: the time at which this pack has jammed is not known (README, \"Dense scaling\")",
     )?;
-    let path = cases_dir().join("fields").join(format!("bay_jam_{n}.toml"));
+    let path = cases_dir()
+        .join("fields")
+        .join(format!("bay_jam_{n}{variant}.toml"));
     let mut scn = load_case(&path).map_err(|e| e.to_string())?;
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("target/dense")
@@ -193,19 +197,25 @@ fn dense(c: &mut Criterion<ThreadCpu>) {
     let mut g = c.benchmark_group("dense");
     g.sample_size(10).warm_up_time(Duration::from_millis(100));
     g.throughput(Throughput::Elements(DENSE_SPAN as u64));
+    // Each size with the case's solvers (Lemke, clarabel), then with the
+    // iterative ones of `bay_jam_<n>_nsgs.toml` (NSGS; ids `<name>+nsgs`).
+    let iterative = ["moreau".to_string(), "event-driven".to_string()];
     for n in [200, 2000, 20000] {
-        let scn = match jammed(n) {
-            Ok(s) => s,
-            Err(e) => {
-                eprintln!("bay_jam_{n}: {e}");
-                continue;
+        for (variant, names) in [("", contact_formulations()), ("_nsgs", iterative.to_vec())] {
+            let scn = match jammed(n, variant) {
+                Ok(s) => s,
+                Err(e) => {
+                    eprintln!("bay_jam_{n}{variant}: {e}");
+                    continue;
+                }
+            };
+            for name in names {
+                let label = format!("{name}{}", variant.replace('_', "+"));
+                let id = BenchmarkId::new(label, n);
+                g.bench_with_input(id, &scn, |b, scn| {
+                    b.iter(|| black_box(run_once(scn, &name)))
+                });
             }
-        };
-        for name in contact_formulations() {
-            let id = BenchmarkId::new(&name, n);
-            g.bench_with_input(id, &scn, |b, scn| {
-                b.iter(|| black_box(run_once(scn, &name)))
-            });
         }
     }
     g.finish();
