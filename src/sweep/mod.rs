@@ -23,6 +23,7 @@ pub mod orders;
 pub mod plan;
 pub mod points;
 pub mod slurm;
+pub mod start;
 
 use crate::model::CaseError;
 use execute::{finished, PointResult};

@@ -17,6 +17,7 @@
 //! settings. A value that the loader refuses is reported at the plan line
 //! that writes it, with the loader's message.
 
+use super::start::{Start, StartSpec};
 use crate::formulation::{self, parse_case, Entry};
 use crate::model::{CaseError, Scenario};
 use crate::run::batch::case_files;
@@ -271,6 +272,8 @@ pub struct Plan {
     pub measures: Vec<Measure>,
     /// The formulations with their grids, in the order written.
     pub formulations: Vec<PlanFormulation>,
+    /// `[sweep] start`: the state every run starts from, if given.
+    pub start: Option<Start>,
 }
 
 impl Plan {
@@ -286,7 +289,11 @@ impl Plan {
         if settings.is_empty() {
             return Ok(c.scenario.clone());
         }
-        scenario_with(c, table, settings)
+        let mut scn = scenario_with(c, table, settings)?;
+        if let Some(start) = &self.start {
+            start.apply(&mut scn)?;
+        }
+        Ok(scn)
     }
 }
 
@@ -367,6 +374,7 @@ struct SweepSpec {
     cases: Spanned<Vec<Spanned<String>>>,
     reference: Spanned<toml::Value>,
     measures: Option<Spanned<Vec<Spanned<String>>>>,
+    start: Option<Spanned<StartSpec>>,
 }
 
 #[derive(Deserialize)]
@@ -452,7 +460,28 @@ pub fn parse_plan(text: &str, file: &Path) -> Result<Plan, CaseError> {
             .map_or_else(|| "sweep".to_string(), |s| s.to_string_lossy().into_owned()),
     };
 
-    let cases = load_plan_cases(&at, &sweep.cases)?;
+    let start = match &sweep.start {
+        Some(spec) => {
+            let base = file.parent().unwrap_or_else(|| Path::new(""));
+            let st = Start::read(spec.get_ref(), base)
+                .map_err(|m| at.err(Some(&spec.span()), format!("[sweep] start: {m}")))?;
+            Some((st, spec.span()))
+        }
+        None => None,
+    };
+    let mut cases = load_plan_cases(&at, &sweep.cases)?;
+    if let Some((st, span)) = &start {
+        for c in &mut cases {
+            st.apply(&mut c.scenario).map_err(|m| {
+                at.err(
+                    Some(span),
+                    format!("[sweep] start on {}: {m}", c.path.display()),
+                )
+            })?;
+            c.digest = super::digest(format!("{:016x} {}", c.digest, st.label()).as_bytes());
+        }
+    }
+    let start = start.map(|(st, _)| st);
     let reference = reference(&at, &sweep.reference, &cases)?;
     let measures = measures(&at, sweep.measures.as_ref(), &reference)?;
 
@@ -473,6 +502,7 @@ pub fn parse_plan(text: &str, file: &Path) -> Result<Plan, CaseError> {
         reference,
         measures,
         formulations,
+        start,
     };
     // Every combination must load (a combination of valid values may still
     // break a rule of the case); reported at the formulation's name.
