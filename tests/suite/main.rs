@@ -12,6 +12,7 @@ mod check;
 mod cli;
 mod compare;
 mod contact;
+mod crack_energy;
 mod event_driven;
 mod field;
 mod forcing;

@@ -524,10 +524,18 @@ impl<'a> Percussion<'a> {
     /// J (`∞` for unbreakable bonds): the trigger bound's threshold
     /// (docs/physics.md §9.8).
     pub fn weakest_bond_energy(&self) -> f64 {
-        self.links
-            .iter()
-            .map(|l| 0.5 * l.k * l.critical * l.critical)
+        (0..self.links.len())
+            .map(|k| self.breaking_energy(k))
             .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The energy `½ κ δ_c²` that spring `k` holds when it breaks, J (`∞`
+    /// for an unbreakable bond): with a toughness `G`, `G h w`, `w` its
+    /// facet (module doc; the crack energy this gives per unit length of a
+    /// straight cut: docs/physics.md §7.3).
+    pub fn breaking_energy(&self, k: usize) -> f64 {
+        let l = &self.links[k];
+        0.5 * l.k * l.critical * l.critical
     }
 
     /// Whether spring `k` still holds.
