@@ -380,7 +380,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         .map(|r| r.summary.formulation.clone())
         .collect();
     let stage = |f: fn(&RunResult) -> f64| comp.runs.iter().map(f).collect::<Vec<f64>>();
-    let segments = [
+    let mut segments = vec![
         (
             "detection".to_string(),
             stage(|r| r.summary.timing.stages.detection),
@@ -393,8 +393,13 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             "integration".to_string(),
             stage(|r| r.summary.timing.stages.integration),
         ),
-        ("other".to_string(), stage(|r| r.summary.timing.cpu_other)),
     ];
+    // The lattice stage only where impacts ran in the lattices.
+    let lattice = stage(|r| r.summary.timing.stages.lattice);
+    if lattice.iter().any(|&t| t > 0.0) {
+        segments.push(("lattice impacts".to_string(), lattice));
+    }
+    segments.push(("other".to_string(), stage(|r| r.summary.timing.cpu_other)));
     let notes: Vec<String> = match fastest(&comp.cpu) {
         Some(f) => comp
             .cpu
@@ -419,7 +424,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
     add(
         "cpu",
         "CPU time per stage".into(),
-        "thread CPU time of each formulation's run of median CPU time, split into contact detection, contact solve and smooth integration; \"other\" is the rest of the run's CPU time outside those stages (recording the outputs and the energy ledger, the formulation's bookkeeping between stages, the timer's own cost); above each bar its total and its ratio to the fastest median, to the digits the spread of the repeats supports",
+        "thread CPU time of each formulation's run of median CPU time, split into contact detection, contact solve and smooth integration (and the impacts resolved in the floes' lattices, where impact = \"lattice\" ran them); \"other\" is the rest of the run's CPU time outside those stages (recording the outputs and the energy ledger, the formulation's bookkeeping between stages, the timer's own cost); above each bar its total and its ratio to the fastest median, to the digits the spread of the repeats supports",
     );
     Ok(figs)
 }
