@@ -3,6 +3,9 @@
 //!
 //! - `kinetic`: kinetic energy against time, every formulation;
 //! - `dissipated`: energy dissipated by contacts against time;
+//! - `lattice_energy_<formulation>` (runs whose impacts the lattices
+//!   resolved and left vibrating): the ledger's split against time
+//!   (`lattice_energy.rs`);
 //! - `divergence`: RMS position difference from the reference (the first
 //!   formulation), relative to the mean floe diameter, with the threshold;
 //! - `paths`: the centre-of-mass paths of up to three floes (those that
@@ -56,7 +59,7 @@ pub struct Figure {
     pub caption: String,
 }
 
-fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
+pub(super) fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
     move |e| ReportError::Plot {
         path: stem.to_path_buf(),
         message: e.to_string(),
@@ -207,6 +210,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         .map_err(plot_err(&stem))?;
         add(file, format!("{what} against time"), caption);
     }
+    super::lattice_energy::figures(comp, dir, &mut add)?;
 
     if let Some(reference) = comp.runs.first() {
         let rname = &reference.summary.formulation;

@@ -40,7 +40,10 @@ fn bars_case(l2: f64) -> Scenario {
         "[[101.0, 0.0], [301.0, 0.0], [301.0, 10.0], [101.0, 10.0]]",
         &format!("[[101.0, 0.0], [{end:?}, 0.0], [{end:?}, 10.0], [101.0, 10.0]]"),
     );
-    assert!(text.contains(&format!("{end:?}")), "the case's bars changed");
+    assert!(
+        text.contains(&format!("{end:?}")),
+        "the case's bars changed"
+    );
     scenario(&text)
 }
 
