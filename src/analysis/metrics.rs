@@ -120,6 +120,13 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     push("cpu_detection", t.stages.detection, "s");
     push("cpu_solve", t.stages.solve, "s");
     push("cpu_integration", t.stages.integration, "s");
+    if t.stages.lattice > 0.0 {
+        push("cpu_lattice", t.stages.lattice, "s");
+    }
+    if let Some(c) = &t.lattice_cost {
+        push("cpu_lattice_per_impact", c.per_impact, "s");
+        push("cpu_lattice_per_node_step", c.per_node_step, "s");
+    }
     push("cpu_other", t.cpu_other, "s");
     push("wall", t.wall, "s");
     push("cpu_timer_overhead", t.timer_overhead, "s");

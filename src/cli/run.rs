@@ -143,7 +143,7 @@ pub fn run(args: Args) -> Outcome {
     }
     let s = &result.summary;
     println!(
-        "{} / {}: reached t = {} s of {} s; CPU {} s (detection {}, solve {}, integration {}); energy residual {} J of {} J exchanged",
+        "{} / {}: reached t = {} s of {} s; CPU {} s (detection {}, solve {}, integration {}{}); energy residual {} J of {} J exchanged",
         s.case,
         s.formulation,
         s.t_reached,
@@ -152,6 +152,11 @@ pub fn run(args: Args) -> Outcome {
         fmt_num(s.timing.stages.detection),
         fmt_num(s.timing.stages.solve),
         fmt_num(s.timing.stages.integration),
+        if s.timing.stages.lattice > 0.0 {
+            format!(", lattice impacts {}", fmt_num(s.timing.stages.lattice))
+        } else {
+            String::new()
+        },
         fmt_num(s.energy.residual),
         fmt_num(s.energy.exchanged)
     );

@@ -15,7 +15,8 @@
 //!   delivered over a step (an event-driven scheme's smooth step);
 //!
 //! and, before applying its rigid impact law to a group of contacts, asks
-//! [`Topology::impact`] whether the stage resolves it instead (`[fracture]
+//! [`Topology::impact`] (through [`Context::impact`], which charges it to
+//! the clock's lattice stage) whether the stage resolves it instead (`[fracture]
 //! impact = "lattice"`: the pair's lattices, docs/physics.md §9.10): the
 //! query is built from the group's impacting contacts by
 //! [`ImpactQuery::of`], the answer's velocities replace the rigid law's and
@@ -33,7 +34,7 @@
 use crate::contact::{Contact, Load};
 use crate::geometry::Vec2;
 use crate::model::{Body, Scenario};
-use crate::record::{Counters, StageClock};
+use crate::record::{Counters, Stage, StageClock};
 use crate::state::{BodyState, Ledger, System};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -319,6 +320,23 @@ impl<'a> Context<'a> {
         } else {
             Ok(())
         }
+    }
+
+    /// The topology stage's answer for the impact `query`
+    /// ([`Topology::impact`]), its time charged to the clock's lattice
+    /// stage ([`Stage::Lattice`]; nested in the caller's solve region, it
+    /// is taken out of the solve's time). Every formulation asks through
+    /// here, so the lattices' cost is one stage of the CPU breakdown.
+    pub fn impact(
+        &mut self,
+        scn: &Scenario,
+        sys: &System,
+        query: &ImpactQuery,
+    ) -> Option<ImpactAnswer> {
+        let started = self.clock.start(Stage::Lattice);
+        let answer = self.topology.impact(scn, sys, query);
+        self.clock.stop(Stage::Lattice, started);
+        answer
     }
 
     /// At a safe point of the formulation's scheme: the topology stage's

@@ -42,12 +42,19 @@ pub const LATTICE_STEPS: Counter = Counter::sum(
     "lattice_impact_steps",
     "velocity Verlet steps of the pair impacts' lattices, summed (their cost)",
 );
+/// Node-steps of the lattices' integration, summed: each impact's steps
+/// times the nodes of its lattices (the unit of its cost).
+pub const LATTICE_NODE_STEPS: Counter = Counter::sum(
+    "lattice_impact_node_steps",
+    "velocity Verlet steps of the pair impacts' lattices times their nodes, summed (the unit of their cost)",
+);
 /// Every counter of the coupling.
 pub const COUNTERS: &[&Counter] = &[
     &LATTICE_IMPACTS,
     &LATTICE_MULTI_PAIR,
     &LATTICE_FAILED,
     &LATTICE_STEPS,
+    &LATTICE_NODE_STEPS,
 ];
 
 impl Fracturer {
@@ -64,12 +71,13 @@ impl Fracturer {
     }
 
     /// The impact `q` in the pair's lattices (module doc): the answer,
-    /// the loads of its impulses on the floes, and the lattices' steps.
+    /// the loads of its impulses on the floes, and the lattices' steps and
+    /// nodes (both lattices').
     pub fn pair_impact(
         &mut self,
         scn: &Scenario,
         q: &ImpactQuery,
-    ) -> Result<(ImpactAnswer, Vec<Load>, u64), String> {
+    ) -> Result<(ImpactAnswer, Vec<Load>, u64, u64), String> {
         let s = &scn.fracture;
         let floe = |b: usize| match scn.body(b) {
             Body::Floe(i) => Some(i),
@@ -100,7 +108,9 @@ impl Fracturer {
                 ..strike::chain_options(s)
             },
         };
-        let out = impact.run_on(lattice(first)?, second.map(lattice).transpose()?)?;
+        let (one, two) = (lattice(first)?, second.map(lattice).transpose()?);
+        let nodes = one.nodes.len() + two.map_or(0, |l| l.nodes.len());
+        let out = impact.run_on(one, two)?;
         let mut velocities = [(q.states[0].velocity, q.states[0].angular_velocity); 2];
         let mut loads = Vec::with_capacity(2);
         for (k, b) in out.bodies.iter().enumerate() {
@@ -118,6 +128,6 @@ impl Fracturer {
             dashpot: out.damping,
             restitution: out.restitution,
         };
-        Ok((answer, loads, out.steps))
+        Ok((answer, loads, out.steps, nodes as u64))
     }
 }

@@ -12,7 +12,10 @@
 //! docs/physics.md §9.10), and the cracks of those impacts take their
 //! energy from the vibration the lattices kept, not from `dissipated`.
 
-use super::impact::{COUNTERS, LATTICE_FAILED, LATTICE_IMPACTS, LATTICE_MULTI_PAIR, LATTICE_STEPS};
+use super::impact::{
+    COUNTERS, LATTICE_FAILED, LATTICE_IMPACTS, LATTICE_MULTI_PAIR, LATTICE_NODE_STEPS,
+    LATTICE_STEPS,
+};
 use super::{Decision, Fracturer, Load};
 use crate::formulation::context::{ImpactAnswer, ImpactQuery, Reads, Topology};
 use crate::model::fracture::FractureModel;
@@ -127,12 +130,14 @@ impl Topology for FractureStage {
             self.counters.add(&LATTICE_MULTI_PAIR, 1);
             return None;
         }
-        let Ok((answer, loads, steps)) = self.fracturer.pair_impact(scn, query) else {
+        let Ok((answer, loads, steps, nodes)) = self.fracturer.pair_impact(scn, query) else {
             self.counters.add(&LATTICE_FAILED, 1);
             return None;
         };
         self.counters.add(&LATTICE_IMPACTS, 1);
         self.counters.add(&LATTICE_STEPS, steps);
+        self.counters
+            .add(&LATTICE_NODE_STEPS, steps.saturating_mul(nodes));
         let budget = (answer.vibration + answer.dashpot, Budget::Vibration);
         self.decide(scn, sys, &loads, (sys.t, sys.t), budget);
         Some(answer)

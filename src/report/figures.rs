@@ -3,6 +3,9 @@
 //!
 //! - `kinetic`: kinetic energy against time, every formulation;
 //! - `dissipated`: energy dissipated by contacts against time;
+//! - `lattice_energy_<formulation>` (runs whose impacts the lattices
+//!   resolved and left vibrating): the ledger's split against time
+//!   (`lattice_energy.rs`);
 //! - `divergence`: RMS position difference from the reference (the first
 //!   formulation), relative to the mean floe diameter, with the threshold;
 //! - `paths`: the centre-of-mass paths of up to three floes (those that
@@ -56,7 +59,7 @@ pub struct Figure {
     pub caption: String,
 }
 
-fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
+pub(super) fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
     move |e| ReportError::Plot {
         path: stem.to_path_buf(),
         message: e.to_string(),
@@ -207,6 +210,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         .map_err(plot_err(&stem))?;
         add(file, format!("{what} against time"), caption);
     }
+    super::lattice_energy::figures(comp, dir, &mut add)?;
 
     if let Some(reference) = comp.runs.first() {
         let rname = &reference.summary.formulation;
@@ -380,7 +384,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         .map(|r| r.summary.formulation.clone())
         .collect();
     let stage = |f: fn(&RunResult) -> f64| comp.runs.iter().map(f).collect::<Vec<f64>>();
-    let segments = [
+    let mut segments = vec![
         (
             "detection".to_string(),
             stage(|r| r.summary.timing.stages.detection),
@@ -393,8 +397,13 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             "integration".to_string(),
             stage(|r| r.summary.timing.stages.integration),
         ),
-        ("other".to_string(), stage(|r| r.summary.timing.cpu_other)),
     ];
+    // The lattice stage only where impacts ran in the lattices.
+    let lattice = stage(|r| r.summary.timing.stages.lattice);
+    if lattice.iter().any(|&t| t > 0.0) {
+        segments.push(("lattice impacts".to_string(), lattice));
+    }
+    segments.push(("other".to_string(), stage(|r| r.summary.timing.cpu_other)));
     let notes: Vec<String> = match fastest(&comp.cpu) {
         Some(f) => comp
             .cpu
@@ -419,7 +428,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
     add(
         "cpu",
         "CPU time per stage".into(),
-        "thread CPU time of each formulation's run of median CPU time, split into contact detection, contact solve and smooth integration; \"other\" is the rest of the run's CPU time outside those stages (recording the outputs and the energy ledger, the formulation's bookkeeping between stages, the timer's own cost); above each bar its total and its ratio to the fastest median, to the digits the spread of the repeats supports",
+        "thread CPU time of each formulation's run of median CPU time, split into contact detection, contact solve and smooth integration (and the impacts resolved in the floes' lattices, where impact = \"lattice\" ran them); \"other\" is the rest of the run's CPU time outside those stages (recording the outputs and the energy ledger, the formulation's bookkeeping between stages, the timer's own cost); above each bar its total and its ratio to the fastest median, to the digits the spread of the repeats supports",
     );
     Ok(figs)
 }

@@ -11,6 +11,8 @@
 //! - [`checks`]: the tables of check outcomes (`floebench check`): plain
 //!   text, Markdown, `checks.csv`;
 //! - [`figures`]: which plots a comparison draws, from its data;
+//! - `lattice_energy` (private): the energy split of the impacts resolved
+//!   in the floes' lattices, against time;
 //! - [`crack`]: the crack figure of a percussion (the lattice with its
 //!   broken bonds), for the report and `percussion-2d --plot`;
 //! - [`page`]: the page's document model, rendered as Markdown and HTML;
@@ -29,6 +31,7 @@ pub mod crack;
 pub mod figures;
 pub mod folder;
 pub mod format;
+mod lattice_energy;
 pub mod page;
 mod parameters;
 pub mod plot;

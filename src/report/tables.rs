@@ -96,12 +96,22 @@ fn width(c: &Spread) -> f64 {
 
 /// The runs table of a case: one row per formulation.
 pub(super) fn runs_table(comp: &CaseComparison) -> Block {
+    // The lattice stage's column only where impacts ran in the lattices.
+    let lattice = comp
+        .runs
+        .iter()
+        .any(|r| r.summary.timing.stages.lattice > 0.0);
+    let stages_header = if lattice {
+        "detection / solve / integration / lattice (s)"
+    } else {
+        "detection / solve / integration (s)"
+    };
     let header = [
         "formulation",
         "end",
         "CPU (s): median (range; IQR)",
         "CPU per sim. s",
-        "detection / solve / integration (s)",
+        stages_header,
         "E_k final (J)",
         "dissipated (J)",
         "residual / exchanged",
@@ -130,7 +140,12 @@ pub(super) fn runs_table(comp: &CaseComparison) -> Block {
                 cpu_cell(c, true),
                 fmt_measured(&[c.median / per], w / per).remove(0),
                 fmt_measured(
-                    &[t.stages.detection, t.stages.solve, t.stages.integration],
+                    &[
+                        t.stages.detection,
+                        t.stages.solve,
+                        t.stages.integration,
+                        t.stages.lattice,
+                    ][..if lattice { 4 } else { 3 }],
                     w,
                 )
                 .join(" / "),

@@ -20,6 +20,7 @@ pub mod output;
 pub mod repeat;
 
 use crate::formulation::{Context, Formulation, FormulationError, Interrupt};
+use crate::fracture::impact::{LATTICE_IMPACTS, LATTICE_NODE_STEPS};
 use crate::fracture::stage::FractureStage;
 use crate::model::fracture::{FloeRecord, FractureRecord, PercussionRecord};
 use crate::model::Scenario;
@@ -164,6 +165,37 @@ pub struct Timing {
     /// Estimated CPU time of those reads, s (reads × the measured cost of
     /// one read): the timer's own cost, included in `cpu_total`.
     pub timer_overhead: f64,
+    /// The lattice stage's cost per impact and per node-step (runs whose
+    /// impacts the lattices resolved, `impact = "lattice"`; absent
+    /// otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lattice_cost: Option<LatticeCost>,
+}
+
+/// The CPU cost of the impacts resolved in the lattices (docs/physics.md
+/// §9.10): the lattice stage's CPU time over the counters
+/// `lattice_impacts` and `lattice_impact_node_steps`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
+pub struct LatticeCost {
+    /// CPU time per impact resolved in the lattices, s.
+    pub per_impact: f64,
+    /// CPU time per node-step of their integration (one velocity Verlet
+    /// step of one node), s.
+    pub per_node_step: f64,
+}
+
+impl LatticeCost {
+    /// The cost of `cpu` (s, the lattice stage's) over the run's
+    /// `counters`; `None` without an impact resolved in the lattices.
+    pub fn of(cpu: f64, counters: &Counters) -> Option<LatticeCost> {
+        let count = |c| counters.value(c).ok().flatten().unwrap_or(0.0);
+        let impacts = count(&LATTICE_IMPACTS);
+        let node_steps = count(&LATTICE_NODE_STEPS);
+        (impacts > 0.0 && node_steps > 0.0).then(|| LatticeCost {
+            per_impact: cpu / impacts,
+            per_node_step: cpu / node_steps,
+        })
+    }
 }
 
 /// Everything `summary.json` says about a run.
@@ -419,6 +451,7 @@ impl Runner {
                 wall: wall0.elapsed().as_secs_f64(),
                 clock_reads: clock.reads(),
                 timer_overhead: clock.overhead() + profile_overhead,
+                lattice_cost: LatticeCost::of(stages.lattice, &counters),
             },
             energy: totals,
             settings: form.settings(),

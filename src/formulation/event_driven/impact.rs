@@ -24,7 +24,7 @@ impl EventDriven {
         sys: &mut System,
         contacts: &[Contact],
         slow: Option<f64>,
-        topology: &mut dyn Topology,
+        cx: &mut Context<'_>,
     ) -> bool {
         let n = scn.floes.len();
         let approaching: Vec<bool> = contacts
@@ -59,7 +59,7 @@ impl EventDriven {
             let before = sys.group_kinetic_energy(scn, &g.floes);
             // An impact of one pair may be resolved by the topology stage
             // (`impact = "lattice"`, docs/physics.md §9.10).
-            let lattice = if slow.is_none() && topology.reads().impacts {
+            let lattice = if slow.is_none() && cx.topology.reads().impacts {
                 let impacting: Vec<&Contact> = g
                     .contacts
                     .iter()
@@ -67,7 +67,7 @@ impl EventDriven {
                     .map(|&k| &contacts[k])
                     .collect();
                 ImpactQuery::of(scn, &impacting, |i| sys.bodies[i])
-                    .and_then(|q| topology.impact(scn, sys, &q).map(|a| (q, a)))
+                    .and_then(|q| cx.impact(scn, sys, &q).map(|a| (q, a)))
             } else {
                 None
             };
@@ -116,15 +116,16 @@ impl EventDriven {
                 None => sys.ledger.dissipated += before - after,
             }
             if let Some(ans) = rigid {
-                if topology.reads().percussions && slow.is_none() {
+                if cx.topology.reads().percussions && slow.is_none() {
                     // The impulses applied: (1 + e) times the compression's.
                     let k = 1.0 + e;
                     let normal: Vec<f64> = ans.normal.iter().map(|v| v * k).collect();
                     let tangential: Vec<f64> = ans.tangential.iter().map(|v| v * k).collect();
                     let group: Vec<&Contact> = g.contacts.iter().map(|&k| &contacts[k]).collect();
                     let loads = loads_of(scn, &group, &normal, &tangential);
-                    topology.percussion(scn, sys, &loads, sys.t, sys.t, before - after);
-                } else if slow.is_some() && topology.reads().sustained {
+                    cx.topology
+                        .percussion(scn, sys, &loads, sys.t, sys.t, before - after);
+                } else if slow.is_some() && cx.topology.reads().sustained {
                     // A slow approach stopped is part of the sustained
                     // contact: the stress criterion reads it with the step's
                     // impulses.

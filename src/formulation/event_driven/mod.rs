@@ -47,7 +47,7 @@ use super::contact_solver::{
 use super::group_solver::{read_solver, GroupData, GroupSolver};
 use super::{
     reported_state, Context, Entry, Formulation, FormulationError, FormulationOptions, ImpactQuery,
-    NotClaimed, OwnState, Topology,
+    NotClaimed, OwnState,
 };
 use crate::contact::problem::{groups, Gen};
 use crate::contact::{loads_of, signed_distance, Aabb, BroadPhase, Contact, Load, NarrowOptions};

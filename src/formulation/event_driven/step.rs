@@ -46,10 +46,9 @@ impl EventDriven {
         let mut rounds = 0;
         let mut any = false;
         loop {
-            let topology = &mut *cx.topology;
-            let hit = cx.clock.time(Stage::Solve, || {
-                self.impacts_at(scn, sys, &contacts, None, topology)
-            });
+            let solve = cx.clock.start(Stage::Solve);
+            let hit = self.impacts_at(scn, sys, &contacts, None, cx);
+            cx.clock.stop(Stage::Solve, solve);
             if !hit {
                 break;
             }
@@ -83,10 +82,9 @@ impl EventDriven {
         // threshold, is stopped by the sustained force over the step and
         // closes |u| h / 2: beyond a tenth of the tolerance, it is stopped at
         // once instead.
-        let topology = &mut *cx.topology;
-        cx.clock.time(Stage::Solve, || {
-            self.impacts_at(scn, sys, &contacts, Some(bound), topology)
-        });
+        let solve = cx.clock.start(Stage::Solve);
+        self.impacts_at(scn, sys, &contacts, Some(bound), cx);
+        cx.clock.stop(Stage::Solve, solve);
         let to_end = bound >= end - t;
         let mut h = bound;
         let p0 = world_polygons(scn, &sys.bodies);

@@ -16,7 +16,7 @@
 use super::Moreau;
 use crate::contact::problem::{ContactGroup as Group, Gen};
 use crate::contact::Contact;
-use crate::formulation::{ImpactAnswer, ImpactQuery, Topology};
+use crate::formulation::{Context, ImpactAnswer, ImpactQuery};
 use crate::geometry::Vec2;
 use crate::model::Scenario;
 use crate::state::{BodyState, System};
@@ -36,7 +36,7 @@ impl Moreau {
         sys: &System,
         (g, active, u_minus): (&Group, &[Contact], &[f64]),
         w_free: &[Gen],
-        topology: &mut dyn Topology,
+        cx: &mut Context<'_>,
     ) -> Option<(ImpactQuery, ImpactAnswer)> {
         let impacting: Vec<&Contact> = g
             .contacts
@@ -56,7 +56,7 @@ impl Moreau {
             ..sys.bodies[i]
         };
         let query = ImpactQuery::of(scn, &impacting, state)?;
-        let answer = topology.impact(scn, sys, &query)?;
+        let answer = cx.impact(scn, sys, &query)?;
         Some((query, answer))
     }
 

@@ -44,7 +44,7 @@ use super::contact_solver::{
 use super::group_solver::{read_solver, GroupAnswer, GroupData, GroupSolver};
 use super::{
     advance_on_grid, check_output_grid, Context, Entry, FixedGrid, FixedStep, Formulation,
-    FormulationError, FormulationOptions, NotClaimed, Topology,
+    FormulationError, FormulationOptions, NotClaimed,
 };
 use crate::contact::problem::{groups, Gen};
 use crate::contact::{loads_of, BroadPhase, Contact};
@@ -291,10 +291,10 @@ impl Moreau {
             self.active_pairs.clear();
             w_free.clone()
         } else {
-            let topology = &mut *cx.topology;
-            cx.clock.time(Stage::Solve, || {
-                self.solve_contacts(scn, sys, h, &active, &w_free, topology)
-            })
+            let solve = cx.clock.start(Stage::Solve);
+            let w_new = self.solve_contacts(scn, sys, h, &active, &w_free, cx);
+            cx.clock.stop(Stage::Solve, solve);
+            w_new
         };
         // 4. Positions by the θ-method.
         cx.clock.time(Stage::Integration, || {
@@ -340,7 +340,7 @@ impl Moreau {
         h: f64,
         active: &[Contact],
         w_free: &[Gen],
-        topology: &mut dyn Topology,
+        cx: &mut Context<'_>,
     ) -> Vec<Gen> {
         let mut w_new = w_free.to_vec();
         let n = scn.floes.len();
@@ -369,9 +369,9 @@ impl Moreau {
             };
             // An impact of one pair may be resolved in the lattices
             // (`impact = "lattice"`, [`lattice`]).
-            let lattice = topology.reads().impacts.then(|| {
+            let lattice = cx.topology.reads().impacts.then(|| {
                 let group = (g, active, &u_minus[..]);
-                self.lattice_impact(scn, sys, group, w_free, topology)
+                self.lattice_impact(scn, sys, group, w_free, cx)
             });
             let (rigid, dv) = match lattice.flatten() {
                 Some(answer) => (Err(answer), Moreau::lattice_dv(scn, g, &answer, w_free)),
@@ -417,13 +417,15 @@ impl Moreau {
                     None
                 }
             };
-            if let (true, Some((normal, tangential))) = (topology.reads().percussions, impulses) {
+            if let (true, Some((normal, tangential))) = (cx.topology.reads().percussions, impulses)
+            {
                 // The step's impulses, on the floes at q_k, delivered over
                 // the step [t_k, t_k + h] (docs/physics.md §9.3); the floes
                 // break between steps (§9.5).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &active[k]).collect();
                 let loads = loads_of(scn, &group, &normal, &tangential);
-                topology.percussion(scn, sys, &loads, sys.t, sys.t + h, before - after);
+                cx.topology
+                    .percussion(scn, sys, &loads, sys.t, sys.t + h, before - after);
             }
             if dv.iter().flatten().any(|d| d.abs() > negligible) {
                 self.solver.direct.log_mut().push_event(ContactEvent {
@@ -436,7 +438,7 @@ impl Moreau {
             e_before += before;
             e_after += after;
         }
-        if topology.reads().impacts {
+        if cx.topology.reads().impacts {
             self.keep_active_pairs(active);
         }
         if any {

@@ -6,8 +6,8 @@
 //! Here the row builder, the list of every check ([`all`]) and the checks
 //! of the whole run (momentum, impact energy, energy conservation, Coulomb,
 //! penetration, the energy ledger); `motion.rs` the checks against exact
-//! motions (symmetry, head-on, bouncing, sliding, cradle, cannon, free
-//! drift, inertial oscillation); `fracture.rs` the checks of fracture.
+//! motions (symmetry, head-on, Saint-Venant's bars, bouncing, sliding,
+//! cradle, cannon, free drift, inertial oscillation); `fracture.rs` the checks of fracture.
 
 mod fracture;
 mod motion;
@@ -28,7 +28,9 @@ use crate::model::Scenario;
 use crate::record::counters::common::MAX_PENETRATION;
 use crate::run::{EndReason, RunResult};
 use fracture::{fracture_conservation, lattice_spin, ram_critical_speed};
-use motion::{bouncing, cannon, cradle, free_drift, head_on, inertial, sliding, symmetry};
+use motion::{
+    bouncing, cannon, cradle, free_drift, head_on, inertial, saint_venant, sliding, symmetry,
+};
 
 struct Rows<'a> {
     scn: &'a Scenario,
@@ -102,6 +104,7 @@ pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     // each initial floe's material through its pieces when floes broke (a
     // split conserves momentum; `final_velocity`, docs/physics.md §9.7).
     head_on(&mut r);
+    saint_venant(&mut r);
     cradle(&mut r);
     cannon(&mut r);
     // The other checks read from the case's initial floes follow those floes

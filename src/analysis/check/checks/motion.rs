@@ -13,10 +13,12 @@ use crate::analysis::check::structure::{
 };
 use crate::analysis::check::{
     CRADLE_TOLERANCE, FREE_DRIFT_TOLERANCE, HEAD_ON_TOLERANCE, INERTIAL_PERIOD_TOLERANCE,
-    REST_SPEED_FRACTION, SLIDING_DISTANCE_TOLERANCE, SYMMETRY_TOLERANCE,
+    REST_SPEED_FRACTION, SAINT_VENANT_TOLERANCE, SLENDER, SLIDING_DISTANCE_TOLERANCE,
+    SYMMETRY_TOLERANCE,
 };
 use crate::contact::signed_distance;
-use crate::geometry::{cross, Vec2};
+use crate::geometry::{cross, perp, Vec2};
+use crate::model::Scenario;
 use crate::run::{RunResult, TrajectoryRow};
 
 pub(super) fn symmetry(r: &mut Rows) {
@@ -62,32 +64,39 @@ pub(super) fn symmetry(r: &mut Rows) {
     .scale = Some(scale);
 }
 
+/// A central impact of two floes (the set-up of `head_on` and
+/// `saint_venant`): two floes, no forcing, no obstacle, no spin, velocities
+/// along the line of centres and approaching, the configuration symmetric
+/// about it; the unit direction from the first to the second and the two
+/// velocities along it.
+fn central_pair(scn: &Scenario) -> Option<(Vec2, f64, f64)> {
+    if scn.floes.len() != 2 || !scn.obstacles.is_empty() || !no_forcing(scn) {
+        return None;
+    }
+    let (f1, f2) = (&scn.floes[0], &scn.floes[1]);
+    let d = (f2.position - f1.position).try_normalize(0.0)?;
+    let along = |v: &Vec2| cross(&d, v).abs() <= 1e-12 * v.norm();
+    let (v1, v2) = (f1.velocity.dot(&d), f2.velocity.dot(&d));
+    let central = along(&f1.velocity)
+        && along(&f2.velocity)
+        && f1.angular_velocity == 0.0
+        && f2.angular_velocity == 0.0
+        && v1 > v2
+        && self_symmetric(scn, f1.position, d);
+    central.then_some((d, v1, v2))
+}
+
 pub(super) fn head_on(r: &mut Rows) {
     let scn = r.scn;
     // The closed form is the restitution law's, which the lattices
     // replace with impact = "lattice" (docs/physics.md §9.10).
-    if scn.floes.len() != 2
-        || !scn.obstacles.is_empty()
-        || !no_forcing(scn)
-        || scn.fracture.lattice_impacts()
-    {
+    if scn.fracture.lattice_impacts() {
         return;
     }
-    let (f1, f2) = (&scn.floes[0], &scn.floes[1]);
-    let Some(d) = (f2.position - f1.position).try_normalize(0.0) else {
+    let Some((d, v1, v2)) = central_pair(scn) else {
         return;
     };
-    let along = |v: &Vec2| cross(&d, v).abs() <= 1e-12 * v.norm();
-    let (v1, v2) = (f1.velocity.dot(&d), f2.velocity.dot(&d));
-    if !along(&f1.velocity)
-        || !along(&f2.velocity)
-        || f1.angular_velocity != 0.0
-        || f2.angular_velocity != 0.0
-        || v1 <= v2
-        || !self_symmetric(scn, f1.position, d)
-    {
-        return;
-    }
+    let (f1, f2) = (&scn.floes[0], &scn.floes[1]);
     let e = scn.contact.restitution;
     let (w1, w2) = head_on_velocities(f1.mass, v1, f2.mass, v2, e);
     let tol = HEAD_ON_TOLERANCE * (v1 - v2);
@@ -113,6 +122,72 @@ pub(super) fn head_on(r: &mut Rows) {
         note,
     )
     .scale = Some(v1 - v2);
+}
+
+/// Floe `i`'s length along the unit direction `d` and width across it (m)
+/// when it is a rectangle with sides along `d` and across it.
+fn bar_along(scn: &Scenario, i: usize, d: Vec2) -> Option<(f64, f64)> {
+    let poly = initial_polygon(scn, i);
+    if poly.len() != 4 {
+        return None;
+    }
+    let n = perp(&d);
+    let span = |axis: &Vec2| {
+        let x: Vec<f64> = poly.iter().map(|p| p.dot(axis)).collect();
+        let (lo, hi) = x
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        (x, lo, hi)
+    };
+    let ((xs, x0, x1), (ys, y0, y1)) = (span(&d), span(&n));
+    let tol = GEOMETRY_MATCH * scn.floes[i].radius;
+    let at_side = |v: f64, lo: f64, hi: f64| (v - lo).abs() <= tol || (v - hi).abs() <= tol;
+    let rectangle =
+        xs.iter().all(|&x| at_side(x, x0, x1)) && ys.iter().all(|&y| at_side(y, y0, y1));
+    rectangle.then_some((x1 - x0, y1 - y0))
+}
+
+/// Saint-Venant's bars (docs/physics.md §9.10): two bars of one ice, the
+/// same cross-section, slender (each at least [`SLENDER`] widths long),
+/// meeting end-on, their impact resolved in their lattices without
+/// dashpots. One-dimensional wave theory: they separate at
+/// `e = min(L1, L2)/max(L1, L2)` (the shorter bar's wave returns and the
+/// contact ends; the longer bar keeps the rest as vibration).
+pub(super) fn saint_venant(r: &mut Rows) {
+    let scn = r.scn;
+    if !scn.fracture.lattice_impacts() || scn.fracture.damping != 0.0 {
+        return;
+    }
+    let Some((d, v1, v2)) = central_pair(scn) else {
+        return;
+    };
+    let (Some((l1, w1)), Some((l2, w2))) = (bar_along(scn, 0, d), bar_along(scn, 1, d)) else {
+        return;
+    };
+    let (f1, f2) = (&scn.floes[0], &scn.floes[1]);
+    let same = |a: f64, b: f64| (a - b).abs() <= GEOMETRY_MATCH * a.abs().max(b.abs());
+    if !same(w1, w2)
+        || !same(f1.thickness, f2.thickness)
+        || !same(f1.density, f2.density)
+        || l1.min(l2) < SLENDER * w1
+    {
+        return;
+    }
+    let expected = l1.min(l2) / l1.max(l2);
+    let (a, b) = (final_velocity(r.run, 0), final_velocity(r.run, 1));
+    let measured = (b - a).dot(&d) / (v1 - v2);
+    r.push(
+        "saint_venant",
+        "bars end-on, impact in their lattices: e_eff = -u_N(after)/u_N(before) against Saint-Venant's min(L1, L2)/max(L1, L2)",
+        measured,
+        Some(expected),
+        SAINT_VENANT_TOLERANCE * expected,
+        "1",
+        format!("L1 = {l1:.6} m, L2 = {l2:.6} m, width {w1:.6} m; restitution {} unused", scn.contact.restitution),
+    )
+    .scale = Some(expected);
 }
 
 pub(super) fn bouncing(r: &mut Rows) {
