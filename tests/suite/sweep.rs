@@ -558,7 +558,7 @@ fn the_dense_plan_loads_with_each_tolerance_beside_its_solver() {
     assert_eq!(pts.len(), 18);
     let p = pts
         .iter()
-        .find(|p| p.id == "bay_jam_200__moreau__solver=nsgs__tolerance=0.0001")
+        .find(|p| p.id == "bay_jam_200__moreau__tolerance=0.0001__solver=nsgs")
         .unwrap_or_else(|| panic!("{:?}", pts.iter().map(|p| &p.id).collect::<Vec<_>>()));
     let scn = plan.scenario(p.case, p.table, &p.settings).unwrap();
     let s = floebench::formulation::moreau::MoreauSettings::of(&scn).unwrap();
