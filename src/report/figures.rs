@@ -37,7 +37,7 @@
 
 use super::plot::{self, AnimationFrame, LineChart, Panel, PlanView, Scale, Series, StackedBars};
 use super::tables::{fastest, ratio_text};
-use super::ReportError;
+use super::{plot_err, ReportError};
 use crate::analysis::check::curves::exact_curves;
 use crate::analysis::comparison::CaseComparison;
 use crate::analysis::divergence::frames;
@@ -57,13 +57,6 @@ pub struct Figure {
     pub stem: String,
     /// How to read it, for the page.
     pub caption: String,
-}
-
-pub(super) fn plot_err(stem: &Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
-    move |e| ReportError::Plot {
-        path: stem.to_path_buf(),
-        message: e.to_string(),
-    }
 }
 
 fn polygon(points: impl IntoIterator<Item = Vec2>) -> Vec<(f64, f64)> {

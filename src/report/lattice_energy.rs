@@ -7,9 +7,8 @@
 //! columns. Drawn where people would rather look than read: how much of an
 //! impact's energy went into the lattices.
 
-use super::figures::plot_err;
 use super::plot::{self, LineChart, Scale, Series};
-use super::ReportError;
+use super::{plot_err, ReportError};
 use crate::analysis::comparison::CaseComparison;
 use crate::run::EnergySample;
 use std::path::Path;

@@ -72,3 +72,12 @@ pub enum ReportError {
         message: String,
     },
 }
+
+/// The error of a chart that could not be drawn at `stem` (its files'
+/// path without extension).
+fn plot_err(stem: &std::path::Path) -> impl FnOnce(plot::PlotError) -> ReportError + '_ {
+    move |e| ReportError::Plot {
+        path: stem.to_path_buf(),
+        message: e.to_string(),
+    }
+}
