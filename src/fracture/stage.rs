@@ -120,7 +120,7 @@ impl Topology for FractureStage {
     fn impact(
         &mut self,
         scn: &Scenario,
-        sys: &System,
+        _sys: &System,
         query: &ImpactQuery,
     ) -> Option<ImpactAnswer> {
         if !self.reads.impacts {
@@ -130,7 +130,7 @@ impl Topology for FractureStage {
             self.counters.add(&LATTICE_MULTI_PAIR, 1);
             return None;
         }
-        let Ok((answer, loads, steps, nodes)) = self.fracturer.pair_impact(scn, query) else {
+        let Ok((answer, decisions, steps, nodes)) = self.fracturer.pair_impact(scn, query) else {
             self.counters.add(&LATTICE_FAILED, 1);
             return None;
         };
@@ -138,8 +138,12 @@ impl Topology for FractureStage {
         self.counters.add(&LATTICE_STEPS, steps);
         self.counters
             .add(&LATTICE_NODE_STEPS, steps.saturating_mul(nodes));
-        let budget = (answer.vibration + answer.dashpot, Budget::Vibration);
-        self.decide(scn, sys, &loads, (sys.t, sys.t), budget);
+        if !decisions.is_empty() {
+            // The cracks' energies and the pieces' relative motion come out
+            // of what the impact left in the lattices (docs/physics.md §9.10).
+            let budget = answer.vibration + answer.dashpot;
+            self.pending.push((decisions, budget, Budget::Vibration));
+        }
         Some(answer)
     }
 

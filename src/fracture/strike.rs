@@ -328,30 +328,46 @@ pub fn strike_all(
         });
     }
     let o = p.run();
-    let pieces = merge_small(
-        o.fragments
+    let split = LatticeSplit {
+        pieces: o
+            .fragments
             .into_iter()
             .map(|f| Fragment::of_nodes(f.nodes, &lattice.nodes, &p.v, &lattice.mass))
             .collect(),
-        &lattice.nodes,
-        &p.v,
-        &lattice.mass,
-        min_area,
-        area_density,
-    );
+        loss: o.fracture_energy,
+        broken: o.broken.len(),
+        bonds: o.broken.iter().map(|b| b.spring).collect(),
+        impacts: impacts.to_vec(),
+    };
     Ok(Strike {
         bound,
         weakest,
         ran: true,
         broken: o.broken.len(),
-        split: (pieces.len() >= 2).then_some(LatticeSplit {
-            pieces,
-            loss: o.fracture_energy,
-            broken: o.broken.len(),
-            bonds: o.broken.iter().map(|b| b.spring).collect(),
-            impacts: impacts.to_vec(),
-        }),
+        split: merged(split, lattice, &p.v, min_area, area_density),
     })
+}
+
+/// `split` with its components (`pieces`: every connected component of a
+/// lattice run's unbroken springs, at rest positions, of node velocities
+/// `v` in the lattice's frame) made floes: the small ones merged
+/// ([`merge_small`]); `None` when fewer than two are left.
+pub fn merged(
+    mut split: LatticeSplit,
+    lattice: &Lattice,
+    v: &[Vec2],
+    min_area: f64,
+    area_density: f64,
+) -> Option<LatticeSplit> {
+    split.pieces = merge_small(
+        std::mem::take(&mut split.pieces),
+        &lattice.nodes,
+        v,
+        &lattice.mass,
+        min_area,
+        area_density,
+    );
+    (split.pieces.len() >= 2).then_some(split)
 }
 
 /// Merges every component too small to be a floe (one node, fewer than 3

@@ -257,3 +257,66 @@ fn a_floe_against_a_fixed_obstacle_rebounds_with_its_momentum_from_the_wall() {
     };
     assert!(away.run().is_err());
 }
+
+/// Bars 10 m and 20 m end-on, the second at `x` (its centre, m; 10 for
+/// touching faces), as [`Bars::run`] places them otherwise.
+fn bars_at(x: f64) -> PairOutcome {
+    let shape = |l: f64| {
+        [
+            Vec2::new(-0.5 * l, -0.5),
+            Vec2::new(0.5 * l, -0.5),
+            Vec2::new(0.5 * l, 0.5),
+            Vec2::new(-0.5 * l, 0.5),
+        ]
+    };
+    let (s1, s2) = (shape(10.0), shape(20.0));
+    let state = |x: f64, v: f64| BodyState {
+        position: Vec2::new(x, 0.0),
+        angle: 0.0,
+        velocity: Vec2::new(v, 0.0),
+        angular_velocity: 0.0,
+    };
+    PairImpact {
+        first: PairBody {
+            shape: &s1,
+            state: state(-5.0, 1.0),
+            spec: ice(0.25),
+        },
+        second: Some(PairBody {
+            shape: &s2,
+            state: state(x, 0.0),
+            spec: ice(0.25),
+        }),
+        point: Vec2::zeros(),
+        normal: Vec2::new(1.0, 0.0),
+        options: undamped(),
+    }
+    .run()
+    .expect("impact")
+}
+
+/// Floes that a time-stepping scheme left overlapping (by 0.3 m here,
+/// more than a spacing) start their impact at first touch (docs/physics.md
+/// §9.9, **Start**): the same bounce as bars placed touching (to 1e-6:
+/// the start leaves a gap of 1e-9 of the overlap, so the first touch comes
+/// a fraction of a step later; measured 1.3e-8), and no energy created by
+/// the overlap. Without the start rule the overlap's
+/// contact links hold `½ κ̄ d²` per node and throw the bars apart (the
+/// moreau run of lattice_field_impact blew up so, at 115 m of
+/// penetration).
+#[test]
+fn overlapping_floes_start_their_impact_at_first_touch() {
+    let touching = bars_at(10.0);
+    let overlapping = bars_at(9.7);
+    let (e0, e1) = (touching.restitution, overlapping.restitution);
+    assert!(
+        (e1 - e0).abs() < 1e-6,
+        "e = {e1} overlapping, {e0} touching"
+    );
+    assert!(
+        defect(&overlapping).abs() < ENERGY_TOLERANCE,
+        "{:e}",
+        defect(&overlapping)
+    );
+    assert!(overlapping.rigid_energy() <= overlapping.initial_energy);
+}

@@ -32,6 +32,15 @@
 //! other's segments; `s` the spacings, `m_o` the other's least outline
 //! mass).
 //!
+//! **Start.** The lattices are placed at the floes' poses. Where these
+//! overlap (a time-stepping scheme's penetration, docs/physics.md §5),
+//! the second body is first moved along `n` by the deepest overlap, again
+//! until no outline node of one body is inside the other: the impact
+//! starts at first touch, with no energy stored in the contact links (an
+//! overlap of depth `d` would hold `½ κ̄ d²` per node and throw the floes
+//! apart). Only velocities leave the impact, so the move changes no pose;
+//! it changes no normal velocity either (`n · perp(n) = 0`).
+//!
 //! **Stopping rule.** The contact is over when no node touches the other
 //! body (nor the obstacle's striker) and the relative normal velocity of
 //! the two bodies' rigid motions at the contact point is not negative
@@ -40,6 +49,12 @@
 //! impact energy `½ μ u_N²` (`μ` the pair's effective mass along `n` at the
 //! contact point), or `settle_transits` transit times of the slower body
 //! have passed with the contact over; in any case after `limit_transits`.
+//!
+//! **Pieces.** When bonds broke, each body's pieces are the connected
+//! components of its unbroken springs, as rigid bodies in its lattice's
+//! rest frame with their nodes' final velocities turned into it (the
+//! percussion's [`super::percussion::Fragment`]s, §9.8): the fracture
+//! stage makes floes of them.
 //!
 //! **Outputs.** Each body's rigid motion: the centre-of-mass velocity of
 //! its nodes' linear momentum and the angular velocity of their angular
@@ -53,12 +68,18 @@
 //! contact links' elastic energy, 0 once apart)` checks the integrator.
 
 use super::percussion::{
-    gershgorin_weight, mean_stiffness, step_of_rows, Impact, NodeMotion, Percussion, RigidMotion,
+    gershgorin_weight, mean_stiffness, step_of_rows, Fragment, Impact, NodeMotion, Percussion,
+    RigidMotion,
 };
 use super::{Lattice, LatticeSpec};
 use crate::fracture::chain::{ChainOptions, Link, Settling, Stop};
-use crate::geometry::{cross, outline_nearest, perp, Vec2};
+use crate::geometry::{cross, outline_nearest, perp, rotate, Vec2};
 use crate::state::BodyState;
+
+/// Moves of the second body along the normal that [`Pair::separate`] may
+/// make before it gives up: each removes the deepest overlap, so a convex
+/// pair needs one or two (the nearest segment changes as it moves).
+const SEPARATION_PASSES: usize = 16;
 
 /// One body of a two-lattice impact: what a fracture stage has of a floe.
 #[derive(Debug, Clone, Copy)]
@@ -91,7 +112,7 @@ pub struct PairImpact<'a> {
 }
 
 /// A body after a two-lattice impact.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct BodyOutcome {
     /// Mass, kg.
     pub mass: f64,
@@ -116,6 +137,18 @@ pub struct BodyOutcome {
     pub fracture: f64,
     /// How many bonds broke.
     pub broken: usize,
+    /// The springs that broke, in the order they broke.
+    pub bonds: Vec<usize>,
+    /// Its breaking energy's least value over its bonds, J
+    /// ([`Percussion::weakest_bond_energy`]).
+    pub weakest: f64,
+    /// When a bond broke: the connected components of its unbroken
+    /// springs as rigid bodies in the lattice's rest frame (module doc,
+    /// **Pieces**); empty otherwise.
+    pub pieces: Vec<Fragment>,
+    /// When a bond broke: the nodes' velocities at the end, turned into the
+    /// lattice's frame (those of `pieces`), m/s; empty otherwise.
+    pub rest_velocities: Vec<Vec2>,
 }
 
 /// What a two-lattice impact gives.
@@ -210,6 +243,8 @@ struct Body<'a> {
     inertia: f64,
     /// Centre of mass at the impact, m.
     start: Vec2,
+    /// The body's angle at the impact (its lattice's frame), rad.
+    angle: f64,
 }
 
 impl Body<'_> {
@@ -285,6 +320,7 @@ impl PairImpact<'_> {
             damping: 0.0,
             power: 0.0,
         };
+        pair.separate(n)?;
         let dt = self.options.safety * pair.stable_step();
         for b in &mut pair.bodies {
             b.p.dt = dt;
@@ -390,6 +426,7 @@ fn body<'a>(
         damping: options.damping,
         inertia: rest.inertia,
         start,
+        angle: b.state.angle,
     })
 }
 
@@ -408,6 +445,22 @@ fn vibration(b: &Body<'_>) -> (f64, NodeMotion, f64) {
 
 fn outcome(b: &Body<'_>) -> BodyOutcome {
     let (vib, nm, rigid) = vibration(b);
+    let lattice = b.p.lattice;
+    let (pieces, rest_velocities) = if b.p.broken.is_empty() {
+        (Vec::new(), Vec::new())
+    } else {
+        let v: Vec<Vec2> = b.p.v.iter().map(|v| rotate(v, -b.angle)).collect();
+        let (label, count) = b.p.components();
+        let mut lists = vec![Vec::new(); count];
+        for (i, &c) in label.iter().enumerate() {
+            lists[c].push(i);
+        }
+        let pieces = lists
+            .into_iter()
+            .map(|list| Fragment::of_nodes(list, &lattice.nodes, &v, &lattice.mass))
+            .collect();
+        (pieces, v)
+    };
     BodyOutcome {
         mass: nm.mass,
         inertia: b.inertia,
@@ -420,6 +473,10 @@ fn outcome(b: &Body<'_>) -> BodyOutcome {
         vibration: vib,
         fracture: b.p.energies().fracture,
         broken: b.p.broken.len(),
+        bonds: b.p.broken.iter().map(|k| k.spring).collect(),
+        weakest: b.p.weakest_bond_energy(),
+        pieces,
+        rest_velocities,
     }
 }
 
@@ -473,6 +530,29 @@ impl Pair<'_> {
         for b in &mut self.bodies {
             b.p.finish();
         }
+    }
+
+    /// Moves the second body along `n` until no outline node of one body
+    /// is inside the other (module doc, **Start**); returns the distance, m.
+    /// Fails when [`SEPARATION_PASSES`] moves are not enough.
+    fn separate(&mut self, n: Vec2) -> Result<f64, String> {
+        let mut moved = 0.0;
+        for _ in 0..SEPARATION_PASSES {
+            self.find_touches();
+            let depth = self.touches.iter().map(|c| -c.gap).fold(0.0, f64::max);
+            if depth == 0.0 {
+                return Ok(moved);
+            }
+            // A hair more than the depth, so that the deepest node is out.
+            let d = depth * (1.0 + 1e-9);
+            let b = &mut self.bodies[1];
+            b.p.x.iter_mut().for_each(|x| *x += n * d);
+            b.start += n * d;
+            moved += d;
+        }
+        Err(format!(
+            "the lattices still overlap after moving them {moved} m apart along the normal"
+        ))
     }
 
     /// Finds the contacts at the current positions (module doc).
