@@ -29,6 +29,7 @@ fn run() -> Result<(), String> {
         width: 10.0,
         speed: 1.0,
         offset: 0.0,
+        gap: 0.0,
     };
     let mut mesh = Mesh::Random;
     let mut damping = 0.0;

@@ -39,6 +39,7 @@ fn bars(l1: f64, l2: f64, offset: f64) -> Bars {
         width: 1.0,
         speed: 1.0,
         offset,
+        gap: 0.0,
     }
 }
 
@@ -258,43 +259,6 @@ fn a_floe_against_a_fixed_obstacle_rebounds_with_its_momentum_from_the_wall() {
     assert!(away.run().is_err());
 }
 
-/// Bars 10 m and 20 m end-on, the second at `x` (its centre, m; 10 for
-/// touching faces), as [`Bars::run`] places them otherwise.
-fn bars_at(x: f64) -> PairOutcome {
-    let shape = |l: f64| {
-        [
-            Vec2::new(-0.5 * l, -0.5),
-            Vec2::new(0.5 * l, -0.5),
-            Vec2::new(0.5 * l, 0.5),
-            Vec2::new(-0.5 * l, 0.5),
-        ]
-    };
-    let (s1, s2) = (shape(10.0), shape(20.0));
-    let state = |x: f64, v: f64| BodyState {
-        position: Vec2::new(x, 0.0),
-        angle: 0.0,
-        velocity: Vec2::new(v, 0.0),
-        angular_velocity: 0.0,
-    };
-    PairImpact {
-        first: PairBody {
-            shape: &s1,
-            state: state(-5.0, 1.0),
-            spec: ice(0.25),
-        },
-        second: Some(PairBody {
-            shape: &s2,
-            state: state(x, 0.0),
-            spec: ice(0.25),
-        }),
-        point: Vec2::zeros(),
-        normal: Vec2::new(1.0, 0.0),
-        options: undamped(),
-    }
-    .run()
-    .expect("impact")
-}
-
 /// Floes that a time-stepping scheme left overlapping (by 0.3 m here,
 /// more than a spacing) start their impact at first touch (docs/physics.md
 /// §9.9, **Start**): the same bounce as bars placed touching (to 1e-6:
@@ -306,8 +270,13 @@ fn bars_at(x: f64) -> PairOutcome {
 /// penetration).
 #[test]
 fn overlapping_floes_start_their_impact_at_first_touch() {
-    let touching = bars_at(10.0);
-    let overlapping = bars_at(9.7);
+    let touching = bars(10.0, 20.0, 0.0).run(ice(0.25), undamped());
+    let overlapping = Bars {
+        gap: -0.3,
+        ..bars(10.0, 20.0, 0.0)
+    }
+    .run(ice(0.25), undamped());
+    let (touching, overlapping) = (touching.expect("impact"), overlapping.expect("impact"));
     let (e0, e1) = (touching.restitution, overlapping.restitution);
     assert!(
         (e1 - e0).abs() < 1e-6,

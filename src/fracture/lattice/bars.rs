@@ -28,6 +28,9 @@ pub struct Bars {
     pub speed: f64,
     /// The second bar's lateral offset `o`, m, `|o| < W`.
     pub offset: f64,
+    /// The gap between the faces, m: 0 touching, negative overlapping (as
+    /// a time-stepping scheme leaves floes, §9.9 **Start**).
+    pub gap: f64,
 }
 
 impl Bars {
@@ -75,7 +78,7 @@ impl Bars {
             },
             second: Some(PairBody {
                 shape: &s2,
-                state: state(0.5 * l2, self.offset, 0.0),
+                state: state(0.5 * l2 + self.gap, self.offset, 0.0),
                 spec,
             }),
             point: Vec2::new(0.0, 0.5 * self.offset),

@@ -72,14 +72,12 @@ use super::percussion::{
     RigidMotion,
 };
 use super::{Lattice, LatticeSpec};
-use crate::fracture::chain::{ChainOptions, Link, Settling, Stop};
-use crate::geometry::{cross, outline_nearest, perp, rotate, Vec2};
+use crate::fracture::chain::{ChainOptions, Settling, Stop};
+use crate::geometry::{cross, perp, rotate, Vec2};
 use crate::state::BodyState;
+use contact::Touch;
 
-/// Moves of the second body along the normal that [`Pair::separate`] may
-/// make before it gives up: each removes the deepest overlap, so a convex
-/// pair needs one or two (the nearest segment changes as it moves).
-const SEPARATION_PASSES: usize = 16;
+mod contact;
 
 /// One body of a two-lattice impact: what a fracture stage has of a floe.
 #[derive(Debug, Clone, Copy)]
@@ -215,19 +213,6 @@ impl PairOutcome {
                 + self.fracture()
                 + self.contact_energy)
     }
-}
-
-/// One contact of the step: node `node` of body `from` behind segment
-/// `a b` of body `to`'s outline.
-#[derive(Debug, Clone, Copy)]
-struct Touch {
-    from: usize,
-    node: usize,
-    a: usize,
-    b: usize,
-    t: f64,
-    gap: f64,
-    normal: Vec2,
 }
 
 /// A body under way: its percussion, outline and rigid data.
@@ -532,116 +517,6 @@ impl Pair<'_> {
         }
     }
 
-    /// Moves the second body along `n` until no outline node of one body
-    /// is inside the other (module doc, **Start**); returns the distance, m.
-    /// Fails when [`SEPARATION_PASSES`] moves are not enough.
-    fn separate(&mut self, n: Vec2) -> Result<f64, String> {
-        let mut moved = 0.0;
-        for _ in 0..SEPARATION_PASSES {
-            self.find_touches();
-            let depth = self.touches.iter().map(|c| -c.gap).fold(0.0, f64::max);
-            if depth == 0.0 {
-                return Ok(moved);
-            }
-            // A hair more than the depth, so that the deepest node is out.
-            let d = depth * (1.0 + 1e-9);
-            let b = &mut self.bodies[1];
-            b.p.x.iter_mut().for_each(|x| *x += n * d);
-            b.start += n * d;
-            moved += d;
-        }
-        Err(format!(
-            "the lattices still overlap after moving them {moved} m apart along the normal"
-        ))
-    }
-
-    /// Finds the contacts at the current positions (module doc).
-    fn find_touches(&mut self) {
-        self.touches.clear();
-        if self.bodies.len() < 2 {
-            return;
-        }
-        for from in 0..2 {
-            let (src, dst) = (&self.bodies[from], &self.bodies[1 - from]);
-            let nb = dst.outline.len();
-            let outline = &dst.p.x[..nb];
-            let (lo, hi) = bounds(outline);
-            for &i in &src.outline {
-                let p = src.p.x[i];
-                if p.x < lo.x || p.x > hi.x || p.y < lo.y || p.y > hi.y {
-                    continue;
-                }
-                let (gap, a, t) = outline_nearest(&p, outline);
-                if gap < 0.0 {
-                    let b = (a + 1) % nb;
-                    // p − q as the nearest point's search computed it: its
-                    // norm is exactly −gap.
-                    let r = (p - outline[a]) - (outline[b] - outline[a]) * t;
-                    self.touches.push(Touch {
-                        from,
-                        node: i,
-                        a,
-                        b,
-                        t,
-                        gap,
-                        normal: r / gap,
-                    });
-                }
-            }
-        }
-    }
-
-    /// The contact's link and gap rate, m/s.
-    fn link_of(&self, c: &Touch) -> (Link, f64) {
-        let (src, dst) = (&self.bodies[c.from], &self.bodies[1 - c.from]);
-        let (m, mo) = (&src.p.lattice.mass, &dst.p.lattice.mass);
-        let link = src.contact_link(m[c.node], mo[c.a] + mo[c.b]);
-        let v = &dst.p.v;
-        let rate = c
-            .normal
-            .dot(&(src.p.v[c.node] - v[c.a] * (1.0 - c.t) - v[c.b] * c.t));
-        (link, rate)
-    }
-
-    /// Finds the contacts and adds their forces to the bodies' forces.
-    fn contact_forces(&mut self) {
-        self.find_touches();
-        for k in 0..self.touches.len() {
-            let c = self.touches[k];
-            let (link, rate) = self.link_of(&c);
-            let f = link.force(c.gap, rate);
-            if f == 0.0 {
-                continue;
-            }
-            let push = -c.normal * f;
-            self.bodies[c.from].p.force[c.node] += push;
-            let dst = &mut self.bodies[1 - c.from].p.force;
-            dst[c.a] -= push * (1.0 - c.t);
-            dst[c.b] -= push * c.t;
-        }
-    }
-
-    /// The power taken out by every dashpot now, W.
-    fn dashpot_power(&self) -> f64 {
-        let contacts: f64 = self
-            .touches
-            .iter()
-            .map(|c| {
-                let (link, rate) = self.link_of(c);
-                link.dissipation(c.gap, rate)
-            })
-            .sum();
-        contacts + self.bodies.iter().map(|b| b.p.dashpot_power()).sum::<f64>()
-    }
-
-    /// The elastic energy of the contacts between the bodies, J.
-    fn contact_energy(&self) -> f64 {
-        self.touches
-            .iter()
-            .map(|c| self.link_of(c).0.energy(c.gap))
-            .sum()
-    }
-
     /// Linear momentum (kg·m/s) and angular momentum about the origin
     /// (kg·m²/s) of every node.
     fn momentum(&self) -> (Vec2, f64) {
@@ -650,27 +525,4 @@ impl Pair<'_> {
             .map(|b| b.p.momentum())
             .fold((Vec2::zeros(), 0.0), |(p, l), (bp, bl)| (p + bp, l + bl))
     }
-}
-
-impl Body<'_> {
-    /// The contact link of an outline node of mass `m` (kg) with a
-    /// partner of mass `mo` (kg): the striker's law (module doc).
-    fn contact_link(&self, m: f64, mo: f64) -> Link {
-        let mu = m * mo / (m + mo);
-        Link {
-            k: self.link_k,
-            c: self.damping * (self.link_k * mu).sqrt(),
-            rest: 0.0,
-            bonded: false,
-            critical: f64::INFINITY,
-        }
-    }
-}
-
-/// The bounding box of the points `x`, m.
-fn bounds(x: &[Vec2]) -> (Vec2, Vec2) {
-    x.iter().fold(
-        (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY)),
-        |(lo, hi), p| (lo.inf(p), hi.sup(p)),
-    )
 }
