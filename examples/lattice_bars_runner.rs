@@ -8,7 +8,8 @@
 //! the momentum error, the energy split and the cost.
 //!
 //! `cargo run --release --example lattice_bars_runner -- [--lengths 200,300,100]
-//! [--formulations event-driven,moreau] 2.5 1.25 0.625`
+//! [--formulations event-driven,moreau] [--mesh random|triangular] 2.5 1.25 0.625`
+//! (`--mesh` sets the case's `[fracture] mesh`; default the case's, random).
 
 use floebench::formulation::{build, parse_case, FormulationOptions};
 use floebench::run::{RunOptions, RunResult, Runner};
@@ -26,8 +27,8 @@ fn main() {
 }
 
 /// The text of `cases/lattice_bars.toml` with the struck bar `l2` long and
-/// the lattices at `spacing`.
-fn case_text(l2: f64, spacing: f64) -> Result<String, String> {
+/// the lattices at `spacing` (their mesh `mesh` when given).
+fn case_text(l2: f64, spacing: f64, mesh: Option<&str>) -> Result<String, String> {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/lattice_bars.toml");
     let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
     let end = 101.0 + l2;
@@ -42,7 +43,11 @@ fn case_text(l2: f64, spacing: f64) -> Result<String, String> {
     {
         return Err(format!("{}: not the expected bars", path.display()));
     }
-    Ok(replaced)
+    // `[fracture]` is the case's last table.
+    Ok(match mesh {
+        Some(m) => format!("{replaced}\nmesh = \"{m}\"\n"),
+        None => replaced,
+    })
 }
 
 /// `(v2 − v1)·x / SPEED` at the trajectory's last output, and the pair's
@@ -68,6 +73,7 @@ fn run() -> Result<(), String> {
     let mut lengths = vec![200.0, 300.0, 100.0];
     let mut formulations = vec!["event-driven".to_string(), "moreau".to_string()];
     let mut spacings = Vec::new();
+    let mut mesh = None;
     while let Some(a) = args.next() {
         match a.as_str() {
             "--lengths" => {
@@ -80,6 +86,7 @@ fn run() -> Result<(), String> {
                     })
                     .collect::<Result<_, _>>()?;
             }
+            "--mesh" => mesh = Some(args.next().ok_or("--mesh needs random or triangular")?),
             "--formulations" => {
                 let s = args.next().ok_or("--formulations needs a,b,...")?;
                 formulations = s.split(',').map(str::to_string).collect();
@@ -99,7 +106,7 @@ fn run() -> Result<(), String> {
     );
     for &l2 in &lengths {
         for &s in &spacings {
-            let text = case_text(l2, s)?;
+            let text = case_text(l2, s, mesh.as_deref())?;
             let scn = parse_case(&text, Path::new("cases/lattice_bars.toml"))
                 .map_err(|e| e.to_string())?;
             let masses = [scn.floes[0].mass, scn.floes[1].mass];

@@ -44,12 +44,12 @@
 
 use super::chain::{BondRule, ChainOptions};
 use super::lattice::percussion::{strain_of_toughness, Fragment, Impact, Percussion, RigidMotion};
-use super::lattice::{Lattice, LatticeSpec};
+use super::lattice::{Lattice, LatticeSpec, Mesh};
 use super::split::{self, Piece};
 use super::PairLoad;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, rotate, Vec2};
 pub use crate::model::fracture::lattice_spacing;
-use crate::model::fracture::{FractureSettings, LatticeRule};
+use crate::model::fracture::{FractureSettings, LatticeMesh, LatticeRule};
 use crate::model::{Body, Floe, Scenario};
 use crate::state::{BodyState, System};
 
@@ -64,7 +64,10 @@ pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
         young: s.young,
         poisson: s.poisson,
         seed: s.seed,
-        mesh: super::lattice::Mesh::Random,
+        mesh: match s.mesh {
+            LatticeMesh::Random => Mesh::Random,
+            LatticeMesh::Triangular => Mesh::triangular_variant(0.0, s.seed),
+        },
     }
 }
 

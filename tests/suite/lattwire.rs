@@ -9,7 +9,7 @@ use floebench::formulation::parse_case;
 use floebench::fracture::lattice::percussion::{
     impact_energy_bound, Impact, Percussion, RigidMotion,
 };
-use floebench::fracture::lattice::Lattice;
+use floebench::fracture::lattice::{Lattice, Mesh};
 use floebench::fracture::split::conservation_error;
 use floebench::fracture::strike::{
     chain_options, equivalent_impact, equivalent_impacts, lattice_spec, pieces, strike, strike_all,
@@ -63,6 +63,28 @@ fn lattice_keys_are_read() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("poisson"), "{err}");
+    // The mesh: random by default, triangular on request (its offset the
+    // seed's variant), anything else refused at its line.
+    assert_eq!(lattice_spec(&s, &diamond()).mesh, Mesh::Random);
+    let tri = parse_case(
+        &format!("{ok}mesh = \"triangular\"\n"),
+        Path::new("ok.toml"),
+    )
+    .unwrap()
+    .fracture;
+    assert_eq!(
+        lattice_spec(&tri, &diamond()).mesh,
+        Mesh::triangular_variant(0.0, 7)
+    );
+    let bad = format!("{ok}mesh = \"hexagonal\"\n");
+    let err = parse_case(&bad, Path::new("bad.toml"))
+        .unwrap_err()
+        .to_string();
+    let line = bad.lines().count();
+    assert!(
+        err.contains("mesh") && err.contains(&format!("bad.toml:{line}")),
+        "{err}"
+    );
 }
 
 /// Counts a strike run whatever its bound: one below the bound (`below`)
