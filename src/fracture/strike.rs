@@ -49,7 +49,7 @@ use super::split::{self, Piece};
 use super::PairLoad;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, rotate, Vec2};
 pub use crate::model::fracture::lattice_spacing;
-use crate::model::fracture::{FractureSettings, LatticeRule};
+use crate::model::fracture::{cohesive_onset_strain, FractureSettings, LatticeRule};
 use crate::model::{Body, Floe, Scenario};
 use crate::state::{BodyState, System};
 
@@ -82,7 +82,8 @@ pub const SPIN_PRESTRESS_LIMIT: f64 = 0.01;
 /// spacing `spacing` (m) (docs/physics.md §9.8): the peak stress of a
 /// spinning disc of radius `R`, `(3 + ν)/8 ρ ω² R²` (plane stress, at its
 /// centre), over `E`, against the rule's strain `ε_c` (`critical_strain`,
-/// or `√(4 G/(3 E s))` for a toughness, the equilateral lattice's). The
+/// `√(4 G/(3 E s))` for a toughness, the equilateral lattice's, or the
+/// cohesive rule's onset of softening `σ_t (1 − ν)/E`). The
 /// disc of radius `R` holds the floe.
 pub fn spin_prestress(
     s: &FractureSettings,
@@ -94,6 +95,7 @@ pub fn spin_prestress(
     let critical = match s.rule {
         LatticeRule::Strain => s.critical_strain,
         LatticeRule::Toughness => strain_of_toughness(s.toughness, s.young, spacing),
+        LatticeRule::Cohesive => cohesive_onset_strain(s.strength, s.young, s.poisson),
     };
     (3.0 + s.poisson) / 8.0 * density * (omega * radius).powi(2) / (s.young * critical)
 }
@@ -105,6 +107,10 @@ pub fn chain_options(s: &FractureSettings) -> ChainOptions {
         bond: match s.rule {
             LatticeRule::Toughness => BondRule::Toughness(s.toughness),
             LatticeRule::Strain => BondRule::Strain(s.critical_strain),
+            LatticeRule::Cohesive => BondRule::Cohesive {
+                toughness: s.toughness,
+                strength: s.strength,
+            },
         },
         ..ChainOptions::default()
     }
