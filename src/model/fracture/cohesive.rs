@@ -68,7 +68,7 @@ impl FractureSettings {
                 return Err(t.error(
                     Some(key),
                     format!(
-                        "rule = \"cohesive\": floe {i}'s lattice spacing {spacing} m is too coarse for the crack band: a bond's elastic opening at its peak, σ_t (1 − ν) s / E = {} m, is past the opening 2 G / σ_t = {} m at which it has softened to nothing (snap-back); set spacing below 2 E G / ((1 − ν) σ_t²) = {max} m, or strength below {} Pa",
+                        "rule = \"cohesive\": floe {i}'s lattice spacing {spacing} m is too coarse for the crack band: a bond's elastic opening at its peak, σ_t (1 − ν) s / E = {:.3e} m, is past the opening 2 G / σ_t = {:.3e} m at which it has softened to nothing (snap-back); set spacing below 2 E G / ((1 − ν) σ_t²) = {max:.4} m, or strength below {:.0} Pa",
                         cohesive_onset_strain(self.strength, self.young, self.poisson) * spacing,
                         2.0 * self.toughness / self.strength,
                         self.strength * (max / spacing).sqrt(),

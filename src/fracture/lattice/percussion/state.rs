@@ -387,10 +387,7 @@ impl<'a> Percussion<'a> {
     /// rule (`None` for the other rules, a spring that cannot soften, and a
     /// broken one).
     fn softening(&self, k: usize) -> Option<&Cohesive> {
-        self.cohesive
-            .get(k)
-            .and_then(Option::as_ref)
-            .filter(|_| self.links[k].bonded)
+        self.cohesive_bond(k).filter(|_| self.links[k].bonded)
     }
 
     /// Breaks every bond stretched past its critical elongation (a cohesive
@@ -575,11 +572,18 @@ impl<'a> Percussion<'a> {
     /// straight cut: docs/physics.md §7.3); for a cohesive bond that
     /// softens, the area under its envelope, `G h w` too.
     pub fn breaking_energy(&self, k: usize) -> f64 {
-        if let Some(Some(c)) = self.cohesive.get(k) {
+        if let Some(c) = self.cohesive_bond(k) {
             return c.breaking_energy();
         }
         let l = &self.links[k];
         0.5 * l.k * l.critical * l.critical
+    }
+
+    /// The softening state of spring `k` under the cohesive rule (`None`
+    /// under the other rules and for a bond too coarse to soften, which
+    /// breaks by the toughness rule).
+    pub fn cohesive_bond(&self, k: usize) -> Option<&Cohesive> {
+        self.cohesive.get(k).and_then(Option::as_ref)
     }
 
     /// Whether spring `k` still holds.
