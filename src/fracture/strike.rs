@@ -26,7 +26,8 @@
 //! With several strikers the bound is the least energy over the inertial
 //! frames that stop every infinite striker
 //! ([`super::lattice::percussion::impact_energy_bound`]). A bond breaks only when
-//! it holds its breaking energy `½ κ δ_c²`, so an impact whose bound is below
+//! it holds its breaking energy `½ κ δ_c²` (a cohesive bond: when it has
+//! taken `G h w`, elastic and softening), so an impact whose bound is below
 //! the floe's weakest bond cannot break it and is skipped (`trigger =
 //! "bound"`).
 //!
