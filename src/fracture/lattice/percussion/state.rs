@@ -353,10 +353,7 @@ impl<'a> Percussion<'a> {
         self.force.iter_mut().for_each(|f| *f = Vec2::zeros());
         for k in 0..self.links.len() {
             let (d, dv, dir) = self.spring_state(k);
-            let f = match self.softening(k) {
-                Some(c) => c.force(self.links[k].c, d, dv),
-                None => self.links[k].force(d, dv),
-            };
+            let f = self.link_force(k, d, dv);
             let [i, j] = self.lattice.springs[k].nodes;
             self.force[i] += dir * f;
             self.force[j] -= dir * f;
@@ -381,13 +378,6 @@ impl<'a> Percussion<'a> {
             }
             self.strikers[k].force = total;
         }
-    }
-
-    /// The softening state of spring `k` while it holds under the cohesive
-    /// rule (`None` for the other rules, a spring that cannot soften, and a
-    /// broken one).
-    fn softening(&self, k: usize) -> Option<&Cohesive> {
-        self.cohesive_bond(k).filter(|_| self.links[k].bonded)
     }
 
     /// Breaks every bond stretched past its critical elongation (a cohesive
@@ -503,13 +493,7 @@ impl<'a> Percussion<'a> {
     /// ones, not the strikers' contacts), J.
     pub(in crate::fracture::lattice) fn spring_energy(&self) -> f64 {
         (0..self.links.len())
-            .map(|k| {
-                let d = self.spring_state(k).0;
-                match self.softening(k) {
-                    Some(c) => c.energy(d),
-                    None => self.links[k].energy(d),
-                }
-            })
+            .map(|k| self.link_energy(k, self.spring_state(k).0))
             .sum()
     }
 
@@ -519,10 +503,7 @@ impl<'a> Percussion<'a> {
         let springs: f64 = (0..self.links.len())
             .map(|k| {
                 let (d, dv, _) = self.spring_state(k);
-                match self.softening(k) {
-                    Some(c) => c.dissipation(self.links[k].c, d, dv),
-                    None => self.links[k].dissipation(d, dv),
-                }
+                self.link_dissipation(k, d, dv)
             })
             .sum();
         springs + self.striker_sum(|l, g, dg| l.dissipation(g, dg))
@@ -577,13 +558,6 @@ impl<'a> Percussion<'a> {
         }
         let l = &self.links[k];
         0.5 * l.k * l.critical * l.critical
-    }
-
-    /// The softening state of spring `k` under the cohesive rule (`None`
-    /// under the other rules and for a bond too coarse to soften, which
-    /// breaks by the toughness rule).
-    pub fn cohesive_bond(&self, k: usize) -> Option<&Cohesive> {
-        self.cohesive.get(k).and_then(Option::as_ref)
     }
 
     /// Whether spring `k` still holds.
