@@ -45,6 +45,7 @@
 //! the longest bar have passed since the contact ended (an undamped chain
 //! rings for ever). A run that is still going after `limit_transits`
 //! transit times stops with [`Stop::TimeLimit`].
+//!
 //! The 2D lattice's cohesive bond ([`Cohesive`]): `chain/cohesive.rs`.
 
 mod cohesive;
