@@ -122,6 +122,7 @@ fn main() -> Result<(), String> {
         BondRule::Strain(e) => ("strain", e),
         BondRule::Toughness(g) => ("toughness", g),
         BondRule::Force(f) => ("force", f),
+        BondRule::Cohesive { strength, .. } => ("cohesive", strength),
         BondRule::Unbreakable => ("none", 0.0),
     };
     let criterion = match a.criterion {

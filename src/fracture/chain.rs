@@ -45,6 +45,12 @@
 //! the longest bar have passed since the contact ended (an undamped chain
 //! rings for ever). A run that is still going after `limit_transits`
 //! transit times stops with [`Stop::TimeLimit`].
+//!
+//! The 2D lattice's cohesive bond ([`Cohesive`]): `chain/cohesive.rs`.
+
+mod cohesive;
+
+pub use cohesive::Cohesive;
 
 /// The material of every bar.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,18 +116,38 @@ pub enum BondRule {
     /// `δ_c = ε_c L₀`. With a toughness this is `ε_c = √(2 G A / (k L₀²))`,
     /// which grows as the cells shrink (docs/physics.md §7.4).
     Strain(f64),
+    /// The cohesive (crack-band) bond of the 2D lattice ([`Cohesive`],
+    /// docs/physics.md §7.3): elastic up to the force `σ_t A`, then
+    /// softening linearly to nothing at the opening `δ_f = 2 G / σ_t`,
+    /// where it breaks having taken `G A`; a bond too coarse to soften
+    /// (`σ_t A / k ≥ δ_f`) breaks by the toughness rule.
+    Cohesive {
+        /// `G`, J/m².
+        toughness: f64,
+        /// The tensile strength `σ_t`, Pa.
+        strength: f64,
+    },
 }
 
 impl BondRule {
     /// The critical elongation (m) of a bond of stiffness `k` (N/m), rest
     /// length `rest` (m), opening a section of area `section` (m²) when it
-    /// breaks: `∞`, `F_c/k`, `√(2 G A/k)` or `ε_c L₀`.
+    /// breaks: `∞`, `F_c/k`, `√(2 G A/k)` or `ε_c L₀`; for a cohesive
+    /// bond `δ_f = 2 G / σ_t`, or the toughness rule's when it cannot
+    /// soften ([`Cohesive::new`]).
     pub fn critical(&self, k: f64, rest: f64, section: f64) -> f64 {
         match *self {
             BondRule::Unbreakable => f64::INFINITY,
             BondRule::Force(f) => f / k,
             BondRule::Toughness(g) => (2.0 * g * section / k).sqrt(),
             BondRule::Strain(e) => e * rest,
+            BondRule::Cohesive {
+                toughness,
+                strength,
+            } => Cohesive::new(k, section, toughness, strength).map_or_else(
+                || BondRule::Toughness(toughness).critical(k, rest, section),
+                |c| c.fail,
+            ),
         }
     }
 
@@ -132,6 +158,10 @@ impl BondRule {
             BondRule::Force(f) => positive("bond strength", f),
             BondRule::Toughness(g) => positive("toughness", g),
             BondRule::Strain(e) => positive("critical strain", e),
+            BondRule::Cohesive {
+                toughness,
+                strength,
+            } => positive("toughness", toughness).and(positive("strength", strength)),
         }
     }
 }
@@ -441,6 +471,12 @@ impl Chain {
             return Err("at least one bar is needed".into());
         }
         options.validate()?;
+        if let BondRule::Cohesive { .. } = options.bond {
+            return Err(
+                "the cohesive bond rule is the 2D lattice's: the 1D chain has no softening bond"
+                    .into(),
+            );
+        }
         let mut chain = Chain {
             x: Vec::new(),
             v: Vec::new(),

@@ -26,7 +26,8 @@
 //! With several strikers the bound is the least energy over the inertial
 //! frames that stop every infinite striker
 //! ([`super::lattice::percussion::impact_energy_bound`]). A bond breaks only when
-//! it holds its breaking energy `½ κ δ_c²`, so an impact whose bound is below
+//! it holds its breaking energy `½ κ δ_c²` (a cohesive bond: when it has
+//! taken `G h w`, elastic and softening), so an impact whose bound is below
 //! the floe's weakest bond cannot break it and is skipped (`trigger =
 //! "bound"`).
 //!
@@ -49,7 +50,7 @@ use super::split::{self, Piece};
 use super::PairLoad;
 use crate::geometry::{area_properties, cross, perp, point_polygon_signed_distance, rotate, Vec2};
 pub use crate::model::fracture::lattice_spacing;
-use crate::model::fracture::{FractureSettings, LatticeMesh, LatticeRule};
+use crate::model::fracture::{cohesive_onset_strain, FractureSettings, LatticeMesh, LatticeRule};
 use crate::model::{Body, Floe, Scenario};
 use crate::state::{BodyState, System};
 
@@ -85,7 +86,8 @@ pub const SPIN_PRESTRESS_LIMIT: f64 = 0.01;
 /// spacing `spacing` (m) (docs/physics.md §9.8): the peak stress of a
 /// spinning disc of radius `R`, `(3 + ν)/8 ρ ω² R²` (plane stress, at its
 /// centre), over `E`, against the rule's strain `ε_c` (`critical_strain`,
-/// or `√(4 G/(3 E s))` for a toughness, the equilateral lattice's). The
+/// `√(4 G/(3 E s))` for a toughness, the equilateral lattice's, or the
+/// cohesive rule's onset of softening `σ_t (1 − ν)/E`). The
 /// disc of radius `R` holds the floe.
 pub fn spin_prestress(
     s: &FractureSettings,
@@ -97,6 +99,7 @@ pub fn spin_prestress(
     let critical = match s.rule {
         LatticeRule::Strain => s.critical_strain,
         LatticeRule::Toughness => strain_of_toughness(s.toughness, s.young, spacing),
+        LatticeRule::Cohesive => cohesive_onset_strain(s.strength, s.young, s.poisson),
     };
     (3.0 + s.poisson) / 8.0 * density * (omega * radius).powi(2) / (s.young * critical)
 }
@@ -108,6 +111,10 @@ pub fn chain_options(s: &FractureSettings) -> ChainOptions {
         bond: match s.rule {
             LatticeRule::Toughness => BondRule::Toughness(s.toughness),
             LatticeRule::Strain => BondRule::Strain(s.critical_strain),
+            LatticeRule::Cohesive => BondRule::Cohesive {
+                toughness: s.toughness,
+                strength: s.strength,
+            },
         },
         ..ChainOptions::default()
     }

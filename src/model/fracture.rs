@@ -10,12 +10,17 @@
 
 use super::limits::fracture::{
     CONCENTRATION, CRITICAL_STRAIN, DAMPING, HIBLER_C, HIBLER_P_STAR, MIN_AREA, MOHR_Q,
-    MOHR_SIGMA_11, MOHR_SIGMA_C, POISSON, POISSON_MAX, SEED, SPACING, TOUGHNESS, WINDOW, YOUNG,
+    MOHR_SIGMA_11, MOHR_SIGMA_C, POISSON, POISSON_MAX, SEED, SPACING, STRENGTH, TOUGHNESS, WINDOW,
+    YOUNG,
 };
 use super::limits::Limit;
 use super::settings::SettingsTable;
 use super::{CaseError, Floe};
 use serde::Serialize;
+
+mod cohesive;
+
+pub use cohesive::{cohesive_max_spacing, cohesive_onset_strain};
 
 /// Which fracture criterion a run uses (docs/physics.md §9.2, §9.3).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -93,6 +98,10 @@ pub enum LatticeRule {
     Toughness,
     /// A bond breaks when its strain passes `critical_strain`.
     Strain,
+    /// A cohesive (crack-band) bond: elastic up to the tensile `strength`,
+    /// then softening linearly to nothing, having taken `G h w`
+    /// (`toughness`).
+    Cohesive,
 }
 
 impl std::str::FromStr for LatticeRule {
@@ -101,8 +110,9 @@ impl std::str::FromStr for LatticeRule {
         match s {
             "toughness" => Ok(LatticeRule::Toughness),
             "strain" => Ok(LatticeRule::Strain),
+            "cohesive" => Ok(LatticeRule::Cohesive),
             other => Err(format!(
-                "rule = \"{other}\" is not a bond rule; expected \"toughness\" or \"strain\""
+                "rule = \"{other}\" is not a bond rule; expected \"toughness\", \"strain\" or \"cohesive\""
             )),
         }
     }
@@ -308,6 +318,9 @@ pub struct FractureSettings {
     pub rule: LatticeRule,
     /// Lattice model: the critical strain of `rule = "strain"` (required then).
     pub critical_strain: f64,
+    /// Lattice model: the tensile strength `σ_t` of `rule = "cohesive"`,
+    /// Pa (required then, refused with the other rules).
+    pub strength: f64,
     /// Lattice model: when an impact is resolved in the lattice (default `bound`).
     pub trigger: Trigger,
     /// Lattice model: the seed of every floe's lattice (default 1).
@@ -339,6 +352,7 @@ impl Default for FractureSettings {
             spacing: None,
             rule: LatticeRule::Toughness,
             critical_strain: f64::NAN,
+            strength: f64::NAN,
             trigger: Trigger::Bound,
             seed: 1,
             mesh: LatticeMesh::Random,
@@ -408,6 +422,7 @@ impl FractureSettings {
         }
         s.spacing = r.bounded(&SPACING)?;
         let strain = r.bounded(&CRITICAL_STRAIN)?;
+        let strength = r.bounded(&STRENGTH)?;
         if let Some(seed) = r.integer(&SEED)? {
             s.seed = u64::try_from(seed).unwrap_or(0);
         }
@@ -420,6 +435,7 @@ impl FractureSettings {
             (_, _, Some(e)) => s.critical_strain = e,
             _ => {}
         }
+        s.check_cohesive(t, floes, strength)?;
         s.check_lattice_impacts(t, floes)?;
         Ok(s)
     }

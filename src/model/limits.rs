@@ -584,6 +584,7 @@ pub const CASE_LIMITS: &[Limit] = &[
     fracture::POISSON,
     fracture::SPACING,
     fracture::CRITICAL_STRAIN,
+    fracture::STRENGTH,
     fracture::SEED,
 ];
 

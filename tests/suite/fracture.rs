@@ -211,7 +211,8 @@ fn the_yield_curves_hold_their_defining_points() {
     assert!(yield_measure(&s, &[0.0, 0.0, -0.41 * p]) > 1.0);
 }
 
-const RAM: &str = r#"
+/// A 10 m square rammed into a coast at `SPEED` (also `cohesive::`).
+pub(crate) const RAM: &str = r#"
 [case]
 version = 1
 name = "ram"
@@ -255,6 +256,23 @@ fn bad_fracture_tables_are_refused_with_file_line_and_key() {
             "model = \"lattice\"\ncritical_strain = 2.0",
             3,
             "critical_strain",
+        ),
+        ("model = \"lattice\"\nrule = \"cohesive\"", 3, "rule"),
+        ("model = \"lattice\"\nstrength = 3e5", 3, "strength"),
+        (
+            "model = \"lattice\"\nrule = \"cohesive\"\nstrength = 0.0",
+            4,
+            "strength",
+        ),
+        (
+            "model = \"lattice\"\nrule = \"cohesive\"\nstrength = 3e5\nspacing = 0.8",
+            5,
+            "spacing",
+        ),
+        (
+            "model = \"lattice\"\nrule = \"cohesive\"\nstrength = 3e5",
+            4,
+            "strength",
         ),
         ("model = \"lattice\"\nseed = -1", 3, "seed"),
         ("model = \"lattice\"\nseed = 1.5", 3, "seed"),

@@ -10,6 +10,7 @@ mod animation;
 mod case_files;
 mod check;
 mod cli;
+mod cohesive;
 mod compare;
 mod contact;
 mod crack_energy;

@@ -64,6 +64,16 @@ pub const CRITICAL_STRAIN: Limit = Limit::range(
     "a strain; ice breaks at about 1e-4",
 )
 .exclusive_min();
+/// `strength`: the tensile strength `σ_t` of `rule = "cohesive"`, Pa.
+pub const STRENGTH: Limit = Limit::range(
+    "strength",
+    "[fracture]",
+    0.0,
+    1e9,
+    "Pa",
+    "sea ice's tensile strength is 0.2–0.8 MPa; 1 GPa is above any ice",
+)
+.exclusive_min();
 /// `seed`: the seed of the lattices' Poisson-disc sampling.
 pub const SEED: Limit = Limit::range(
     "seed",

@@ -31,7 +31,10 @@
 //! opens (`s/√3`, the Voronoi facet, in an equilateral lattice of spacing
 //! `s`). A broken bond becomes a compression-only link, and the triangles on
 //! its sides lose their torsion springs, whose energy is booked with the
-//! bond's.
+//! bond's. Under the cohesive rule ([`crate::fracture::chain::Cohesive`])
+//! a bond first softens past the force `σ_t h w` and breaks once softened
+//! to nothing, having taken `G h w`; what its softening dissipates is
+//! fracture energy as it accrues (docs/physics.md §7.3).
 //!
 //! **Integrator.** The chain's velocity Verlet ([`super::super::chain`]) at
 //! the damped stable step `s (2/ω)(√(1+ζ²) − ζ)`, `ω` the block-Gershgorin
@@ -41,7 +44,8 @@
 //! corners of node `i` (their blocks `c ∇_i θ ∇_j θᵀ`), and `ζ`
 //! the same bound on the dashpots over `2ω`; safety `s` (0.9 by default).
 //! The geometric stiffness of a stretched spring, `O(strain)`, is left out
-//! of the bound.
+//! of the bound. A softening cohesive bond's tangent is negative and its
+//! secant below `κ`: the step stays the elastic one.
 //!
 //! **Stopping rule** (the chain's, [`super::super::chain::Stop`]): the
 //! contact is over when no outline node touches the striker and the striker
@@ -65,13 +69,15 @@
 //!
 //! The parts, each its own file: `state.rs` the lattice's state (the
 //! [`Percussion`]: nodes, links, strikers), its construction, forces,
-//! bond breaking and the velocity Verlet integrator; `striker.rs` the
+//! bond breaking and the velocity Verlet integrator; `bonds.rs` each
+//! spring's law (the chain's link, or a cohesive bond's softening); `striker.rs` the
 //! strikers ([`Impact`], [`RigidMotion`], [`impact_energy_bound`]) and
 //! their unilateral contact with the outline nodes; `stop.rs` the pieces
 //! and the stopping rule ([`Percussion::run`]); `outcome.rs` what a
 //! percussion gives ([`Outcome`], [`Fragment`], [`BrokenSpring`]);
 //! `ramming.rs` the ramming into a coast and its critical speed.
 
+mod bonds;
 mod outcome;
 mod ramming;
 mod state;

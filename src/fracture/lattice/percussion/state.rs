@@ -8,7 +8,9 @@
 
 use super::striker::{impact_energy_bound, Impact, RigidMotion, Striker};
 use super::BrokenSpring;
-use crate::fracture::chain::{damped_stable_step, drift, kick, ChainOptions, Energies, Link};
+use crate::fracture::chain::{
+    damped_stable_step, drift, kick, ChainOptions, Cohesive, Energies, Link,
+};
 use crate::fracture::lattice::{corner_angle, Lattice};
 use crate::geometry::{cross, perp, rotate, Vec2};
 
@@ -21,6 +23,9 @@ pub struct Percussion<'a> {
     /// Node velocities, m/s.
     pub v: Vec<Vec2>,
     pub(super) links: Vec<Link>,
+    /// The softening state of each spring under the cohesive rule (`None`
+    /// for a spring that cannot soften, and under the other rules).
+    pub(super) cohesive: Vec<Option<Cohesive>>,
     /// Whether each triangle keeps its torsion springs (until one of its
     /// edges breaks).
     pub(super) intact: Vec<bool>,
@@ -156,7 +161,7 @@ impl<'a> Percussion<'a> {
                 share[k] += area / 3.0;
             }
         }
-        let links: Vec<Link> = lattice
+        let (links, cohesive): (Vec<Link>, Vec<Option<Cohesive>>) = lattice
             .springs
             .iter()
             .zip(&share)
@@ -164,17 +169,17 @@ impl<'a> Percussion<'a> {
                 let [i, j] = s.nodes;
                 let mij = 2.0 * m[i] * m[j] / (m[i] + m[j]);
                 let width = 2.0 * a / s.length;
-                Link {
+                let section = spec.thickness * width;
+                let link = Link {
                     k: s.stiffness,
                     c: options.damping * (s.stiffness * mij).sqrt(),
                     rest: s.length,
                     bonded: true,
-                    critical: options
-                        .bond
-                        .critical(s.stiffness, s.length, spec.thickness * width),
-                }
+                    critical: options.bond.critical(s.stiffness, s.length, section),
+                };
+                (link, options.bond.cohesive(s.stiffness, section))
             })
-            .collect();
+            .unzip();
         let mean_k = mean_stiffness(lattice);
         let contacts_of = |impact: &Impact| -> Vec<(usize, Link)> {
             (0..x.len())
@@ -251,6 +256,7 @@ impl<'a> Percussion<'a> {
             x,
             v,
             links,
+            cohesive,
             intact: vec![true; lattice.triangles.len()],
             sides,
             strikers,
@@ -347,7 +353,7 @@ impl<'a> Percussion<'a> {
         self.force.iter_mut().for_each(|f| *f = Vec2::zeros());
         for k in 0..self.links.len() {
             let (d, dv, dir) = self.spring_state(k);
-            let f = self.links[k].force(d, dv);
+            let f = self.link_force(k, d, dv);
             let [i, j] = self.lattice.springs[k].nodes;
             self.force[i] += dir * f;
             self.force[j] -= dir * f;
@@ -374,16 +380,24 @@ impl<'a> Percussion<'a> {
         }
     }
 
-    /// Breaks every bond stretched past its critical elongation; the
-    /// triangles on its sides lose their torsion springs, whose energy goes
-    /// with the bond's.
+    /// Breaks every bond stretched past its critical elongation (a cohesive
+    /// bond first records its opening, and breaks once softened to nothing,
+    /// its energy `G h w`); the triangles on its sides lose their torsion
+    /// springs, whose energy goes with the bond's.
     fn break_bonds(&mut self) {
         for k in 0..self.links.len() {
             let (d, _, _) = self.spring_state(k);
             let l = &mut self.links[k];
+            let soft = match self.cohesive.get_mut(k) {
+                Some(Some(c)) if l.bonded => {
+                    c.open(d);
+                    Some(c.breaking_energy())
+                }
+                _ => None,
+            };
             if l.bonded && d > l.critical {
                 l.bonded = false;
-                let mut energy = 0.5 * l.k * d * d;
+                let mut energy = soft.unwrap_or(0.5 * l.k * d * d);
                 for t in self.sides[k] {
                     if t != usize::MAX && self.intact[t] {
                         energy += self.triangle_torsion_energy(t);
@@ -467,7 +481,11 @@ impl<'a> Percussion<'a> {
                     .map(|(m, v)| 0.5 * m * v.norm_squared())
                     .sum::<f64>(),
             elastic: springs + contacts,
-            fracture: self.broken.iter().map(|b| b.energy).sum(),
+            fracture: self.broken.iter().map(|b| b.energy).sum::<f64>()
+                + (0..self.links.len())
+                    .filter_map(|k| self.softening(k))
+                    .map(Cohesive::dissipated)
+                    .sum::<f64>(),
         }
     }
 
@@ -475,7 +493,7 @@ impl<'a> Percussion<'a> {
     /// ones, not the strikers' contacts), J.
     pub(in crate::fracture::lattice) fn spring_energy(&self) -> f64 {
         (0..self.links.len())
-            .map(|k| self.links[k].energy(self.spring_state(k).0))
+            .map(|k| self.link_energy(k, self.spring_state(k).0))
             .sum()
     }
 
@@ -485,7 +503,7 @@ impl<'a> Percussion<'a> {
         let springs: f64 = (0..self.links.len())
             .map(|k| {
                 let (d, dv, _) = self.spring_state(k);
-                self.links[k].dissipation(d, dv)
+                self.link_dissipation(k, d, dv)
             })
             .sum();
         springs + self.striker_sum(|l, g, dg| l.dissipation(g, dg))
@@ -532,8 +550,12 @@ impl<'a> Percussion<'a> {
     /// The energy `½ κ δ_c²` that spring `k` holds when it breaks, J (`∞`
     /// for an unbreakable bond): with a toughness `G`, `G h w`, `w` its
     /// facet (module doc; the crack energy this gives per unit length of a
-    /// straight cut: docs/physics.md §7.3).
+    /// straight cut: docs/physics.md §7.3); for a cohesive bond that
+    /// softens, the area under its envelope, `G h w` too.
     pub fn breaking_energy(&self, k: usize) -> f64 {
+        if let Some(c) = self.cohesive_bond(k) {
+            return c.breaking_energy();
+        }
         let l = &self.links[k];
         0.5 * l.k * l.critical * l.critical
     }
