@@ -188,3 +188,46 @@ impl Percussion<'_> {
         self.strikers.iter().map(Striker::energy).sum()
     }
 }
+
+/// The stiffness (N/m) of each node's contact link with a striker, indexed
+/// by node (0 for a node off the outline).
+///
+/// EXPERIMENT (issue 39 item 5, docs/results/2026-12-06-lattice-mesh.md,
+/// 2026-12-07 "striker stiffness"): by default every outline node gets the
+/// lattice's mean spring stiffness `κ̄` (`mean_k`), so the contact's
+/// stiffness per metre of outline, `κ̄/s`, grows as the mesh is refined.
+/// When the environment variable `FLOEBENCH_STRIKER_LC` holds a length
+/// `L_c` (m, positive), node `i` gets `E h ℓ_i / L_c` instead, `ℓ_i` its
+/// share of the outline (half of each adjacent outline segment): a contact
+/// stiffness per metre of outline `k_n = E h / L_c` (Pa) that does not
+/// depend on the spacing.
+pub(super) fn contact_stiffness(
+    lattice: &crate::fracture::lattice::Lattice,
+    mean_k: f64,
+) -> Vec<f64> {
+    let n = lattice.nodes.len();
+    let length = std::env::var("FLOEBENCH_STRIKER_LC")
+        .ok()
+        .and_then(|v| v.trim().parse::<f64>().ok())
+        .filter(|l| l.is_finite() && *l > 0.0);
+    let Some(length) = length else {
+        return (0..n)
+            .map(|i| if lattice.on_boundary[i] { mean_k } else { 0.0 })
+            .collect();
+    };
+    // The outline's nodes are the first ones, in order along it.
+    let nb = lattice.on_boundary.iter().take_while(|&&b| b).count();
+    let k_n = lattice.spec.young * lattice.spec.thickness / length;
+    (0..n)
+        .map(|i| {
+            if i >= nb {
+                return 0.0;
+            }
+            let (prev, next) = ((i + nb - 1) % nb, (i + 1) % nb);
+            let share = 0.5
+                * ((lattice.nodes[i] - lattice.nodes[prev]).norm()
+                    + (lattice.nodes[next] - lattice.nodes[i]).norm());
+            k_n * share
+        })
+        .collect()
+}
