@@ -6,7 +6,7 @@
 //! velocity Verlet step; its energies and momenta (the scheme: the module
 //! doc of [`super`]).
 
-use super::striker::{contact_stiffness, impact_energy_bound, Impact, RigidMotion, Striker};
+use super::striker::{impact_energy_bound, Impact, RigidMotion, Striker};
 use super::BrokenSpring;
 use crate::fracture::chain::{
     damped_stable_step, drift, kick, ChainOptions, Cohesive, Energies, Link,
@@ -180,7 +180,7 @@ impl<'a> Percussion<'a> {
                 (link, options.bond.cohesive(s.stiffness, section))
             })
             .unzip();
-        let contact_k = contact_stiffness(lattice, mean_stiffness(lattice));
+        let mean_k = mean_stiffness(lattice);
         let contacts_of = |impact: &Impact| -> Vec<(usize, Link)> {
             (0..x.len())
                 .filter(|&i| lattice.on_boundary[i])
@@ -193,8 +193,8 @@ impl<'a> Percussion<'a> {
                     (
                         i,
                         Link {
-                            k: contact_k[i],
-                            c: options.damping * (contact_k[i] * mu).sqrt(),
+                            k: mean_k,
+                            c: options.damping * (mean_k * mu).sqrt(),
                             rest: 0.0,
                             bonded: false,
                             critical: f64::INFINITY,
