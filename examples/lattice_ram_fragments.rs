@@ -16,63 +16,47 @@
 //! `cargo run --release --example lattice_ram_fragments -- --speed 2
 //! [--toughness 2.5] [--cohesive 3e5] [--damping 0.5] [--seeds 3] 0.5 0.35 0.25`
 
+use clap::Parser;
 use floebench::fracture::chain::{BondRule, ChainOptions};
 use floebench::fracture::lattice::percussion::ram;
 use floebench::fracture::lattice::{Lattice, LatticeSpec};
 use floebench::geometry::Vec2;
 
 /// The command line.
+#[derive(Parser)]
 struct Args {
+    /// The ramming speed, m/s.
+    #[arg(long)]
     speed: f64,
+    /// The bonds' toughness `G`, J/m².
+    #[arg(long, default_value_t = 2.5)]
     toughness: f64,
-    strength: Option<f64>,
+    /// The cohesive rule's tensile strength, Pa (default: the toughness rule).
+    #[arg(long)]
+    cohesive: Option<f64>,
+    /// The dashpot ratio `β`.
+    #[arg(long, default_value_t = 0.5)]
     damping: f64,
+    /// Seeds 1..=N.
+    #[arg(long, default_value_t = 3)]
     seeds: u64,
+    /// The spacings, m.
+    #[arg(required = true)]
     spacings: Vec<f64>,
 }
 
-fn number(flag: &str, value: Option<&String>) -> Result<f64, String> {
-    let v = value.ok_or(format!("{flag} needs a value"))?;
-    v.parse()
-        .map_err(|e| format!("{flag}: {v:?} is not a number: {e}"))
-}
-
-fn parse() -> Result<Args, String> {
-    let argv: Vec<String> = std::env::args().skip(1).collect();
-    let mut a = Args {
-        speed: f64::NAN,
-        toughness: 2.5,
-        strength: None,
-        damping: 0.5,
-        seeds: 3,
-        spacings: Vec::new(),
-    };
-    let mut it = argv.iter();
-    while let Some(flag) = it.next() {
-        match flag.as_str() {
-            "--speed" => a.speed = number(flag, it.next())?,
-            "--toughness" => a.toughness = number(flag, it.next())?,
-            "--cohesive" => a.strength = Some(number(flag, it.next())?),
-            "--damping" => a.damping = number(flag, it.next())?,
-            "--seeds" => a.seeds = number(flag, it.next())? as u64,
-            s => a.spacings.push(number("a spacing", Some(&s.to_string()))?),
-        }
-    }
-    if a.speed.is_nan() || a.speed <= 0.0 || a.spacings.is_empty() || a.seeds == 0 {
-        return Err("give --speed U, at least one spacing and one seed".into());
-    }
-    Ok(a)
-}
-
 fn main() -> Result<(), String> {
-    let a = parse()?;
+    let a = Args::parse();
+    if a.speed.is_nan() || a.speed <= 0.0 || a.seeds == 0 {
+        return Err("give a positive --speed and at least one seed".into());
+    }
     let diamond = [
         Vec2::new(0.0, 5.0),
         Vec2::new(5.0, 0.0),
         Vec2::new(10.0, 5.0),
         Vec2::new(5.0, 10.0),
     ];
-    let bond = match a.strength {
+    let bond = match a.cohesive {
         Some(strength) => BondRule::Cohesive {
             toughness: a.toughness,
             strength,
