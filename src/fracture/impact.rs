@@ -42,7 +42,7 @@ pub const LATTICE_MULTI_PAIR: Counter = Counter::sum(
 /// Pair impacts that failed (the rigid law then).
 pub const LATTICE_FAILED: Counter = Counter::sum(
     "lattice_impacts_failed",
-    "pair impacts the lattices refused (not approaching at the mean contact point, a lattice that cannot be built): the rigid law then",
+    "pair impacts the lattices refused (not approaching at the mean contact point, still approaching when their run ended, an energy gain, a lattice that cannot be built): the rigid law then",
 );
 /// Steps of the lattices' integration, summed.
 pub const LATTICE_STEPS: Counter = Counter::sum(
@@ -126,6 +126,16 @@ impl Fracturer {
                 "the lattices' impact raised the rigid kinetic energy by {gain} J \
                  (impact energy {} J)",
                 out.impact_energy
+            ));
+        }
+        // An answer that leaves the pair approaching (the run stopped by
+        // its time limit) resolved nothing: the scheme would ask again.
+        let after = out.normal_velocity[1];
+        if after.is_nan() || after < 0.0 {
+            return Err(format!(
+                "the lattices' impact ended with the bodies still approaching \
+                 ({after} m/s at the contact point, {} m/s before)",
+                out.normal_velocity[0]
             ));
         }
         let mut velocities = [(q.states[0].velocity, q.states[0].angular_velocity); 2];

@@ -289,3 +289,29 @@ fn overlapping_floes_start_their_impact_at_first_touch() {
     );
     assert!(overlapping.rigid_energy() <= overlapping.initial_energy);
 }
+
+/// Bars 10 m / 20 m a little apart (2 mm) approaching slowly (1 mm/s, as
+/// floes pressed by the wind meet in the event-driven field) bounce as the
+/// touching bars do: the lattices start at first touch (docs/physics.md
+/// §9.9, **Start**). Without the closing move the 200 transit times of
+/// the run's time limit (1.3 s) pass before the gap closes, and the impact
+/// returns the velocities it was given (`e = −1`).
+#[test]
+fn floes_a_little_apart_start_their_impact_at_first_touch() {
+    let slow = Bars {
+        speed: 1e-3,
+        ..bars(10.0, 20.0, 0.0)
+    };
+    let touching = slow.run(ice(0.25), undamped()).expect("impact");
+    let apart = Bars { gap: 2e-3, ..slow }
+        .run(ice(0.25), undamped())
+        .expect("impact");
+    let (e0, e1) = (touching.restitution, apart.restitution);
+    assert!(e0 > 0.3, "e = {e0} touching");
+    assert!((e1 - e0).abs() < 1e-6, "e = {e1} apart, {e0} touching");
+    assert!(
+        defect(&apart).abs() < ENERGY_TOLERANCE,
+        "{:e}",
+        defect(&apart)
+    );
+}

@@ -5,7 +5,7 @@
 
 use super::{Body, Pair};
 use crate::fracture::chain::Link;
-use crate::geometry::{outline_nearest, Vec2};
+use crate::geometry::{cross, outline_nearest, Vec2};
 
 /// Moves of the second body along the normal that [`Pair::separate`] may
 /// make before it gives up: each removes the deepest overlap, so a convex
@@ -25,7 +25,57 @@ pub(super) struct Touch {
     normal: Vec2,
 }
 
+/// The distance `t ≥ 0` (m) at which the ray `p + t d` meets the segment
+/// `a b`, or `None` (parallel, or passing by).
+fn ray_meets(p: &Vec2, d: &Vec2, a: &Vec2, b: &Vec2) -> Option<f64> {
+    let e = b - a;
+    let denominator = cross(d, &e);
+    if denominator == 0.0 {
+        return None;
+    }
+    let r = a - p;
+    let t = cross(&r, &e) / denominator;
+    let u = cross(&r, d) / denominator;
+    (t >= 0.0 && (0.0..=1.0).contains(&u)).then_some(t)
+}
+
 impl Pair<'_> {
+    /// Moves the second body along `−n` until the outlines first touch,
+    /// when no outline node of one body is inside the other yet (module
+    /// doc, **Start**: the gap a rigid scheme's contact leaves, up to its
+    /// tolerance, closed); returns the distance, m, 0 when they touch
+    /// already or no node would meet the other outline along `n`.
+    pub(super) fn close(&mut self, n: Vec2) -> f64 {
+        self.find_touches();
+        if self.bodies.len() < 2 || !self.touches.is_empty() {
+            return 0.0;
+        }
+        let mut distance = f64::INFINITY;
+        for from in 0..2 {
+            // The second body moves along −n: its nodes meet the first's
+            // outline along −n, the first's nodes meet its outline along n.
+            let d = if from == 0 { n } else { -n };
+            let (src, dst) = (&self.bodies[from], &self.bodies[1 - from]);
+            let nb = dst.outline.len();
+            let outline = &dst.p.x[..nb];
+            for &i in &src.outline {
+                let p = src.p.x[i];
+                for a in 0..nb {
+                    if let Some(t) = ray_meets(&p, &d, &outline[a], &outline[(a + 1) % nb]) {
+                        distance = distance.min(t);
+                    }
+                }
+            }
+        }
+        if !distance.is_finite() {
+            return 0.0;
+        }
+        let b = &mut self.bodies[1];
+        b.p.x.iter_mut().for_each(|x| *x -= n * distance);
+        b.start -= n * distance;
+        distance
+    }
+
     /// Moves the second body along `n` until no outline node of one body
     /// is inside the other (module doc, **Start**); returns the distance, m.
     /// Fails when [`SEPARATION_PASSES`] moves are not enough.

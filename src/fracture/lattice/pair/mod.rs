@@ -38,7 +38,12 @@
 //! until no outline node of one body is inside the other: the impact
 //! starts at first touch, with no energy stored in the contact links (an
 //! overlap of depth `d` would hold `½ κ̄ d²` per node and throw the floes
-//! apart). Only velocities leave the impact, so the move changes no pose;
+//! apart). Where they are apart (a gap the rigid scheme's contact
+//! tolerance leaves, or the outlines' nodes a little off the polygons'),
+//! the second body is first moved along `−n` until an outline node meets
+//! the other outline: otherwise a slow approach would end the run before
+//! the lattices ever touch, and the impact would return the velocities it
+//! was given. Only velocities leave the impact, so the move changes no pose;
 //! it changes no normal velocity either (`n · perp(n) = 0`).
 //!
 //! **Stopping rule.** The contact is over when no node touches the other
@@ -305,6 +310,7 @@ impl PairImpact<'_> {
             damping: 0.0,
             power: 0.0,
         };
+        pair.close(n);
         pair.separate(n)?;
         let dt = self.options.safety * pair.stable_step();
         for b in &mut pair.bodies {
