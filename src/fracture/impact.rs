@@ -134,8 +134,12 @@ impl Fracturer {
         if after.is_nan() || after < 0.0 {
             return Err(format!(
                 "the lattices' impact ended with the bodies still approaching \
-                 ({after} m/s at the contact point, {} m/s before)",
-                out.normal_velocity[0]
+                 ({after} m/s at the contact point, {} m/s before; stopped: {} at {} s, \
+                 the contact last over at {} s)",
+                out.normal_velocity[0],
+                out.reason.name(),
+                out.t,
+                out.contact_end
             ));
         }
         let mut velocities = [(q.states[0].velocity, q.states[0].angular_velocity); 2];

@@ -12,6 +12,12 @@ use crate::geometry::{cross, outline_nearest, Vec2};
 /// pair needs one or two (the nearest segment changes as it moves).
 const SEPARATION_PASSES: usize = 16;
 
+/// The gap [`Pair::close`] leaves, as a fraction of the largest node
+/// coordinate (m/m): ten thousand times the rounding of a coordinate
+/// (2.2e-16 relative), far below any length of the impact (1e-9 m for
+/// coordinates of 1 km, closed in a microsecond at 1 mm/s).
+const CLOSE_MARGIN: f64 = 1e-12;
+
 /// One contact of the step: node `node` of body `from` behind segment
 /// `a b` of body `to`'s outline.
 #[derive(Debug, Clone, Copy)]
@@ -68,6 +74,19 @@ impl Pair<'_> {
             }
         }
         if !distance.is_finite() {
+            return 0.0;
+        }
+        // Stop a hair short of the touch: a node placed on the other
+        // outline to rounding may test inside it, and moving back out along
+        // `n` a segment oblique to `n` converges slowly (measured: 103
+        // impacts of the 200-floe field refused at 1e-12 m of overlap).
+        let scale = self
+            .bodies
+            .iter()
+            .flat_map(|b| b.outline.iter().map(|&i| b.p.x[i].amax()))
+            .fold(0.0, f64::max);
+        let distance = distance - CLOSE_MARGIN * scale;
+        if distance <= 0.0 {
             return 0.0;
         }
         let b = &mut self.bodies[1];
