@@ -33,6 +33,7 @@ mod percussion2d;
 mod physics;
 mod plot;
 mod predict;
+mod projection;
 mod rapier;
 mod registry;
 mod repeat;

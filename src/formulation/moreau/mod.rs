@@ -14,7 +14,9 @@
 //! assembly of §3.1, [`crate::contact::problem::ContactLcp::assemble`]), solved by the solver of
 //! §5.2 through the shared [`ContactSolver`] (Lemke with its counted
 //! fallbacks, §3.3; the cone, §3.4; NSGS or APGD, §3.5); positions by the
-//! θ-method, not projected (§5.1 step 4). The energy ledger: §5.3; the
+//! θ-method, not projected (§5.1 step 4), unless `projection = true`
+//! (§5.1 step 5, [`projection`]: Acary's direct projection of the
+//! positions onto the contacts' depth `projection_depth`). The energy ledger: §5.3; the
 //! parameters and their reasons: §5.4 and `settings.rs`. The steps are
 //! taken by the shared fixed-step loop ([`super::advance_on_grid`]);
 //! fractures through the run's topology stage (§9.5).
@@ -28,11 +30,15 @@
 //! - V. Acary, B. Brogliato (2008), *Numerical Methods for Nonsmooth
 //!   Dynamical Systems*, Springer, ch. 10 (the Moreau–Jean scheme, index sets
 //!   with the predicted gap `g + hγ u_N`).
+//! - V. Acary (2012), *Projected event-capturing time-stepping schemes for
+//!   nonsmooth mechanical systems with unilateral contact and Coulomb's
+//!   friction*, CMAME 256, 224–250 (the projection of the positions).
 //! - D. Stewart, J. Trinkle (1996), IJNME 39 (the LCP of docs/physics.md §3.1).
 //! - M. Anitescu (2006), Math. Program. 105; A. Tasora, M. Anitescu (2011),
 //!   CMAME 200 (the convex cone relaxation and its separation artefact).
 
 mod lattice;
+mod projection;
 mod settings;
 
 pub use settings::*;
@@ -151,6 +157,12 @@ pub struct Moreau {
     /// The pairs of bodies of the last step's active contacts, sorted (kept
     /// only when the topology stage resolves impacts, [`lattice`]).
     active_pairs: Vec<(usize, usize)>,
+    /// The projection's depth, m (`None`: positions not projected,
+    /// [`projection`]).
+    projection: Option<f64>,
+    /// The contacts detected at the start of the step (kept only with the
+    /// projection).
+    detected: Vec<Contact>,
 }
 
 impl Moreau {
@@ -202,6 +214,8 @@ impl Moreau {
             activation_tolerance,
             grid: FixedGrid::new(s.step),
             active_pairs: Vec::new(),
+            projection: s.projection_depth(scn),
+            detected: Vec::new(),
         })
     }
 
@@ -297,6 +311,10 @@ impl Moreau {
             w_new
         };
         // 4. Positions by the θ-method.
+        let before: Vec<(Vec2, f64)> = match self.projection {
+            Some(_) => sys.bodies.iter().map(|b| (b.position, b.angle)).collect(),
+            None => Vec::new(),
+        };
         cx.clock.time(Stage::Integration, || {
             for (b, w) in sys.bodies.iter_mut().zip(&w_new) {
                 let v1 = Vec2::new(w[0], w[1]);
@@ -306,6 +324,12 @@ impl Moreau {
                 b.angular_velocity = w[2];
             }
         });
+        // 5. The projection of the positions, when asked ([`projection`]).
+        if let Some(depth) = self.projection {
+            let solve = cx.clock.start(Stage::Solve);
+            self.project(scn, sys, &before, depth);
+            cx.clock.stop(Stage::Solve, solve);
+        }
         self.counters.add(&STEPS, 1);
         if let Some(i) = sys.bodies.iter().position(|b| !b.is_finite()) {
             return Err(FormulationError::Other(format!(
@@ -323,6 +347,9 @@ impl Moreau {
         detect_contacts(scn, &sys.bodies, margin, &mut self.bp, &mut contacts);
         for c in &contacts {
             self.max_penetration = self.max_penetration.max(-c.geom.gap);
+        }
+        if self.projection.is_some() {
+            self.detected = contacts.clone();
         }
         let tol = self.activation_tolerance;
         contacts
@@ -510,17 +537,19 @@ impl Formulation for Moreau {
     }
 
     fn settings(&self) -> Settings {
-        self.solver.settings(
-            Settings::default()
-                .number(
-                    "activation_tolerance_m",
-                    self.activation_tolerance,
-                    Unit::Metre,
-                )
-                .number("step_s", self.step, Unit::Second)
-                .number("theta", self.theta, Unit::Dimensionless)
-                .number("gamma", self.gamma, Unit::Dimensionless),
-        )
+        let s = Settings::default()
+            .number(
+                "activation_tolerance_m",
+                self.activation_tolerance,
+                Unit::Metre,
+            )
+            .number("step_s", self.step, Unit::Second)
+            .number("theta", self.theta, Unit::Dimensionless)
+            .number("gamma", self.gamma, Unit::Dimensionless);
+        self.solver.settings(match self.projection {
+            Some(depth) => s.number("projection_depth_m", depth, Unit::Metre),
+            None => s,
+        })
     }
 
     fn solve_profile(&self) -> Option<SolveProfile> {

@@ -16,8 +16,26 @@ pub const TABLE: TableSpec = TableSpec {
         TOLERANCE,
         MAX_ITERATIONS,
         RELAXATION,
+        PROJECTION_DEPTH,
     ],
 };
+
+/// The bound of `projection_depth`, m.
+pub const PROJECTION_DEPTH: Limit = Limit::range(
+    "projection_depth",
+    "[formulation.moreau]",
+    0.0,
+    1e3,
+    "m",
+    "a penetration tolerated before the positions are projected: above 0 (a contact projected to a zero gap would leave its activation tolerance and rattle), at most a kilometre (a floe's size)",
+)
+.exclusive_min();
+
+/// The default `projection_depth` as a fraction of the smallest floe
+/// radius: the event-driven formulation's default penetration tolerance
+/// (1e-4 `r_min`, 2 mm for floes of 20 m), so that both schemes keep
+/// floes apart to the same depth.
+pub const PROJECTION_DEPTH_FRACTION: f64 = 1e-4;
 
 /// The bound of `predict_from`, unknowns (an LCP size).
 pub const PREDICT_FROM: Limit = Limit::range(
@@ -93,6 +111,16 @@ pub struct MoreauSettings {
     /// direct `solver`; see [`crate::iterative`]). With it, `solver` above
     /// is `"lcp"` and unused.
     pub iterative: Option<IterativeOptions>,
+    /// `projection`: after each step, project the positions so that no
+    /// contact of the step stays penetrated deeper than `projection_depth`
+    /// (docs/physics.md §5.1 step 5, Acary 2012's direct projection;
+    /// default off: the classical scheme, whose positions are never
+    /// projected).
+    pub projection: bool,
+    /// `projection_depth`: the penetration the projection leaves, m
+    /// (default `None`: [`PROJECTION_DEPTH_FRACTION`] of the smallest floe
+    /// radius); only with `projection = true`.
+    pub projection_depth: Option<f64>,
 }
 
 impl Default for MoreauSettings {
@@ -107,6 +135,8 @@ impl Default for MoreauSettings {
             predict_from: DEFAULT_PREDICT_FROM,
             merge_friction: DEFAULT_MERGE_FRICTION,
             iterative: None,
+            projection: false,
+            projection_depth: None,
         }
     }
 }
@@ -120,7 +150,17 @@ impl MoreauSettings {
         let theta = r.bounded(&THETA)?.unwrap_or(d.theta);
         let gamma = r.bounded(&GAMMA)?.unwrap_or(d.gamma);
         let (solver, iterative) = read_solver(&mut r, d.solver)?;
+        let projection = r.boolean("projection")?.unwrap_or(d.projection);
+        let projection_depth = r.bounded(&PROJECTION_DEPTH)?;
+        if projection_depth.is_some() && !projection {
+            return Err(r.error(
+                PROJECTION_DEPTH.key,
+                "projection_depth needs projection = true (the positions are otherwise never projected)",
+            ));
+        }
         let s = MoreauSettings {
+            projection,
+            projection_depth,
             step,
             theta,
             gamma,
@@ -140,6 +180,16 @@ impl MoreauSettings {
     /// The settings of `scn`.
     pub fn of(scn: &Scenario) -> Result<MoreauSettings, CaseError> {
         MoreauSettings::from_table(&scn.settings_table(TABLE.name))
+    }
+
+    /// The projection's depth on `scn`, m, or `None` without projection.
+    pub fn projection_depth(&self, scn: &Scenario) -> Option<f64> {
+        let rmin = scn.min_floe_radius();
+        let scale = if rmin.is_finite() { rmin } else { 1.0 };
+        self.projection.then(|| {
+            self.projection_depth
+                .unwrap_or(PROJECTION_DEPTH_FRACTION * scale)
+        })
     }
 }
 
@@ -183,7 +233,34 @@ pub(super) const COUNTERS: &[&Counter] = &[
     &ACTIVE_CONTACTS_MAX,
     &CONTACT_ENERGY_INCREASE_MAX,
     &MAX_PENETRATION,
+    &PROJECTIONS,
+    &PROJECTIONS_UNCONVERGED,
+    &PROJECTION_RESIDUAL_MAX,
+    &PROJECTION_DEPTH_MAX,
 ];
+
+/// Group projections made.
+pub const PROJECTIONS: Counter = Counter::sum(
+    "projections",
+    "groups whose positions were projected after a step ([formulation.moreau] projection, docs/physics.md §5.1 step 5)",
+);
+/// Group projections whose solve stopped above its tolerance.
+pub const PROJECTIONS_UNCONVERGED: Counter = Counter::sum(
+    "projections_unconverged",
+    "group projections whose Gauss-Seidel solve stopped at max_iterations above its tolerance (the answer reached is applied)",
+);
+/// Largest residual of a projection's solve.
+pub const PROJECTION_RESIDUAL_MAX: Counter = Counter::max(
+    "projection_residual_max",
+    Unit::Dimensionless,
+    "largest relative natural-map residual of a projection's solve",
+);
+/// Deepest predicted penetration a projection removed, m.
+pub const PROJECTION_DEPTH_MAX: Counter = Counter::max(
+    "projection_depth_max_m",
+    Unit::Metre,
+    "deepest penetration predicted at the end of a step, before its projection",
+);
 
 /// Rounding allowance of the activation test `g + h γ u_N ≤ ε`, as a
 /// fraction of the smallest floe radius. Without it a resting contact whose
