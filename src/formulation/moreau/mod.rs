@@ -160,9 +160,6 @@ pub struct Moreau {
     /// The projection's depth, m (`None`: positions not projected,
     /// [`projection`]).
     projection: Option<f64>,
-    /// The contacts detected at the start of the step (kept only with the
-    /// projection).
-    detected: Vec<Contact>,
 }
 
 impl Moreau {
@@ -208,14 +205,19 @@ impl Moreau {
                     _ => s.iterative,
                 },
             ),
-            counters: Counters::new(COUNTERS),
+            counters: if s.projection {
+                let mut c = Counters::new(COUNTERS);
+                c.absorb(&Counters::new(PROJECTION_COUNTERS));
+                c
+            } else {
+                Counters::new(COUNTERS)
+            },
             records: Vec::new(),
             max_penetration: 0.0,
             activation_tolerance,
             grid: FixedGrid::new(s.step),
             active_pairs: Vec::new(),
             projection: s.projection_depth(scn),
-            detected: Vec::new(),
         })
     }
 
@@ -311,10 +313,6 @@ impl Moreau {
             w_new
         };
         // 4. Positions by the θ-method.
-        let before: Vec<(Vec2, f64)> = match self.projection {
-            Some(_) => sys.bodies.iter().map(|b| (b.position, b.angle)).collect(),
-            None => Vec::new(),
-        };
         cx.clock.time(Stage::Integration, || {
             for (b, w) in sys.bodies.iter_mut().zip(&w_new) {
                 let v1 = Vec2::new(w[0], w[1]);
@@ -327,7 +325,7 @@ impl Moreau {
         // 5. The projection of the positions, when asked ([`projection`]).
         if let Some(depth) = self.projection {
             let solve = cx.clock.start(Stage::Solve);
-            self.project(scn, sys, &before, depth);
+            self.project(scn, sys, depth);
             cx.clock.stop(Stage::Solve, solve);
         }
         self.counters.add(&STEPS, 1);
@@ -347,9 +345,6 @@ impl Moreau {
         detect_contacts(scn, &sys.bodies, margin, &mut self.bp, &mut contacts);
         for c in &contacts {
             self.max_penetration = self.max_penetration.max(-c.geom.gap);
-        }
-        if self.projection.is_some() {
-            self.detected = contacts.clone();
         }
         let tol = self.activation_tolerance;
         contacts

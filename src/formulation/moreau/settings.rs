@@ -233,6 +233,11 @@ pub(super) const COUNTERS: &[&Counter] = &[
     &ACTIVE_CONTACTS_MAX,
     &CONTACT_ENERGY_INCREASE_MAX,
     &MAX_PENETRATION,
+];
+
+/// The projection's counters, kept only by runs that project
+/// (`projection = true`).
+pub(super) const PROJECTION_COUNTERS: &[&Counter] = &[
     &PROJECTIONS,
     &PROJECTIONS_UNCONVERGED,
     &PROJECTION_RESIDUAL_MAX,
