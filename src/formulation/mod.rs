@@ -50,6 +50,23 @@ use crate::physics::{SmoothIntegrator, StepRecord};
 use crate::record::{ContactLog, Counters, Settings, SolveProfile};
 use crate::state::System;
 pub use context::{Context, FixedTopology, ImpactAnswer, ImpactQuery, Interrupt, Reads, Topology};
+
+/// The smallest floe radius, or 1 m without floes: the length the default
+/// tolerances of the formulations are fractions of, m.
+pub fn floe_length_scale(scn: &Scenario) -> f64 {
+    let rmin = scn.min_floe_radius();
+    if rmin.is_finite() {
+        rmin
+    } else {
+        1.0
+    }
+}
+
+/// Default penetration tolerance as a fraction of the smallest floe
+/// radius: the event-driven `penetration_tolerance` and Moreau–Jean's
+/// `projection_depth`, so that both schemes keep floes apart to the same
+/// depth.
+pub const DEFAULT_PENETRATION_FRACTION: f64 = 1e-4;
 use std::path::Path;
 
 /// A failure that stops a run (a failed LCP is not one: it is counted and

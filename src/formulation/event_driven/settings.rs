@@ -113,16 +113,7 @@ impl EventDrivenSettings {
     }
 }
 
-/// The smallest floe radius, or 1 m without floes: the length the default
-/// tolerances are fractions of, m.
-pub fn floe_length_scale(scn: &Scenario) -> f64 {
-    let rmin = scn.min_floe_radius();
-    if rmin.is_finite() {
-        rmin
-    } else {
-        1.0
-    }
-}
+pub use crate::formulation::{floe_length_scale, DEFAULT_PENETRATION_FRACTION};
 
 /// The contact distance `δ` in use on `scn`, m: the case's, or
 /// [`DEFAULT_DISTANCE_FRACTION`] of the smallest floe radius.
@@ -245,8 +236,6 @@ pub(super) const COUNTERS: &[&Counter] = &[
 /// Default contact distance as a fraction of the smallest floe radius, when
 /// the case leaves `[contact] distance = 0`.
 pub const DEFAULT_DISTANCE_FRACTION: f64 = 1e-3;
-/// Default penetration tolerance as a fraction of the smallest floe radius.
-pub const DEFAULT_PENETRATION_FRACTION: f64 = 1e-4;
 /// The contact points of the scheme: every facing edge pair is clipped
 /// (Box2D's reference/incident clipping at any angle, not only within the
 /// shared 1e-6 rad parallel tolerance), and each clipped end within the

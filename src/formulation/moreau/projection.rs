@@ -16,10 +16,11 @@
 //! penetration, their gaps positive, so the displacement respects them to
 //! first order (within the deepest penetration only, a floe wedged in the
 //! jammed bay was pushed back and forth between two neighbours, and 0.46 m
-//! of penetration accumulated in 4,000 s, against 0.18 m with three times). Rotations are linearised: detection and projection are
+//! of penetration accumulated in 4,000 s, against 0.18 m with three
+//! times). Rotations are linearised: detection and projection are
 //! repeated, at most [`PROJECTION_PASSES`] times, until no gap is below
-//! `−d`. The velocities are not touched, so the kinetic
-//! energy and the ledger are not either. The depth `d > 0` keeps a
+//! `−d`. The velocities are not touched, so the kinetic energy and the
+//! ledger are not either. The depth `d > 0` keeps a
 //! projected contact active at the next step (its gap within the
 //! activation test), so that it rests instead of rattling. A solve stopped
 //! at `max_iterations` above its tolerance is applied and counted

@@ -3,6 +3,7 @@
 //! (docs/physics.md §5).
 
 use super::*;
+use crate::formulation::{floe_length_scale, DEFAULT_PENETRATION_FRACTION};
 
 /// `[formulation.moreau]`, read by both entries.
 pub const TABLE: TableSpec = TableSpec {
@@ -30,12 +31,6 @@ pub const PROJECTION_DEPTH: Limit = Limit::range(
     "a penetration tolerated before the positions are projected: above 0 (a contact projected to a zero gap would leave its activation tolerance and rattle), at most a kilometre (a floe's size)",
 )
 .exclusive_min();
-
-/// The default `projection_depth` as a fraction of the smallest floe
-/// radius: the event-driven formulation's default penetration tolerance
-/// (1e-4 `r_min`, 2 mm for floes of 20 m), so that both schemes keep
-/// floes apart to the same depth.
-pub const PROJECTION_DEPTH_FRACTION: f64 = 1e-4;
 
 /// The bound of `predict_from`, unknowns (an LCP size).
 pub const PREDICT_FROM: Limit = Limit::range(
@@ -118,8 +113,9 @@ pub struct MoreauSettings {
     /// projected).
     pub projection: bool,
     /// `projection_depth`: the penetration the projection leaves, m
-    /// (default `None`: [`PROJECTION_DEPTH_FRACTION`] of the smallest floe
-    /// radius); only with `projection = true`.
+    /// (default `None`: [`DEFAULT_PENETRATION_FRACTION`] of the smallest
+    /// floe radius, the event-driven default penetration tolerance); only
+    /// with `projection = true`.
     pub projection_depth: Option<f64>,
 }
 
@@ -184,11 +180,9 @@ impl MoreauSettings {
 
     /// The projection's depth on `scn`, m, or `None` without projection.
     pub fn projection_depth(&self, scn: &Scenario) -> Option<f64> {
-        let rmin = scn.min_floe_radius();
-        let scale = if rmin.is_finite() { rmin } else { 1.0 };
         self.projection.then(|| {
             self.projection_depth
-                .unwrap_or(PROJECTION_DEPTH_FRACTION * scale)
+                .unwrap_or(DEFAULT_PENETRATION_FRACTION * floe_length_scale(scn))
         })
     }
 }
