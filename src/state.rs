@@ -243,7 +243,7 @@ impl System {
                 .iter()
                 .map(|f| BodyState {
                     position: f.position,
-                    angle: 0.0,
+                    angle: f.angle,
                     velocity: f.velocity,
                     angular_velocity: f.angular_velocity,
                 })
@@ -405,9 +405,12 @@ fn relative_velocity(scn: &Scenario, bodies: &[BodyState], c: &Contact) -> Vec2 
 
 /// Makes `bodies` (one per floe, e.g. an earlier run's state read by
 /// [`crate::run::output::read_state`]) the initial state of `scn`: each
-/// floe's outline is turned by its angle (so the new run's angles start at
-/// 0 from that orientation), its centre of mass, velocity and angular
-/// velocity replaced. Mass properties do not change under a rotation. The
+/// floe's centre of mass, angle, velocity and angular velocity replaced;
+/// its outline is not turned, so the new run's angles go on from the
+/// earlier run's, measured from the case's outlines like them, and a run
+/// started from a restarted run's output finds its floes turned as they
+/// were (an outline turned to the earlier angle and an angle starting at 0
+/// would make that second restart turn each floe twice). The
 /// state is taken as an earlier run left it: floes in contact or within
 /// that run's penetration tolerance are not re-checked for overlap.
 /// `restart` records where it comes from.
@@ -434,9 +437,7 @@ pub fn restart(
         ));
     }
     for (f, b) in scn.floes.iter_mut().zip(bodies) {
-        for v in &mut f.shape {
-            *v = crate::geometry::rotate(v, b.angle);
-        }
+        f.angle = b.angle;
         f.position = b.position;
         f.velocity = b.velocity;
         f.angular_velocity = b.angular_velocity;

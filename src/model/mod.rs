@@ -46,6 +46,13 @@ pub struct Floe {
     pub velocity: Vec2,
     /// Angular velocity at t = 0, rad/s.
     pub angular_velocity: f64,
+    /// Orientation at t = 0, rad: the angle the outline `shape` is turned
+    /// by. 0 for a floe of a case file and for a piece of a fracture (whose
+    /// outline is its world outline at birth); an earlier run's angle for a
+    /// run started from it ([`crate::state::restart`]), so that a restarted
+    /// run's angles go on from the earlier run's and a restart of a restart
+    /// finds its floes turned as they were.
+    pub angle: f64,
     /// Thickness `h`, m.
     pub thickness: f64,
     /// Density `ρ_i`, kg/m³.
@@ -115,6 +122,7 @@ impl Floe {
             position: props.centroid,
             velocity,
             angular_velocity,
+            angle: 0.0,
             thickness,
             density,
             area: props.area,

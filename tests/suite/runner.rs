@@ -74,7 +74,7 @@ fn the_writer_refuses_a_non_finite_number_and_names_it() {
 /// A run restarted from an earlier run's output (`run --from`) goes on as
 /// the earlier run did: head_on restarted at t = 10 s (after the impact, the
 /// floes drifting apart) reaches the earlier run's final state, for every
-/// contact formulation; the new run's angles start at 0 from the restart.
+/// contact formulation; the new run's angles go on from the earlier run's.
 #[test]
 fn a_run_restarted_from_an_earlier_output_goes_on_as_the_earlier_run() {
     use floebench::model::Restart;
@@ -106,6 +106,60 @@ fn a_run_restarted_from_an_earlier_output_goes_on_as_the_earlier_run() {
         // The state read back is the state written, to the last bit.
         let k = full.trajectory.iter().position(|r| r.t == 10.0).unwrap();
         assert_eq!(bodies[0].position.x, full.trajectory[k].x);
+    }
+}
+
+/// A run started from a restarted run's output finds its floes turned as
+/// they were: head_on with a spinning floe (0.05 rad/s), restarted at
+/// t = 10 s for 5 s, then restarted again from that run's last output,
+/// ends where the uninterrupted 20-s run ends, angles included, for every
+/// contact formulation. (When a restart turned each outline and started
+/// its angles at 0, a restarted run wrote only the angle turned since its
+/// start, and a restart from its output left the spinning floe off by the
+/// angle it had at the first restart: this test then read 0.350 rad
+/// against 1.022.)
+#[test]
+fn a_restart_of_a_restart_keeps_the_floes_turned_as_they_were() {
+    use floebench::model::Restart;
+    let dir = tempdir();
+    let text = case_text("head_on").replacen(
+        "velocity = [-0.1, 0.0]",
+        "velocity = [-0.1, 0.0]\nangular_velocity = 0.05",
+        1,
+    );
+    let five = text.replacen("duration = 20.0", "duration = 5.0", 1);
+    for name in ["event-driven", "moreau", "moreau-cone", "rapier"] {
+        let full = run(&scenario(&text), name);
+        let mut state = (dir.path().join(format!("{name}_0")), full, Some(10.0));
+        output::write_run(&state.0, &state.1).unwrap();
+        for leg in 1..=2 {
+            let file = state.0.join("trajectory.csv");
+            let (t, bodies) = output::read_state(&file, state.2).unwrap();
+            let mut next = scenario(&five);
+            floebench::state::restart(&mut next, &bodies, Restart { file, t }).unwrap();
+            let result = run(&next, name);
+            assert_eq!(result.summary.end, EndReason::Completed, "{name}");
+            let out = dir.path().join(format!("{name}_{leg}"));
+            output::write_run(&out, &result).unwrap();
+            state = (out, result, None);
+        }
+        let full = run(&scenario(&text), name);
+        for (a, b) in full
+            .final_state
+            .bodies
+            .iter()
+            .zip(&state.1.final_state.bodies)
+        {
+            assert!(a.angle.abs() > 0.1, "{name}: the floe must have turned");
+            assert!(
+                (a.angle - b.angle).abs() < 1e-9,
+                "{name}: {} against {} rad",
+                b.angle,
+                a.angle
+            );
+            let d = (a.position - b.position).norm();
+            assert!(d < 1e-9 * a.position.norm().max(1.0), "{name}: {d} m");
+        }
     }
 }
 

@@ -144,7 +144,7 @@ fn material(c: ColliderBuilder, e: f64, mu: f64) -> ColliderBuilder {
         .contact_skin(0.0)
 }
 
-/// Inserts floe `i` (at its position, angle 0, its velocity) as a dynamic
+/// Inserts floe `i` (at its position, angle and velocity at t = 0) as a dynamic
 /// body with its convex collider carrying the floe's own mass and inertia;
 /// restitution `e`, friction `mu`.
 fn insert_floe(
@@ -155,12 +155,17 @@ fn insert_floe(
     e: f64,
     mu: f64,
 ) -> Result<RigidBodyHandle, String> {
-    let rb = convert::dynamic_body(&floe.position, 0.0, &floe.velocity, floe.angular_velocity)
-        .can_sleep(false)
-        .linear_damping(0.0)
-        .angular_damping(0.0)
-        .allow_fast_rotation(true)
-        .build();
+    let rb = convert::dynamic_body(
+        &floe.position,
+        floe.angle,
+        &floe.velocity,
+        floe.angular_velocity,
+    )
+    .can_sleep(false)
+    .linear_damping(0.0)
+    .angular_damping(0.0)
+    .allow_fast_rotation(true)
+    .build();
     let h = bodies.insert(rb);
     let collider = convert::polygon_collider(&floe.shape, &floe.parts)
         .ok_or_else(|| format!("rapier: floe {}: parry rejects its polygon", floe.id))?
@@ -242,6 +247,12 @@ impl RapierReference {
             colliders.insert_with_parent(material(collider, e, mu), h, &mut bodies);
         }
         let synced = System::initial(scn).bodies;
+        // Rapier's own reading of each starting angle (in (−π, π]), from
+        // which the next step's turn is measured.
+        let rapier_angle = handles
+            .iter()
+            .map(|&h| bodies.get(h).map_or(0.0, |rb| convert::read_body(rb).1))
+            .collect();
         let pipeline = PhysicsPipeline::new();
         Ok(RapierReference {
             settings,
@@ -258,7 +269,7 @@ impl RapierReference {
             ccd: CCDSolver::new(),
             handles,
             model: ForceModel::new(&scn.floes),
-            rapier_angle: vec![0.0; synced.len()],
+            rapier_angle,
             synced,
             forces: vec![Forces::default(); scn.floes.len()],
             balance: vec![(0.0, 0.0, 0.0); scn.floes.len()],
