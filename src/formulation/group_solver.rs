@@ -21,7 +21,7 @@ use crate::model::settings::SettingsReader;
 use crate::model::CaseError;
 use crate::model::Scenario;
 use crate::record::accuracy::Accuracy;
-use crate::record::{Counters, Settings};
+use crate::record::{Counter, Counters, Settings};
 
 /// What the `solver` key chose.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -91,7 +91,22 @@ pub struct GroupSolver {
     pub iterative: Option<IterativeSolver>,
     /// The residual and work of every solve.
     pub accuracy: Accuracy,
+    /// Whether an iterative answer stopped at its cap that gives the group
+    /// kinetic energy is continued
+    /// ([`IterativeSolver::continue_while_creating_energy`]): Moreau–Jean's
+    /// steps, whose problems are velocity jumps.
+    pub energy_guard: bool,
+    /// Solves continued by the guard.
+    continued: u64,
 }
+
+/// Iterative solves continued because their capped answer gave the group
+/// kinetic energy (kept by formulations with the guard and an iterative
+/// solver).
+pub const CONTACT_SOLVES_CONTINUED: Counter = Counter::sum(
+    "contact_solves_continued",
+    "iterative contact solves stopped at max_iterations whose answer gave the group kinetic energy, continued (up to 2,000 sweeps in all) until it gave none or converged",
+);
 
 /// The problem of one group, as both solvers take it: the scene, the
 /// centres of mass (m), every contact, the group, the free velocities and
@@ -119,7 +134,15 @@ impl GroupSolver {
             direct,
             iterative: iterative.map(IterativeSolver::new),
             accuracy: Accuracy::default(),
+            energy_guard: false,
+            continued: 0,
         }
+    }
+
+    /// This solver with the energy guard on (see [`GroupSolver::energy_guard`]).
+    pub fn with_energy_guard(mut self) -> GroupSolver {
+        self.energy_guard = true;
+        self
     }
 
     /// Solves a sustained (or time-stepping) problem at time `t` over a
@@ -131,7 +154,12 @@ impl GroupSolver {
         let Some(it) = &mut self.iterative else {
             return self.solve_direct(d, &prob, t, false);
         };
-        let a = it.solve(&prob, t, h, d.scn.floes.len());
+        let mut a = it.solve(&prob, t, h, d.scn.floes.len());
+        if self.energy_guard {
+            let rounds;
+            (a, rounds) = it.continue_while_creating_energy(&prob, a, h);
+            self.continued += u64::from(rounds > 0);
+        }
         self.finish(d, &prob, a, t)
     }
 
@@ -260,6 +288,11 @@ impl GroupSolver {
     pub fn counters(&self) -> Counters {
         let mut c = self.direct.counters();
         c.absorb(&self.accuracy.counters());
+        if self.energy_guard && self.iterative.is_some() {
+            let mut g = Counters::new(&[&CONTACT_SOLVES_CONTINUED]);
+            g.add(&CONTACT_SOLVES_CONTINUED, self.continued);
+            c.absorb(&g);
+        }
         c
     }
 

@@ -66,14 +66,22 @@ pub const COUNTERS: &[&Counter] = &[
 
 impl Fracturer {
     /// The lattice of floe `f` (built once per floe id, kept until the
-    /// floe breaks).
+    /// floe breaks; a build that fails is not tried again for that floe).
     pub(super) fn lattice_of(&mut self, scn: &Scenario, f: &Floe) -> Result<&Lattice, String> {
+        if let Some(why) = self.unbuildable.get(&f.id) {
+            return Err(why.clone());
+        }
         match self.lattices.entry(f.id) {
             std::collections::btree_map::Entry::Occupied(e) => Ok(e.into_mut()),
-            std::collections::btree_map::Entry::Vacant(e) => Ok(e.insert(Lattice::build(
-                &f.shape,
-                strike::lattice_spec(&scn.fracture, f),
-            )?)),
+            std::collections::btree_map::Entry::Vacant(e) => {
+                match Lattice::build(&f.shape, strike::lattice_spec(&scn.fracture, f)) {
+                    Ok(l) => Ok(e.insert(l)),
+                    Err(why) => {
+                        self.unbuildable.insert(f.id, why.clone());
+                        Err(why)
+                    }
+                }
+            }
         }
     }
 

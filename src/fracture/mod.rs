@@ -164,6 +164,9 @@ pub struct Fracturer {
     /// The lattice model's lattices, by floe id (a floe's shape never
     /// changes, so its lattice is built once).
     lattices: BTreeMap<usize, lattice::Lattice>,
+    /// Why the lattice of a floe (by id) cannot be built: the build is
+    /// deterministic, so it is tried once per floe, not at each impact.
+    unbuildable: BTreeMap<usize, String>,
     percussions: u64,
 }
 

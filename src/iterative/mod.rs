@@ -68,6 +68,11 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 /// `L` floes needs about `L²` Gauss–Seidel sweeps to carry a load along it.
 pub const DEFAULT_MAX_ITERATIONS: u64 = 2000;
 
+/// The relative change of a group's kinetic energy that is rounding, not
+/// work done by its contact impulses (the test of Moreau–Jean's
+/// `contact_energy_increases`).
+pub const ENERGY_ROUNDING: f64 = 1e-12;
+
 /// The bound of `tolerance`.
 pub const TOLERANCE: Limit = Limit::range(
     "tolerance",
@@ -268,6 +273,48 @@ impl IterativeSolver {
             outcome,
             warm_hits: 0,
         }
+    }
+
+    /// Goes on with an answer `a` of `prob` (a step of `h`, s) that stopped
+    /// at `max_iterations` above the tolerance while giving the group
+    /// kinetic energy (more than [`ENERGY_ROUNDING`] of it): more sweeps or
+    /// iterations from `a`, `max_iterations` at a time, until the answer
+    /// converges or creates no energy, or the solve has taken
+    /// [`DEFAULT_MAX_ITERATIONS`] (or `max_iterations`, if more) in all.
+    /// Returns the answer (stored in the cache when continued) and the
+    /// number of continuations. A low cap saves the sweeps of the stalled
+    /// solves of a jam (docs/physics.md §3.5, "A cap that creates no
+    /// energy"), but not at the price of contact impulses that do work.
+    pub fn continue_while_creating_energy(
+        &mut self,
+        prob: &SparseContacts,
+        mut a: Answer,
+        h: f64,
+    ) -> (Answer, u64) {
+        let o = self.options;
+        let ceiling = o.max_iterations.max(DEFAULT_MAX_ITERATIONS);
+        let creates = |dv: &[Gen]| {
+            let (before, after) = prob.kinetic_energies(dv);
+            after > before * (1.0 + ENERGY_ROUNDING) + f64::MIN_POSITIVE
+        };
+        let mut rounds = 0;
+        while !a.outcome.converged && a.outcome.iterations < ceiling && creates(&a.dv) {
+            let budget = o.max_iterations.min(ceiling - a.outcome.iterations);
+            let (outcome, dv) = match o.method {
+                Method::Nsgs => nsgs::solve(prob, &mut a.p, o.tolerance, budget, o.relaxation),
+                Method::Apgd => apgd::solve(prob, &mut a.p, o.tolerance, budget),
+            };
+            a.outcome = Outcome {
+                iterations: a.outcome.iterations + outcome.iterations,
+                ..outcome
+            };
+            a.dv = dv;
+            rounds += 1;
+        }
+        if rounds > 0 {
+            self.cache.store(prob, &a.p, h);
+        }
+        (a, rounds)
     }
 
     /// `settings` with `solver` set to this method's name (replacing a

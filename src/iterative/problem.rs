@@ -258,6 +258,23 @@ impl SparseContacts {
         u
     }
 
+    /// The group's kinetic energy at its free velocities and after the
+    /// velocity changes `dv` (group order), `(before, after)`, J:
+    /// `Σ ½ M |w|²` over the floes' three components (`M` the mass or the
+    /// inertia).
+    pub fn kinetic_energies(&self, dv: &[Gen]) -> (f64, f64) {
+        let (mut before, mut after) = (0.0, 0.0);
+        for ((mi, w), d) in self.minv.iter().zip(&self.w_free).zip(dv) {
+            for k in 0..3 {
+                if mi[k] > 0.0 {
+                    before += 0.5 * w[k] * w[k] / mi[k];
+                    after += 0.5 * (w[k] + d[k]) * (w[k] + d[k]) / mi[k];
+                }
+            }
+        }
+        (before, after)
+    }
+
     /// The floes' velocity changes `M⁻¹ H p` of the impulses `p` (group
     /// order).
     pub fn velocity_changes(&self, p: &[[f64; 2]]) -> Vec<Gen> {

@@ -4,13 +4,16 @@
 //! APGD against Lemke on the bundled cases and the closed-form checks, the
 //! contact cache, the counted unconverged solve, the stop test that
 //! evaluates the residual only when a sweep's change bound allows, the
-//! impacts solved by NSGS, and the settings' refusals.
+//! impacts solved by NSGS, the continuation of capped answers that would
+//! create energy, and the settings' refusals.
 
 use crate::common::{case_text, counter, run, scenario, with_formulation_table};
 use floebench::analysis::check::check_run;
 use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
 use floebench::contact::BroadPhase;
-use floebench::iterative::{local_coulomb, nsgs, SparseContacts};
+use floebench::iterative::{
+    local_coulomb, nsgs, Answer, IterativeOptions, IterativeSolver, Method, Outcome, SparseContacts,
+};
 use floebench::lcp::{solve, SolveOptions};
 use floebench::model::Scenario;
 use floebench::rng::SplitMix64;
@@ -462,6 +465,61 @@ fn the_contact_cache_starts_sustained_contacts_warm() {
     assert!(counter(&r, "contact_iterations_median") <= 2.0);
 }
 
+/// A capped answer whose impulses would give the group kinetic energy is
+/// continued until it gives none (or converges), and one that gives none is
+/// returned as it is: Lemke's answer on the frictional cradle with three
+/// times its normal impulses throws the floes apart (it creates energy),
+/// and zero impulses leave the energy as it is.
+#[test]
+fn a_capped_answer_that_creates_energy_is_continued_until_it_does_not() {
+    let scn = frictional_cradle();
+    let mut continued = 0;
+    for (lcp, sp) in problems(&scn) {
+        let sol = solve(lcp.lcp(), &SolveOptions::default());
+        assert!(sol.status.is_solved());
+        let (l, b) = (lcp.normal(&sol.z), lcp.tangential(&sol.z));
+        let unconverged = |p: Vec<[f64; 2]>| Answer {
+            dv: sp.velocity_changes(&p),
+            p,
+            outcome: Outcome {
+                iterations: 1,
+                residual: 1.0,
+                converged: false,
+            },
+            warm_hits: 0,
+        };
+        let opts = IterativeOptions {
+            max_iterations: 5,
+            ..IterativeOptions::new(Method::Nsgs)
+        };
+        let mut solver = IterativeSolver::new(opts);
+        let thrown = unconverged(l.iter().zip(&b).map(|(l, b)| [3.0 * l, 3.0 * b]).collect());
+        let (before, after) = sp.kinetic_energies(&thrown.dv);
+        assert!(
+            after > before * 1.01,
+            "{after} J against {before} J: no gain to remove"
+        );
+        let (a, rounds) = solver.continue_while_creating_energy(&sp, thrown, 1.0);
+        let (before, after) = sp.kinetic_energies(&a.dv);
+        assert!(rounds >= 1);
+        assert!(a.outcome.iterations > 1 && a.outcome.iterations <= 2000);
+        assert!(
+            a.outcome.converged || after <= before * (1.0 + 1e-12),
+            "{after} J against {before} J after {} sweeps",
+            a.outcome.iterations
+        );
+        assert!(
+            (a.outcome.residual - sp.residual(&a.p, true)).abs()
+                <= 1e-9 * a.outcome.residual + 1e-15
+        );
+        let rest = unconverged(vec![[0.0; 2]; sp.len()]);
+        let (b2, rounds) = solver.continue_while_creating_energy(&sp, rest.clone(), 1.0);
+        assert_eq!((b2, rounds), (rest, 0));
+        continued += 1;
+    }
+    assert!(continued >= 1);
+}
+
 #[test]
 fn an_unconverged_solve_is_counted_and_its_answer_kept_finite() {
     let text = with_settings(
@@ -471,6 +529,11 @@ fn an_unconverged_solve_is_counted_and_its_answer_kept_finite() {
     );
     let r = run(&scenario(&text), "moreau");
     assert!(counter(&r, "contact_unconverged") > 0.0);
+    // One sweep leaves answers that would throw floes apart (43 solves
+    // gave their group energy, up to 129 J, before the guard): each is
+    // continued until it gives none.
+    assert!(counter(&r, "contact_solves_continued") > 0.0);
+    assert_eq!(counter(&r, "contact_energy_increases"), 0.0);
     let res = counter(&r, "contact_residual_max");
     assert!(res.is_finite() && res > 1e-14, "{res:e}");
     assert!(r

@@ -204,7 +204,8 @@ impl Moreau {
                     Some(SolverKind::Cone) => None,
                     _ => s.iterative,
                 },
-            ),
+            )
+            .with_energy_guard(),
             counters: if s.projection {
                 let mut c = Counters::new(COUNTERS);
                 c.absorb(&Counters::new(PROJECTION_COUNTERS));
@@ -423,7 +424,7 @@ impl Moreau {
                 }
             }
             let after = group_energy(scn, &w_new, &g.floes);
-            if after > before * (1.0 + 1e-12) + 1e-300 {
+            if after > before * (1.0 + crate::iterative::ENERGY_ROUNDING) + 1e-300 {
                 self.counters.add(&CONTACT_ENERGY_INCREASES, 1);
                 self.counters
                     .max(&CONTACT_ENERGY_INCREASE_MAX, after - before);
