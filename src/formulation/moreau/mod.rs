@@ -94,7 +94,7 @@ pub const ENTRY: Entry = Entry {
         NotClaimed {
             check: "penetration",
             case: None,
-            reason: "positions are not projected: a contact activated by the predicted gap ends its step penetrated by O(h u_N)",
+            reason: "a contact activated by the predicted gap ends its step penetrated by O(h u_N) (by default positions are not projected; with projection = true, by up to projection_depth after each step)",
         },
         NOT_CLAIMED_BOTH[0],
         NOT_CLAIMED_BOTH[1],
@@ -115,7 +115,7 @@ pub const CONE_ENTRY: Entry = Entry {
         NotClaimed {
             check: "penetration",
             case: None,
-            reason: "positions are not projected (O(h u_N), as moreau); the cone relaxation also lifts a sliding floe off and lands it again (sliding_floe)",
+            reason: "penetration O(h u_N) as moreau (by default positions are not projected; with projection = true, by up to projection_depth after each step); the cone relaxation also lifts a sliding floe off and lands it again (sliding_floe)",
         },
         NOT_CLAIMED_BOTH[0],
         NOT_CLAIMED_BOTH[1],
