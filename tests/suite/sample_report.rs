@@ -18,8 +18,10 @@ const RELATIVE: f64 = 1e-12;
 
 /// Cases re-run: a head-on impact with friction-free restitution, a
 /// frictional sliding contact (the row scaling of the Coulomb rows), a
-/// simultaneous impact on a touching row.
-const CASES: [&str; 3] = ["head_on", "sliding_floe", "cradle_touching"];
+/// simultaneous impact on a touching row, and an impact resolved in two
+/// lattices (`impact = "lattice"`; a change of the lattices' contact went
+/// unnoticed by the first three).
+const CASES: [&str; 4] = ["head_on", "sliding_floe", "cradle_touching", "lattice_bars"];
 
 fn timing(metric: &str) -> bool {
     metric.starts_with("cpu_") || metric == "wall"
