@@ -98,7 +98,37 @@ pub struct GroupSolver {
     pub energy_guard: bool,
     /// Solves continued by the guard.
     continued: u64,
+    /// Direct solves refused as too large for a dense LCP, solved by NSGS.
+    too_large: u64,
 }
+
+/// The largest dense LCP matrix the direct solvers build, bytes: 4 GiB
+/// (about 23,000 unknowns; a sixth of this machine's memory, and Lemke
+/// needs a few such matrices). A group above it would make the run fail
+/// on an allocation, not finish late.
+pub const DENSE_LCP_MAX_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
+
+/// Whether the dense LCP of `prob` could exceed [`DENSE_LCP_MAX_BYTES`]:
+/// at most four unknowns per contact point with friction (`λ`, `β⁺`, `β⁻`,
+/// the slip `α`), one without, eight bytes per entry.
+fn dense_too_large(prob: &SparseContacts) -> bool {
+    dense_lcp_too_large(prob.len(), prob.friction())
+}
+
+/// Whether a group of `contacts` contact points (`friction`: with a
+/// friction pair each) could need a dense LCP above [`DENSE_LCP_MAX_BYTES`].
+pub fn dense_lcp_too_large(contacts: usize, friction: bool) -> bool {
+    let per = if friction { 4.0 } else { 1.0 };
+    let n = per * contacts as f64;
+    8.0 * n * n > DENSE_LCP_MAX_BYTES
+}
+
+/// Direct solves of groups too large for a dense LCP, solved instead by
+/// NSGS at its defaults (kept only by runs that had one).
+pub const LCP_TOO_LARGE: Counter = Counter::sum(
+    "lcp_too_large_solved_by_nsgs",
+    "contact problems whose dense LCP would exceed 4 GiB (about 23,000 unknowns), solved instead by NSGS, cold, at its default tolerance and cap",
+);
 
 /// Iterative solves continued because their capped answer gave the group
 /// kinetic energy (kept by formulations with the guard and an iterative
@@ -136,6 +166,7 @@ impl GroupSolver {
             accuracy: Accuracy::default(),
             energy_guard: false,
             continued: 0,
+            too_large: 0,
         }
     }
 
@@ -263,6 +294,14 @@ impl GroupSolver {
         t: f64,
         impact: bool,
     ) -> GroupAnswer {
+        if dense_too_large(prob) {
+            // The dense LCP would not fit in memory (a jammed group of
+            // tens of thousands of contacts): NSGS, cold, at its defaults.
+            self.too_large += 1;
+            let it = IterativeSolver::new(IterativeOptions::new(Method::Nsgs));
+            let a = it.solve_impact(prob);
+            return self.iterative_answer(prob, a, t);
+        }
         let layout = self.direct.friction_layout(impact);
         let lcp = ContactLcp::assemble(
             d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets, layout,
@@ -293,6 +332,11 @@ impl GroupSolver {
             g.add(&CONTACT_SOLVES_CONTINUED, self.continued);
             c.absorb(&g);
         }
+        if self.too_large > 0 {
+            let mut g = Counters::new(&[&LCP_TOO_LARGE]);
+            g.add(&LCP_TOO_LARGE, self.too_large);
+            c.absorb(&g);
+        }
         c
     }
 
@@ -314,5 +358,21 @@ fn direct_answer(lcp: &ContactLcp, z: &[f64]) -> GroupAnswer {
         dv: lcp.velocity_changes(z),
         normal: lcp.normal(z),
         tangential: lcp.tangential(z),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The dense LCP's bound: 4 GiB of `f64` is 23,170 unknowns, so 5,792
+    /// frictional contact points (four unknowns each) fit and 5,793 do not;
+    /// without friction, one unknown each.
+    #[test]
+    fn the_dense_lcp_bound_is_four_gibibytes() {
+        assert!(!dense_lcp_too_large(5_792, true));
+        assert!(dense_lcp_too_large(5_793, true));
+        assert!(!dense_lcp_too_large(23_170, false));
+        assert!(dense_lcp_too_large(23_171, false));
     }
 }
