@@ -108,15 +108,10 @@ pub struct GroupSolver {
 /// on an allocation, not finish late.
 pub const DENSE_LCP_MAX_BYTES: f64 = 4.0 * 1024.0 * 1024.0 * 1024.0;
 
-/// Whether the dense LCP of `prob` could exceed [`DENSE_LCP_MAX_BYTES`]:
+/// Whether a group of `contacts` contact points (`friction`: with a
+/// friction pair each) could need a dense LCP above [`DENSE_LCP_MAX_BYTES`]:
 /// at most four unknowns per contact point with friction (`λ`, `β⁺`, `β⁻`,
 /// the slip `α`), one without, eight bytes per entry.
-fn dense_too_large(prob: &SparseContacts) -> bool {
-    dense_lcp_too_large(prob.len(), prob.friction())
-}
-
-/// Whether a group of `contacts` contact points (`friction`: with a
-/// friction pair each) could need a dense LCP above [`DENSE_LCP_MAX_BYTES`].
 pub fn dense_lcp_too_large(contacts: usize, friction: bool) -> bool {
     let per = if friction { 4.0 } else { 1.0 };
     let n = per * contacts as f64;
@@ -294,7 +289,7 @@ impl GroupSolver {
         t: f64,
         impact: bool,
     ) -> GroupAnswer {
-        if dense_too_large(prob) {
+        if dense_lcp_too_large(prob.len(), prob.friction()) {
             // The dense LCP would not fit in memory (a jammed group of
             // tens of thousands of contacts): NSGS, cold, at its defaults.
             self.too_large += 1;

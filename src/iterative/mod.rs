@@ -69,9 +69,17 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 pub const DEFAULT_MAX_ITERATIONS: u64 = 2000;
 
 /// The relative change of a group's kinetic energy that is rounding, not
-/// work done by its contact impulses (the test of Moreau–Jean's
-/// `contact_energy_increases`).
+/// work done by its contact impulses (see [`creates_energy`]).
 pub const ENERGY_ROUNDING: f64 = 1e-12;
+
+/// Whether contact impulses that took a group's kinetic energy from
+/// `before` to `after` (J) created energy: by more than
+/// [`ENERGY_ROUNDING`] of it (and 1e-300 J, for a group at rest). The one
+/// test of Moreau–Jean's `contact_energy_increases` and of
+/// [`IterativeSolver::continue_while_creating_energy`].
+pub fn creates_energy(before: f64, after: f64) -> bool {
+    after > before * (1.0 + ENERGY_ROUNDING) + 1e-300
+}
 
 /// The bound of `tolerance`.
 pub const TOLERANCE: Limit = Limit::range(
@@ -295,7 +303,7 @@ impl IterativeSolver {
         let ceiling = o.max_iterations.max(DEFAULT_MAX_ITERATIONS);
         let creates = |dv: &[Gen]| {
             let (before, after) = prob.kinetic_energies(dv);
-            after > before * (1.0 + ENERGY_ROUNDING) + f64::MIN_POSITIVE
+            creates_energy(before, after)
         };
         let mut rounds = 0;
         while !a.outcome.converged && a.outcome.iterations < ceiling && creates(&a.dv) {

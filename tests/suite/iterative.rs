@@ -114,6 +114,16 @@ fn problems(scn: &Scenario) -> Vec<(ContactLcp, SparseContacts)> {
         .collect()
 }
 
+/// Lemke's solution of `lcp` (asserted solved) and its impulses `(λ, β)`
+/// per contact.
+fn lemke_answer(lcp: &ContactLcp) -> (floebench::lcp::LcpSolution, Vec<[f64; 2]>) {
+    let sol = solve(lcp.lcp(), &SolveOptions::default());
+    assert!(sol.status.is_solved());
+    let (l, b) = (lcp.normal(&sol.z), lcp.tangential(&sol.z));
+    let p = l.iter().zip(&b).map(|(l, b)| [*l, *b]).collect();
+    (sol, p)
+}
+
 /// A frictional touching row: the cradle with friction and a sideways speed.
 fn frictional_cradle() -> Scenario {
     scenario(
@@ -128,10 +138,7 @@ fn the_residual_is_rounding_at_lemkes_answer_and_large_when_spoiled() {
     let scn = frictional_cradle();
     let mut checked = 0;
     for (lcp, sp) in problems(&scn) {
-        let sol = solve(lcp.lcp(), &SolveOptions::default());
-        assert!(sol.status.is_solved());
-        let (l, b) = (lcp.normal(&sol.z), lcp.tangential(&sol.z));
-        let p: Vec<[f64; 2]> = l.iter().zip(&b).map(|(l, b)| [*l, *b]).collect();
+        let (sol, p) = lemke_answer(&lcp);
         let exact = sp.residual(&p, true);
         assert!(exact < 1e-12, "residual of Lemke's answer {exact:e}");
         // 1 % more normal impulse everywhere: an error the residual must see.
@@ -475,9 +482,7 @@ fn a_capped_answer_that_creates_energy_is_continued_until_it_does_not() {
     let scn = frictional_cradle();
     let mut continued = 0;
     for (lcp, sp) in problems(&scn) {
-        let sol = solve(lcp.lcp(), &SolveOptions::default());
-        assert!(sol.status.is_solved());
-        let (l, b) = (lcp.normal(&sol.z), lcp.tangential(&sol.z));
+        let (_, exact) = lemke_answer(&lcp);
         let unconverged = |p: Vec<[f64; 2]>| Answer {
             dv: sp.velocity_changes(&p),
             p,
@@ -493,7 +498,7 @@ fn a_capped_answer_that_creates_energy_is_continued_until_it_does_not() {
             ..IterativeOptions::new(Method::Nsgs)
         };
         let mut solver = IterativeSolver::new(opts);
-        let thrown = unconverged(l.iter().zip(&b).map(|(l, b)| [3.0 * l, 3.0 * b]).collect());
+        let thrown = unconverged(exact.iter().map(|p| [3.0 * p[0], 3.0 * p[1]]).collect());
         let (before, after) = sp.kinetic_energies(&thrown.dv);
         assert!(
             after > before * 1.01,

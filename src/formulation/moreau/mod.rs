@@ -424,7 +424,7 @@ impl Moreau {
                 }
             }
             let after = group_energy(scn, &w_new, &g.floes);
-            if after > before * (1.0 + crate::iterative::ENERGY_ROUNDING) + 1e-300 {
+            if crate::iterative::creates_energy(before, after) {
                 self.counters.add(&CONTACT_ENERGY_INCREASES, 1);
                 self.counters
                     .max(&CONTACT_ENERGY_INCREASE_MAX, after - before);
