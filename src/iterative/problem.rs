@@ -74,6 +74,22 @@ fn dot(a: &Gen, b: &Gen) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// The diagonal block `W_jj = H_jᵀ M⁻¹ H_j` of a contact's rows, row-major
+/// (1/kg).
+fn diagonal_block(sides: &[Option<Side>; 2], minv: &[Gen]) -> [f64; 4] {
+    let mut w = [0.0; 4];
+    for s in sides.iter().flatten() {
+        let mi = &minv[s.floe];
+        for d in 0..3 {
+            w[0] += s.jn[d] * mi[d] * s.jn[d];
+            w[1] += s.jn[d] * mi[d] * s.jt[d];
+            w[3] += s.jt[d] * mi[d] * s.jt[d];
+        }
+    }
+    w[2] = w[1];
+    w
+}
+
 fn jac(n: &Vec2, r: &Vec2) -> Gen {
     [n.x, n.y, cross(r, n)]
 }
@@ -137,15 +153,9 @@ impl SparseContacts {
                         }
                     })
                 });
-                let mut w = [0.0; 4];
+                let w = diagonal_block(&sides, &minv);
                 let mut q = [offset[k], 0.0];
                 for s in sides.iter().flatten() {
-                    let mi = &minv[s.floe];
-                    for d in 0..3 {
-                        w[0] += s.jn[d] * mi[d] * s.jn[d];
-                        w[1] += s.jn[d] * mi[d] * s.jt[d];
-                        w[3] += s.jt[d] * mi[d] * s.jt[d];
-                    }
                     let wf = &w_free_g[s.floe];
                     for d in 0..3 {
                         let (tn, tt) = (s.jn[d] * wf[d], s.jt[d] * wf[d]);
@@ -155,7 +165,6 @@ impl SparseContacts {
                     }
                 }
                 v_scale = v_scale.max(offset[k].abs());
-                w[2] = w[1];
                 Rows { sides, w, q }
             })
             .collect();
@@ -168,6 +177,20 @@ impl SparseContacts {
             rows,
             v_scale,
         }
+    }
+
+    /// The same problem with the floes' rotations held (their inverse
+    /// inertias set to 0): impulses translate the floes and do not turn
+    /// them. Moreau–Jean's position projection solves this one
+    /// (docs/physics.md §5.1 step 5).
+    pub fn without_rotation(mut self) -> SparseContacts {
+        for m in &mut self.minv {
+            m[2] = 0.0;
+        }
+        for r in &mut self.rows {
+            r.w = diagonal_block(&r.sides, &self.minv);
+        }
+        self
     }
 
     /// Number of contacts `m`.

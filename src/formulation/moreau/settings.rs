@@ -236,7 +236,22 @@ pub(super) const PROJECTION_COUNTERS: &[&Counter] = &[
     &PROJECTIONS_UNCONVERGED,
     &PROJECTION_RESIDUAL_MAX,
     &PROJECTION_DEPTH_MAX,
+    &PROJECTIONS_INCOMPLETE,
+    &PROJECTION_LEFT_MAX,
 ];
+
+/// Steps after which every detection–projection pass was used and a
+/// contact was still deeper than `projection_depth`.
+pub const PROJECTIONS_INCOMPLETE: Counter = Counter::sum(
+    "projections_incomplete",
+    "steps whose detection-projection passes ran out with a contact still deeper than projection_depth",
+);
+/// Deepest penetration left by a step whose passes ran out, m.
+pub const PROJECTION_LEFT_MAX: Counter = Counter::max(
+    "projection_left_max_m",
+    Unit::Metre,
+    "deepest penetration left after a step whose detection-projection passes ran out",
+);
 
 /// Group projections made.
 pub const PROJECTIONS: Counter = Counter::sum(
