@@ -11,7 +11,9 @@
 //! - `dense` (only when the filter names it): the jammed phase of the bay
 //!   jam family `cases/fields/bay_jam_{200,2000,20000}.toml` (every
 //!   formulation with the case's solvers) and of its `_nsgs` variants
-//!   (`moreau+nsgs`, `event-driven+nsgs`: the iterative solver), each started
+//!   (`moreau+nsgs`, `event-driven+nsgs`: the iterative solver) and
+//!   `_projected` variants (`moreau+projected`: NSGS capped at 300 sweeps,
+//!   positions projected), each started
 //!   (as `floebench run --from`) from the state of a `rapier` run of the
 //!   case at the time its pack has jammed ([`dense_start`]: its kinetic
 //!   energy three orders of magnitude below the drift's peak; 5,000 s for
@@ -28,10 +30,11 @@
 //!   case's wind, then 4,000 s at 30 m/s: the commands are in
 //!   docs/results/2026-12-07-dense-20000.md, "A jammed state and its
 //!   window"), and is skipped until it exists. It runs
-//!   [`DENSE_SPAN_20000`] s, and only `rapier`, `moreau+nsgs` and
-//!   `event-driven+nsgs`: the dense LCP of its 29,366-contact group would
-//!   need 37.7 GB (Lemke takes it with NSGS, counted, so it would not
-//!   measure Lemke), and clarabel was not tried on it.
+//!   [`DENSE_SPAN_20000`] s, and only `rapier`, `moreau+nsgs`,
+//!   `event-driven+nsgs` and `moreau+projected`: the dense LCP of its
+//!   29,366-contact group would need 37.7 GB (Lemke takes it with NSGS,
+//!   counted, so it would not measure Lemke), and clarabel was not tried
+//!   on it.
 //!
 //! The measurement is the thread's CPU time. Every formulation except
 //! `free-drift` runs.
@@ -223,9 +226,12 @@ fn dense(c: &mut Criterion<ThreadCpu>) {
     let mut g = c.benchmark_group("dense");
     g.sample_size(10).warm_up_time(Duration::from_millis(100));
     // Each size with the case's solvers (Lemke, clarabel), then with the
-    // iterative ones of `bay_jam_<n>_nsgs.toml` (NSGS; ids `<name>+nsgs`);
-    // at 20,000 floes rapier alone with the case's (module doc).
+    // iterative ones of `bay_jam_<n>_nsgs.toml` (NSGS; ids `<name>+nsgs`),
+    // then moreau with the projection and a cap of 300 sweeps
+    // (`bay_jam_<n>_projected.toml`; `moreau+projected`); at 20,000 floes
+    // rapier alone with the case's (module doc).
     let iterative = ["moreau".to_string(), "event-driven".to_string()];
+    let projected = ["moreau".to_string()];
     for n in [200, 2000, 20000] {
         g.throughput(Throughput::Elements(dense_span(n) as u64));
         let direct = if n >= 20000 {
@@ -233,7 +239,12 @@ fn dense(c: &mut Criterion<ThreadCpu>) {
         } else {
             contact_formulations()
         };
-        for (variant, names) in [("", direct), ("_nsgs", iterative.to_vec())] {
+        let variants = [
+            ("", direct),
+            ("_nsgs", iterative.to_vec()),
+            ("_projected", projected.to_vec()),
+        ];
+        for (variant, names) in variants {
             let scn = match jammed(n, variant) {
                 Ok(s) => s,
                 Err(e) => {
