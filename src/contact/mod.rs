@@ -49,7 +49,8 @@ pub use crate::geometry::broad::{Aabb, BroadPhase};
 pub use load::{loads_of, Load};
 pub use narrow::{
     contacts, contacts_with, separation, signed_distance, ContactGeom, Feature, FeaturePair,
-    NarrowOptions, Separation, DEFAULT_MERGE_FRACTION, DEFAULT_PARALLEL_TOLERANCE,
+    NarrowOptions, Separation, CLIPPED_EDGE_PAIRS, DEFAULT_MERGE_FRACTION,
+    DEFAULT_PARALLEL_TOLERANCE,
 };
 
 use narrow::{PartOf, Parts};

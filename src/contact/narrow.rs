@@ -128,6 +128,20 @@ pub struct Separation {
     pub feature: FeaturePair,
 }
 
+/// Every facing edge pair clipped (Box2D's reference/incident clipping at
+/// any angle, not only within [`DEFAULT_PARALLEL_TOLERANCE`]), each clipped
+/// end within the contact distance a contact point: the event-driven
+/// scheme's contact points, and Moreau–Jean's second corners of nearly
+/// flush pairs. With one point per nearly flush pair (edges a few 1e-4 rad
+/// apart), the second corner is not held and the floe turns about the
+/// first: in the event-driven scheme that corner turned into the other floe
+/// (docs/physics.md §4.3, step 1); under Moreau–Jean at a step of 1 s a
+/// jammed pack's floes turned and the pack crept downwind (§5.1, step 2).
+pub const CLIPPED_EDGE_PAIRS: NarrowOptions = NarrowOptions {
+    parallel_tolerance: std::f64::consts::FRAC_PI_2,
+    merge_fraction: DEFAULT_MERGE_FRACTION,
+};
+
 /// Tolerances of the contact point generation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NarrowOptions {

@@ -67,6 +67,22 @@ pub fn floe_length_scale(scn: &Scenario) -> f64 {
 /// `projection_depth`, so that both schemes keep floes apart to the same
 /// depth.
 pub const DEFAULT_PENETRATION_FRACTION: f64 = 1e-4;
+
+/// Default contact distance `δ` as a fraction of the smallest floe radius,
+/// when the case leaves `[contact] distance = 0`: the event-driven scheme's
+/// contact distance, and the distance within which Moreau–Jean takes the
+/// second corner of a facing edge pair as a contact point.
+pub const DEFAULT_DISTANCE_FRACTION: f64 = 1e-3;
+
+/// The contact distance `δ` in use on `scn`, m: the case's, or
+/// [`DEFAULT_DISTANCE_FRACTION`] of the smallest floe radius.
+pub fn contact_distance(scn: &Scenario) -> f64 {
+    if scn.contact.distance > 0.0 {
+        scn.contact.distance
+    } else {
+        DEFAULT_DISTANCE_FRACTION * floe_length_scale(scn)
+    }
+}
 use std::path::Path;
 
 /// A failure that stops a run (a failed LCP is not one: it is counted and

@@ -16,6 +16,7 @@ mod contact;
 mod crack_energy;
 mod event_driven;
 mod field;
+mod flush_pair;
 mod forcing;
 mod fracture;
 mod fuzz;

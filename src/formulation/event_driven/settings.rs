@@ -113,17 +113,9 @@ impl EventDrivenSettings {
     }
 }
 
-pub use crate::formulation::{floe_length_scale, DEFAULT_PENETRATION_FRACTION};
-
-/// The contact distance `δ` in use on `scn`, m: the case's, or
-/// [`DEFAULT_DISTANCE_FRACTION`] of the smallest floe radius.
-pub fn contact_distance(scn: &Scenario) -> f64 {
-    if scn.contact.distance > 0.0 {
-        scn.contact.distance
-    } else {
-        DEFAULT_DISTANCE_FRACTION * floe_length_scale(scn)
-    }
-}
+pub use crate::formulation::{
+    contact_distance, floe_length_scale, DEFAULT_DISTANCE_FRACTION, DEFAULT_PENETRATION_FRACTION,
+};
 
 /// Slow approaches stopped at once (plastic) instead of over the step.
 pub const SLOW_APPROACHES_STOPPED: Counter = Counter::sum(
@@ -233,21 +225,11 @@ pub(super) const COUNTERS: &[&Counter] = &[
     &MAX_PENETRATION,
 ];
 
-/// Default contact distance as a fraction of the smallest floe radius, when
-/// the case leaves `[contact] distance = 0`.
-pub const DEFAULT_DISTANCE_FRACTION: f64 = 1e-3;
-/// The contact points of the scheme: every facing edge pair is clipped
-/// (Box2D's reference/incident clipping at any angle, not only within the
-/// shared 1e-6 rad parallel tolerance), and each clipped end within the
-/// contact distance `δ` is a closed contact. A vertex within `δ` of the
-/// facing edge is then always a contact of the sustained problem: with one
-/// point per nearly flush pair (edges a few 1e-4 rad apart), the second
-/// corner, already within `δ`, was neither held by the LCP nor located as
-/// an event, and turned into the other floe (docs/physics.md §4.3, step 1).
-pub(super) const CONTACT_POINTS: NarrowOptions = NarrowOptions {
-    parallel_tolerance: std::f64::consts::FRAC_PI_2,
-    merge_fraction: crate::contact::DEFAULT_MERGE_FRACTION,
-};
+/// The contact points of the scheme ([`crate::contact::CLIPPED_EDGE_PAIRS`]):
+/// each clipped end within the contact distance `δ` is a closed contact, so
+/// a vertex within `δ` of the facing edge is always a contact of the
+/// sustained problem.
+pub(super) const CONTACT_POINTS: NarrowOptions = crate::contact::CLIPPED_EDGE_PAIRS;
 /// Rounding floor of the approach speed that makes an impact, m/s.
 pub(super) const APPROACH_TOLERANCE: f64 = 1e-10;
 /// Impact rounds at one instant before giving up (counted).

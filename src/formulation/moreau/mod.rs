@@ -54,6 +54,7 @@ use super::{
 };
 use crate::contact::problem::{groups, Gen};
 use crate::contact::{loads_of, BroadPhase, Contact};
+use crate::contact::{ContactKey, CLIPPED_EDGE_PAIRS};
 use crate::geometry::Vec2;
 use crate::iterative::{IterativeOptions, MAX_ITERATIONS, RELAXATION, TOLERANCE};
 use crate::model::limits::{Limit, STEP};
@@ -63,7 +64,8 @@ use crate::record::counters::common::{FORCE_EVALUATIONS, MAX_PENETRATION, STEPS}
 use crate::record::{
     ContactEvent, ContactLog, Counter, Counters, Settings, SolveProfile, Stage, Unit,
 };
-use crate::state::{detect_contacts, normal_velocity, BodyState, System};
+use crate::state::{detect_contacts, detect_contacts_with, normal_velocity, BodyState, System};
+use std::collections::HashSet;
 
 /// Claims shared by both solvers.
 const NOT_CLAIMED_BOTH: [NotClaimed; 2] = [
@@ -152,6 +154,10 @@ pub struct Moreau {
     max_penetration: f64,
     /// Rounding allowance of the activation test, m (see [`ACTIVATION_TOLERANCE_FRACTION`]).
     activation_tolerance: f64,
+    /// The distance within which a clipped end of a facing edge pair is a
+    /// contact point, m: the contact distance `δ`
+    /// ([`crate::formulation::contact_distance`]).
+    flush_distance: f64,
     /// The state on the step grid `t_k = k h`.
     grid: FixedGrid,
     /// The pairs of bodies of the last step's active contacts, sorted (kept
@@ -216,6 +222,7 @@ impl Moreau {
             records: Vec::new(),
             max_penetration: 0.0,
             activation_tolerance,
+            flush_distance: crate::formulation::contact_distance(scn),
             grid: FixedGrid::new(s.step),
             active_pairs: Vec::new(),
             projection: s.projection_depth(scn),
@@ -339,11 +346,25 @@ impl Moreau {
     }
 
     /// Contacts at `q_k` whose predicted gap `g + h γ u_N` is closed; updates
-    /// the penetration record from the gaps.
+    /// the penetration record from the gaps. A facing edge pair gives the
+    /// narrow phase's points within the step's reach, plus each clipped end
+    /// of the pair within the contact distance `δ` (the second corner of a
+    /// nearly flush pair; docs/physics.md §5.1 step 2).
     fn active_contacts(&mut self, scn: &Scenario, sys: &System, h: f64) -> Vec<Contact> {
         let margin = 2.0 * h * self.gamma * sys.max_point_speed(scn);
         let mut contacts = Vec::new();
         detect_contacts(scn, &sys.bodies, margin, &mut self.bp, &mut contacts);
+        let mut flush = Vec::new();
+        detect_contacts_with(
+            scn,
+            &sys.bodies,
+            self.flush_distance,
+            &CLIPPED_EDGE_PAIRS,
+            &mut self.bp,
+            &mut flush,
+        );
+        let known: HashSet<ContactKey> = contacts.iter().map(Contact::key).collect();
+        contacts.extend(flush.into_iter().filter(|c| !known.contains(&c.key())));
         for c in &contacts {
             self.max_penetration = self.max_penetration.max(-c.geom.gap);
         }
