@@ -397,3 +397,24 @@ pub fn square(side: f64) -> Vec<Vec2> {
         Vec2::new(0.0, side),
     ]
 }
+
+/// A square of side `2 half` (m) centred at the origin, turned by `tilt`
+/// (rad): its outline as a case's `polygon` value, and its largest x (m).
+pub fn turned_square(half: f64, tilt: f64) -> (String, f64) {
+    let corners: Vec<[f64; 2]> = [[-half, -half], [half, -half], [half, half], [-half, half]]
+        .iter()
+        .map(|[x, y]| {
+            [
+                x * tilt.cos() - y * tilt.sin(),
+                x * tilt.sin() + y * tilt.cos(),
+            ]
+        })
+        .collect();
+    let lead = corners.iter().map(|c| c[0]).fold(f64::MIN, f64::max);
+    let polygon = corners
+        .iter()
+        .map(|[x, y]| format!("[{x:.17}, {y:.17}]"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    (format!("[{polygon}]"), lead)
+}

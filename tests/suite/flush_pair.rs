@@ -9,28 +9,13 @@
 //! downwind the same way at a step of 1 s
 //! (docs/results/2026-12-07-moreau-projection.md, "The step").
 
-use crate::common::{counter, run, scenario};
+use crate::common::{counter, run, scenario, turned_square};
 
 /// A 20 m square turned by 3e-4 rad, its right side 1 mm from a coast,
 /// a 10 m/s wind into the coast, `e` = 0.4, `μ` = 0.7, `h` = 1 s.
 fn flush_floe() -> String {
-    let tilt: f64 = 3e-4;
-    let corners: Vec<[f64; 2]> = [[-10.0, -10.0], [10.0, -10.0], [10.0, 10.0], [-10.0, 10.0]]
-        .iter()
-        .map(|[x, y]| {
-            [
-                x * tilt.cos() - y * tilt.sin(),
-                x * tilt.sin() + y * tilt.cos(),
-            ]
-        })
-        .collect();
-    let lead = corners.iter().map(|c| c[0]).fold(f64::MIN, f64::max);
+    let (polygon, lead) = turned_square(10.0, 3e-4);
     let coast = lead + 0.001;
-    let polygon = corners
-        .iter()
-        .map(|[x, y]| format!("[{x:.17}, {y:.17}]"))
-        .collect::<Vec<_>>()
-        .join(", ");
     let far = coast + 50.0;
     format!(
         r#"
@@ -50,7 +35,7 @@ restitution = 0.4
 friction = 0.7
 
 [[floe]]
-polygon = [{polygon}]
+polygon = {polygon}
 thickness = 1.0
 
 [[obstacle]]

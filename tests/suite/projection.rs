@@ -4,7 +4,7 @@
 //! scheme's `h (1 − γ) |u_N|`-order depth without it, and at most
 //! `projection_depth` deep with it, its velocities and ledger untouched.
 
-use crate::common::{counter, run, scenario, setting, with_formulation_table};
+use crate::common::{counter, run, scenario, setting, turned_square, with_formulation_table};
 use floebench::formulation::parse_case;
 use floebench::iterative::DEFAULT_TOLERANCE;
 use std::path::Path;
@@ -101,28 +101,13 @@ fn the_projection_translates_a_floe_out_of_an_oblique_coast_and_turns_nothing() 
     // A projection that also turned the floe would lift the corner by
     // turning it and press the next one in (the jammed bay's failure,
     // docs/results/2026-12-07-moreau-projection.md, "Translations only").
-    let turn: f64 = 0.05;
-    let corners: Vec<[f64; 2]> = [[-5.0, -5.0], [5.0, -5.0], [5.0, 5.0], [-5.0, 5.0]]
-        .iter()
-        .map(|[x, y]| {
-            [
-                x * turn.cos() - y * turn.sin(),
-                x * turn.sin() + y * turn.cos(),
-            ]
-        })
-        .collect();
-    let lead = corners.iter().map(|c| c[0]).fold(f64::MIN, f64::max);
+    let (polygon, lead) = turned_square(5.0, 0.05);
     let coast = lead + 0.3;
-    let polygon = corners
-        .iter()
-        .map(|[x, y]| format!("[{x:.17}, {y:.17}]"))
-        .collect::<Vec<_>>()
-        .join(", ");
     let text = THROWN
         .replace("duration = 20.0", "duration = 1.0")
         .replace(
             "polygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]",
-            &format!("polygon = [{polygon}]"),
+            &format!("polygon = {polygon}"),
         )
         .replace("11.3", &format!("{coast:.17}"));
     let plain_scn = scenario(&with_formulation_table(&text, "moreau", "step = 1.0"));

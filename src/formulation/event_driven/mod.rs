@@ -50,7 +50,9 @@ use super::{
     NotClaimed, OwnState,
 };
 use crate::contact::problem::{groups, Gen};
-use crate::contact::{loads_of, signed_distance, Aabb, BroadPhase, Contact, Load, NarrowOptions};
+use crate::contact::{
+    loads_of, signed_distance, Aabb, BroadPhase, Contact, Load, CLIPPED_EDGE_PAIRS,
+};
 use crate::geometry::{
     aabb, perp, point_outline_signed_distance, point_polygon_signed_distance, rotate, Vec2,
 };
@@ -267,7 +269,9 @@ impl EventDriven {
             scn,
             bodies,
             self.distance,
-            &CONTACT_POINTS,
+            // Every facing edge pair clipped: each end within δ is a closed
+            // contact of the sustained problem.
+            &CLIPPED_EDGE_PAIRS,
             &mut self.bp,
             &mut out,
         );

@@ -225,11 +225,6 @@ pub(super) const COUNTERS: &[&Counter] = &[
     &MAX_PENETRATION,
 ];
 
-/// The contact points of the scheme ([`crate::contact::CLIPPED_EDGE_PAIRS`]):
-/// each clipped end within the contact distance `δ` is a closed contact, so
-/// a vertex within `δ` of the facing edge is always a contact of the
-/// sustained problem.
-pub(super) const CONTACT_POINTS: NarrowOptions = crate::contact::CLIPPED_EDGE_PAIRS;
 /// Rounding floor of the approach speed that makes an impact, m/s.
 pub(super) const APPROACH_TOLERANCE: f64 = 1e-10;
 /// Impact rounds at one instant before giving up (counted).
