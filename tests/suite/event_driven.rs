@@ -454,7 +454,7 @@ fn the_lcp_profile_counts_unknowns_and_the_shortest_cold_paths() {
     // narrow_channel, event-driven and moreau: every bucket's unknowns lie
     // within its bounds times its solves; its cold solved solves took at
     // least the pivots of their bound in all (each first attempt does, see
-    // tests/suite/lemke.rs), and those pivots are part of the bucket's.
+    // tests/suite/lemke/cold_attempts.rs), and those pivots are part of the bucket's.
     let scn = crate::common::load("narrow_channel");
     for name in ["event-driven", "moreau"] {
         let r = crate::common::run(&scn, name);
