@@ -99,7 +99,7 @@ fn moreau_sliding_distance_error_is_second_order_in_h() {
     let (done, orders) = sweep(&path, &out);
     assert_eq!((done.run, done.references), (4, 0));
     // The error is 1/2 mu a h^2 f (1 - f) (f: the fractional part of
-    // t_stop / h, see tests/suite/moreau.rs): at most mu a h^2 / 8, second
+    // t_stop / h, see tests/suite/moreau/closed_forms.rs): at most mu a h^2 / 8, second
     // order, with a factor f (1 - f) that changes from one h to the next, so
     // single halvings measure 3.37, 1.18, 1.46 and the order over the three
     // halvings 2.00.
