@@ -9,7 +9,7 @@
 //! `project_lat`, the projection the reader applies with `origin = [0, 79]`):
 //! both are linear in space, so bilinear interpolation reproduces them
 //! exactly and the gridded case must give the trajectory of the same case
-//! written with `field = "linear"` (tests/suite/forcing.rs).
+//! written with `field = "linear"` (tests/suite/forcing/grid.rs).
 //!
 //! Run with `cargo run --release --example gridded_forcing [OUT.nc]`.
 

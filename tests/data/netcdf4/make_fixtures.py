@@ -1,4 +1,4 @@
-"""Writes the NetCDF-4 (HDF5) test fixtures of tests/suite/forcing.rs from
+"""Writes the NetCDF-4 (HDF5) test fixtures of tests/suite/forcing/netcdf.rs from
 cases/gridded_drift.nc (the classic file of examples/gridded_forcing.rs).
 
 Run from the repository root, with the Python packages netCDF4 and numpy
