@@ -198,7 +198,7 @@ fn the_1d_chain_refuses_the_cohesive_rule() {
 }
 
 /// The messages of the cohesive rule's refusals (their file, line and
-/// key: `fracture::bad_fracture_tables_are_refused_with_file_line_and_key`):
+/// key: `fracture::table::bad_fracture_tables_are_refused_with_file_line_and_key`):
 /// `strength` is needed with `rule = "cohesive"` and refused with another
 /// rule; a spacing too coarse for the crack band (`s ≥ 2 E G / ((1 − ν)
 /// σ_t²)`, 0.746 m at 0.3 MPa, `ν = 1/3`) is refused, naming the snap-back

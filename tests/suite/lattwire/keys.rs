@@ -10,7 +10,7 @@ use std::path::Path;
 
 #[test]
 fn lattice_keys_are_read() {
-    // The refusals are in `fracture::bad_fracture_tables_are_refused_with_file_line_and_key`.
+    // The refusals are in `fracture::table::bad_fracture_tables_are_refused_with_file_line_and_key`.
     let base = std::fs::read_to_string(case_path("fracture_ram")).unwrap();
     let base = &base[..base.find("[fracture]").unwrap()];
     let ok = format!(
