@@ -1,0 +1,89 @@
+//! The iterative contact solvers (`solver = "nsgs"` and `"apgd"`,
+//! docs/physics.md §3.5): the exact local Coulomb solve, the natural-map
+//! residual (zero at Lemke's answers, large at a spoiled one), NSGS and
+//! APGD against Lemke on the bundled cases and the closed-form checks, the
+//! contact cache, the counted unconverged solve, the stop test that
+//! evaluates the residual only when a sweep's change bound allows, the
+//! impacts solved by NSGS, the continuation of capped answers that would
+//! create energy, and the settings' refusals.
+//!
+//! This file holds what the submodules share: the contact problems of a
+//! case's initial state (dense and sparse), Lemke's answer to one, the
+//! frictional cradle and the cases with solver settings added. The tests
+//! are in the submodules, one topic each.
+
+mod against_lemke;
+mod local_solve;
+mod residual;
+mod runs;
+mod settings;
+
+use crate::common::{case_text, scenario, with_formulation_table};
+use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
+use floebench::contact::BroadPhase;
+use floebench::iterative::SparseContacts;
+use floebench::lcp::{solve, SolveOptions};
+use floebench::model::Scenario;
+use floebench::state::{detect_contacts, normal_velocity, System};
+
+/// The contact groups of the active contacts of `scn` at its initial
+/// state, with the free velocities and zero offsets (an impact problem).
+fn problems(scn: &Scenario) -> Vec<(ContactLcp, SparseContacts)> {
+    let sys = System::initial(scn);
+    let mut bp = BroadPhase::new();
+    let mut contacts = Vec::new();
+    detect_contacts(scn, &sys.bodies, 1e-3, &mut bp, &mut contacts);
+    let w: Vec<Gen> = sys.velocities();
+    let offsets: Vec<f64> = contacts.iter().map(|_| 0.0).collect();
+    assert!(contacts
+        .iter()
+        .any(|c| normal_velocity(scn, &sys.bodies, c) < 0.0));
+    let centres = sys.centres();
+    groups(&contacts, scn.floes.len())
+        .iter()
+        .map(|g| {
+            let lcp = ContactLcp::assemble(
+                scn,
+                &centres,
+                &contacts,
+                g,
+                &w,
+                &offsets,
+                Friction::PerPoint,
+            );
+            let sp = SparseContacts::build(scn, &centres, &contacts, g, &w, &offsets);
+            (lcp, sp)
+        })
+        .collect()
+}
+
+/// Lemke's solution of `lcp` (asserted solved) and its impulses `(λ, β)`
+/// per contact.
+fn lemke_answer(lcp: &ContactLcp) -> (floebench::lcp::LcpSolution, Vec<[f64; 2]>) {
+    let sol = solve(lcp.lcp(), &SolveOptions::default());
+    assert!(sol.status.is_solved());
+    let (l, b) = (lcp.normal(&sol.z), lcp.tangential(&sol.z));
+    let p = l.iter().zip(&b).map(|(l, b)| [*l, *b]).collect();
+    (sol, p)
+}
+
+/// A frictional touching row: the cradle with friction and a sideways speed.
+fn frictional_cradle() -> Scenario {
+    scenario(
+        &case_text("cradle_touching")
+            .replace("friction = 0.0", "friction = 0.5")
+            .replace("velocity = [0.5, 0.0]", "velocity = [0.5, 0.2]"),
+    )
+}
+
+/// The case `name` with `settings` in `[formulation.<table>]` (added to an
+/// existing table of that name, or appended).
+fn with_settings(name: &str, table: &str, settings: &str) -> String {
+    let text = case_text(name);
+    let header = format!("[formulation.{table}]");
+    if text.contains(&header) {
+        text.replace(&header, &format!("{header}\n{settings}"))
+    } else {
+        with_formulation_table(&text, table, settings)
+    }
+}
