@@ -1,7 +1,14 @@
 //! The `[[formulation]]` tables of a plan: which keys may be swept, and
 //! each grid's values checked against the cases (docs/sweep-format.md).
 
+use super::spec::{lexical, At, FormulationSpec};
 use super::*;
+use crate::formulation::{self, Entry};
+use crate::model::CaseError;
+use crate::run::batch::case_files;
+use std::ops::Range;
+use std::path::Path;
+use toml::Spanned;
 
 /// Whether `key` may be swept for `entry` (the formulation's own table keys
 /// are checked by its parser when a value is applied).
