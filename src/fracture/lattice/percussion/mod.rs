@@ -68,16 +68,18 @@
 //! floe rammed into a coast ([`ram`]) breaks.
 //!
 //! The parts, each its own file: `state.rs` the lattice's state (the
-//! [`Percussion`]: nodes, links, strikers), its construction, forces,
-//! bond breaking and the velocity Verlet integrator; `bonds.rs` each
-//! spring's law (the chain's link, or a cohesive bond's softening); `striker.rs` the
-//! strikers ([`Impact`], [`RigidMotion`], [`impact_energy_bound`]) and
-//! their unilateral contact with the outline nodes; `stop.rs` the pieces
-//! and the stopping rule ([`Percussion::run`]); `outcome.rs` what a
-//! percussion gives ([`Outcome`], [`Fragment`], [`BrokenSpring`]);
-//! `ramming.rs` the ramming into a coast and its critical speed.
+//! [`Percussion`]: nodes, links, strikers), its forces, bond breaking and
+//! the velocity Verlet integrator; `build.rs` its construction; `bonds.rs`
+//! each spring's law (the chain's link, or a cohesive bond's softening);
+//! `striker.rs` the strikers ([`Impact`], [`RigidMotion`],
+//! [`impact_energy_bound`]) and their unilateral contact with the outline
+//! nodes; `stop.rs` the pieces and the stopping rule ([`Percussion::run`]);
+//! `outcome.rs` what a percussion gives ([`Outcome`], [`Fragment`],
+//! [`BrokenSpring`]); `ramming.rs` the ramming into a coast and its
+//! critical speed.
 
 mod bonds;
+mod build;
 mod outcome;
 mod ramming;
 mod state;
