@@ -27,6 +27,7 @@ mod lattwire;
 mod lemke;
 mod moreau;
 mod nonconvex;
+mod open_contacts;
 mod output_interval;
 mod pair_impact;
 mod percussion;

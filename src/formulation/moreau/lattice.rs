@@ -29,19 +29,21 @@ fn pair(c: &Contact) -> (usize, usize) {
 impl Moreau {
     /// The lattices' answer for group `g` of `active` (module doc), or
     /// `None` for Newton's law; `u_minus` the contacts' normal velocities at
-    /// the start of the step, `w_free` the free velocities.
+    /// the start of the step, `closed` whether each contact's predicted gap
+    /// is closed (an open contact, kept by `open_contacts = "gap"`, strikes
+    /// nothing yet), `w_free` the free velocities.
     pub(super) fn lattice_impact(
         &self,
         scn: &Scenario,
         sys: &System,
-        (g, active, u_minus): (&Group, &[Contact], &[f64]),
+        (g, active, u_minus, closed): (&Group, &[Contact], &[f64], &[bool]),
         w_free: &[Gen],
         cx: &mut Context<'_>,
     ) -> Option<(ImpactQuery, ImpactAnswer)> {
         let impacting: Vec<&Contact> = g
             .contacts
             .iter()
-            .filter(|&&k| u_minus[k] < 0.0)
+            .filter(|&&k| closed[k] && u_minus[k] < 0.0)
             .map(|&k| &active[k])
             .collect();
         if impacting

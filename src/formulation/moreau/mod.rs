@@ -158,6 +158,8 @@ pub struct Moreau {
     /// contact point, m: the contact distance `δ`
     /// ([`crate::formulation::contact_distance`]).
     flush_distance: f64,
+    /// What becomes of a contact whose predicted gap is open (§5.1 step 2).
+    open_contacts: OpenContacts,
     /// The state on the step grid `t_k = k h`.
     grid: FixedGrid,
     /// The pairs of bodies of the last step's active contacts, sorted (kept
@@ -212,17 +214,21 @@ impl Moreau {
                 },
             )
             .with_energy_guard(),
-            counters: if s.projection {
+            counters: {
                 let mut c = Counters::new(COUNTERS);
-                c.absorb(&Counters::new(PROJECTION_COUNTERS));
+                if s.projection {
+                    c.absorb(&Counters::new(PROJECTION_COUNTERS));
+                }
+                if s.open_contacts == OpenContacts::Gap {
+                    c.absorb(&Counters::new(OPEN_CONTACT_COUNTERS));
+                }
                 c
-            } else {
-                Counters::new(COUNTERS)
             },
             records: Vec::new(),
             max_penetration: 0.0,
             activation_tolerance,
             flush_distance: crate::formulation::contact_distance(scn),
+            open_contacts: s.open_contacts,
             grid: FixedGrid::new(s.step),
             active_pairs: Vec::new(),
             projection: s.projection_depth(scn),
@@ -345,8 +351,16 @@ impl Moreau {
         Ok(())
     }
 
-    /// Contacts at `q_k` whose predicted gap `g + h γ u_N` is closed; updates
-    /// the penetration record from the gaps. A facing edge pair gives the
+    /// Whether a contact of gap `gap` (m) and normal velocity `u` (m/s) at
+    /// the start of a step of `h` is closed: its predicted gap
+    /// `g + h γ u_N` within the rounding allowance `ε`.
+    fn closed(&self, gap: f64, u: f64, h: f64) -> bool {
+        gap + h * self.gamma * u <= self.activation_tolerance
+    }
+
+    /// Contacts at `q_k` whose predicted gap `g + h γ u_N` is closed (and,
+    /// with `open_contacts = "gap"`, the open ones within the detection
+    /// margin too); updates the penetration record from the gaps. A facing edge pair gives the
     /// narrow phase's points within the step's reach, plus each clipped end
     /// of the pair within the contact distance `δ` (the second corner of a
     /// nearly flush pair; docs/physics.md §5.1 step 2).
@@ -368,9 +382,9 @@ impl Moreau {
         for c in &contacts {
             self.max_penetration = self.max_penetration.max(-c.geom.gap);
         }
-        let tol = self.activation_tolerance;
-        contacts
-            .retain(|c| c.geom.gap + h * self.gamma * normal_velocity(scn, &sys.bodies, c) <= tol);
+        if self.open_contacts == OpenContacts::Inactive {
+            contacts.retain(|c| self.closed(c.geom.gap, normal_velocity(scn, &sys.bodies, c), h));
+        }
         contacts
     }
 
@@ -393,8 +407,27 @@ impl Moreau {
             .iter()
             .map(|c| normal_velocity(scn, &sys.bodies, c))
             .collect();
-        // Newton's law on every active contact (module doc).
-        let offsets: Vec<f64> = u_minus.iter().map(|&u| e * u).collect();
+        // Newton's law on every closed contact (module doc); the
+        // linearised gap on the open ones (`open_contacts = "gap"`: the
+        // positions' θ-method keeps `g + h ((1 − θ) u⁻ + θ u⁺) ≥ 0`).
+        let closed: Vec<bool> = active
+            .iter()
+            .zip(&u_minus)
+            .map(|(c, &u)| self.closed(c.geom.gap, u, h))
+            .collect();
+        let offsets: Vec<f64> = active
+            .iter()
+            .zip(&u_minus)
+            .zip(&closed)
+            .map(|((c, &u), &shut)| match shut {
+                true => e * u,
+                false => (c.geom.gap + h * (1.0 - self.theta) * u) / (h * self.theta),
+            })
+            .collect();
+        let open = closed.iter().filter(|&&shut| !shut).count();
+        if self.open_contacts == OpenContacts::Gap {
+            self.counters.add(&OPEN_CONTACTS, open as u64);
+        }
         let centres = sys.centres();
         let gs = groups(active, n);
         self.counters.add(&ACTIVE_CONTACTS, active.len() as u64);
@@ -414,7 +447,7 @@ impl Moreau {
             // An impact of one pair may be resolved in the lattices
             // (`impact = "lattice"`, [`lattice`]).
             let lattice = cx.topology.reads().impacts.then(|| {
-                let group = (g, active, &u_minus[..]);
+                let group = (g, active, &u_minus[..], &closed[..]);
                 self.lattice_impact(scn, sys, group, w_free, cx)
             });
             let (rigid, dv) = match lattice.flatten() {
@@ -426,6 +459,15 @@ impl Moreau {
                         dv,
                         ..
                     } = self.solver.solve(&data, sys.t, h);
+                    let pushing = g
+                        .contacts
+                        .iter()
+                        .zip(&normal)
+                        .filter(|&(&k, &l)| !closed[k] && l > 0.0)
+                        .count();
+                    if self.open_contacts == OpenContacts::Gap {
+                        self.counters.add(&OPEN_CONTACTS_PUSHING, pushing as u64);
+                    }
                     (Ok((normal, tangential)), dv)
                 }
             };
@@ -562,7 +604,8 @@ impl Formulation for Moreau {
             )
             .number("step_s", self.step, Unit::Second)
             .number("theta", self.theta, Unit::Dimensionless)
-            .number("gamma", self.gamma, Unit::Dimensionless);
+            .number("gamma", self.gamma, Unit::Dimensionless)
+            .text("open_contacts", self.open_contacts.name());
         self.solver.settings(match self.projection {
             Some(depth) => s.number("projection_depth_m", depth, Unit::Metre),
             None => s,

@@ -117,6 +117,49 @@ pub struct MoreauSettings {
     /// floe radius, the event-driven default penetration tolerance); only
     /// with `projection = true`.
     pub projection_depth: Option<f64>,
+    /// `open_contacts`: what becomes of a detected contact whose predicted
+    /// gap is open (default [`OpenContacts::Inactive`], the classical
+    /// scheme; docs/physics.md §5.1 step 2).
+    pub open_contacts: OpenContacts,
+}
+
+/// What a step does with a detected contact whose predicted gap
+/// `g + h γ u_N⁻` is open (`[formulation.moreau] open_contacts`,
+/// docs/physics.md §5.1 step 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OpenContacts {
+    /// `"inactive"` (default): left out of the step's contact problem, the
+    /// classical index set of Acary & Brogliato (2008, ch. 10). The
+    /// impulses of the step's other contacts can close it unopposed.
+    Inactive,
+    /// `"gap"`: kept in the problem with the linearised non-penetration
+    /// constraint of Stewart & Trinkle (1996) and Anitescu & Potra (1997),
+    /// `g + h ((1 − θ) u_N⁻ + θ u_N⁺) ≥ 0`: it pushes only if the step's
+    /// velocities would close it.
+    Gap,
+}
+
+impl OpenContacts {
+    /// The key's value in a case file.
+    pub fn name(self) -> &'static str {
+        match self {
+            OpenContacts::Inactive => "inactive",
+            OpenContacts::Gap => "gap",
+        }
+    }
+}
+
+impl std::str::FromStr for OpenContacts {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "inactive" => Ok(OpenContacts::Inactive),
+            "gap" => Ok(OpenContacts::Gap),
+            other => Err(format!(
+                "unknown open_contacts `{other}`; expected `inactive` or `gap`"
+            )),
+        }
+    }
 }
 
 impl Default for MoreauSettings {
@@ -133,6 +176,7 @@ impl Default for MoreauSettings {
             iterative: None,
             projection: false,
             projection_depth: None,
+            open_contacts: OpenContacts::Inactive,
         }
     }
 }
@@ -154,7 +198,17 @@ impl MoreauSettings {
                 "projection_depth needs projection = true (the positions are otherwise never projected)",
             ));
         }
+        let open_contacts = r
+            .choice::<OpenContacts>("open_contacts")?
+            .unwrap_or(d.open_contacts);
+        if open_contacts == OpenContacts::Gap && theta == 0.0 {
+            return Err(r.error(
+                "open_contacts",
+                "open_contacts = \"gap\" needs theta > 0 (with theta = 0 the positions do not use the step's new velocities, so no impulse can keep a gap open)",
+            ));
+        }
         let s = MoreauSettings {
+            open_contacts,
             projection,
             projection_depth,
             step,
@@ -210,6 +264,17 @@ pub const CONTACT_ENERGY_INCREASE_MAX: Counter = Counter::max(
     Unit::Joule,
     "largest kinetic energy created by one group solve",
 );
+/// Open contacts entered in the contact problems (`open_contacts = "gap"`).
+pub const OPEN_CONTACTS: Counter = Counter::sum(
+    "open_contacts",
+    "contacts whose predicted gap was open, entered in the step's problem with the linearised gap (open_contacts = \"gap\")",
+);
+/// Open contacts that pushed: the classical scheme would have let the
+/// step's impulses close them.
+pub const OPEN_CONTACTS_PUSHING: Counter = Counter::sum(
+    "open_contacts_pushing",
+    "open contacts that received a normal impulse: the step's velocities would have closed them (with open_contacts = \"inactive\" they are left out and penetrate)",
+);
 /// Steps in which contact impulses changed a velocity.
 pub const STEPS_WITH_IMPULSES: Counter = Counter::sum(
     "steps_with_impulses",
@@ -228,6 +293,10 @@ pub(super) const COUNTERS: &[&Counter] = &[
     &CONTACT_ENERGY_INCREASE_MAX,
     &MAX_PENETRATION,
 ];
+
+/// The counters of the open contacts, kept only by runs that enter them
+/// (`open_contacts = "gap"`).
+pub(super) const OPEN_CONTACT_COUNTERS: &[&Counter] = &[&OPEN_CONTACTS, &OPEN_CONTACTS_PUSHING];
 
 /// The projection's counters, kept only by runs that project
 /// (`projection = true`).
