@@ -62,10 +62,16 @@ impl Moreau {
         Some((query, answer))
     }
 
-    /// Keeps the pairs of the step's active contacts for the next step's
-    /// rule (module doc).
-    pub(super) fn keep_active_pairs(&mut self, active: &[Contact]) {
-        self.active_pairs = active.iter().map(pair).collect();
+    /// Keeps the pairs of the step's closed contacts (`closed[k]` for
+    /// `active[k]`; an open contact kept by `open_contacts = "gap"` touches
+    /// nothing yet) for the next step's rule (module doc).
+    pub(super) fn keep_active_pairs(&mut self, active: &[Contact], closed: &[bool]) {
+        self.active_pairs = active
+            .iter()
+            .zip(closed)
+            .filter(|&(_, &shut)| shut)
+            .map(|(c, _)| pair(c))
+            .collect();
         self.active_pairs.sort_unstable();
         self.active_pairs.dedup();
     }

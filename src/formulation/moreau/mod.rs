@@ -409,7 +409,9 @@ impl Moreau {
             .collect();
         // Newton's law on every closed contact (module doc); the
         // linearised gap on the open ones (`open_contacts = "gap"`: the
-        // positions' θ-method keeps `g + h ((1 − θ) u⁻ + θ u⁺) ≥ 0`).
+        // positions' θ-method keeps `g + h ((1 − θ) u⁻ + θ u⁺) ≥ 0`), never
+        // slower than the pair's own approach `−u⁻` (its impact is Newton's,
+        // at the step that closes it).
         let closed: Vec<bool> = active
             .iter()
             .zip(&u_minus)
@@ -421,7 +423,7 @@ impl Moreau {
             .zip(&closed)
             .map(|((c, &u), &shut)| match shut {
                 true => e * u,
-                false => (c.geom.gap + h * (1.0 - self.theta) * u) / (h * self.theta),
+                false => ((c.geom.gap + h * (1.0 - self.theta) * u) / (h * self.theta)).max(-u),
             })
             .collect();
         let open = closed.iter().filter(|&&shut| !shut).count();
@@ -525,7 +527,7 @@ impl Moreau {
             e_after += after;
         }
         if cx.topology.reads().impacts {
-            self.keep_active_pairs(active);
+            self.keep_active_pairs(active, &closed);
         }
         if any {
             self.counters.add(&STEPS_WITH_IMPULSES, 1);

@@ -134,8 +134,10 @@ pub enum OpenContacts {
     Inactive,
     /// `"gap"`: kept in the problem with the linearised non-penetration
     /// constraint of Stewart & Trinkle (1996) and Anitescu & Potra (1997),
-    /// `g + h ((1 − θ) u_N⁻ + θ u_N⁺) ≥ 0`: it pushes only if the step's
-    /// velocities would close it.
+    /// `g + h ((1 − θ) u_N⁻ + θ u_N⁺) ≥ 0`, relaxed to the pair's own
+    /// approach speed: `u_N⁺ ≥ −max(c, −u_N⁻)`. It pushes only if the
+    /// step's other impulses would close it faster than both; a pair that
+    /// closes by its own approach strikes by Newton's law at the next step.
     Gap,
 }
 
