@@ -16,31 +16,30 @@ use std::path::Path;
 /// One step of 1 s. The A–B impulse sets A and B at 0.5 m/s; the θ-method
 /// (θ = ½) moves B by `h (0 + 0.5)/2` = 0.25 m, so without C in the problem
 /// B ends 0.15 m inside C.
-const CHAIN: &str = r#"
-[case]
-version = 1
-name = "chain_with_a_gap"
-description = "A floe strikes a second, which lies 0.1 m from a third."
-duration = 1.0
-output_interval = 1.0
+fn chain_case() -> String {
+    squares(
+        "chain_with_a_gap",
+        1.0,
+        0.0,
+        &[(0.0, 1.0), (10.0, 0.0), (20.1, 0.0)],
+    )
+}
 
-[contact]
-restitution = 0.0
-friction = 0.0
-
-[[floe]]
-polygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]
-thickness = 1.0
-velocity = [1.0, 0.0]
-
-[[floe]]
-polygon = [[10.0, 0.0], [20.0, 0.0], [20.0, 10.0], [10.0, 10.0]]
-thickness = 1.0
-
-[[floe]]
-polygon = [[20.1, 0.0], [30.1, 0.0], [30.1, 10.0], [20.1, 10.0]]
-thickness = 1.0
-"#;
+/// A case of 10 m squares on the x axis, frictionless, restitution `e`,
+/// no forcing, `duration` s with outputs every second: one floe per
+/// `(left edge x, velocity along x)`, m and m/s.
+fn squares(name: &str, duration: f64, e: f64, floes: &[(f64, f64)]) -> String {
+    let mut text = format!(
+        "[case]\nversion = 1\nname = \"{name}\"\nduration = {duration:?}\noutput_interval = 1.0\n\n[contact]\nrestitution = {e:?}\nfriction = 0.0\n"
+    );
+    for &(x, v) in floes {
+        let r = x + 10.0;
+        text += &format!(
+            "\n[[floe]]\npolygon = [[{x:?}, 0.0], [{r:?}, 0.0], [{r:?}, 10.0], [{x:?}, 10.0]]\nthickness = 1.0\nvelocity = [{v:?}, 0.0]\n"
+        );
+    }
+    text
+}
 
 /// The gap between B's right edge and C's left edge at the end, m.
 fn gap_bc(r: &RunResult) -> f64 {
@@ -51,7 +50,7 @@ fn gap_bc(r: &RunResult) -> f64 {
 fn chain(settings: &str) -> RunResult {
     run(
         &scenario(&with_formulation_table(
-            CHAIN,
+            &chain_case(),
             "moreau",
             &format!("step = 1.0\n{settings}"),
         )),
@@ -102,7 +101,7 @@ fn open_contacts_refuses_unknown_values_and_a_theta_of_zero_at_its_line() {
         ("open_contacts = 1", "must be a string"),
     ];
     for (settings, message) in cases {
-        let text = with_formulation_table(CHAIN, "moreau", settings);
+        let text = with_formulation_table(&chain_case(), "moreau", settings);
         let line = text
             .lines()
             .position(|l| l.starts_with("open_contacts"))
@@ -117,7 +116,8 @@ fn open_contacts_refuses_unknown_values_and_a_theta_of_zero_at_its_line() {
     }
     // The two values are accepted.
     for v in ["inactive", "gap"] {
-        let text = with_formulation_table(CHAIN, "moreau", &format!("open_contacts = \"{v}\""));
+        let text =
+            with_formulation_table(&chain_case(), "moreau", &format!("open_contacts = \"{v}\""));
         assert!(parse_case(&text, Path::new("inline.toml")).is_ok(), "{v}");
     }
 }
@@ -127,34 +127,16 @@ fn open_contacts_refuses_unknown_values_and_a_theta_of_zero_at_its_line() {
 /// open at the first step (predicted gap 0.2 m) and the step would close
 /// it (0.7 m < 1 m): the bare linearised gap would slow A to 0.4 m/s
 /// there, a plastic impact before the impact.
-const FREE_APPROACH: &str = r#"
-[case]
-version = 1
-name = "free_approach"
-description = "A floe flies at a second across a gap."
-duration = 3.0
-output_interval = 1.0
-
-[contact]
-restitution = 1.0
-friction = 0.0
-
-[[floe]]
-polygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]
-thickness = 1.0
-velocity = [1.0, 0.0]
-
-[[floe]]
-polygon = [[10.7, 0.0], [20.7, 0.0], [20.7, 10.0], [10.7, 10.0]]
-thickness = 1.0
-"#;
+fn free_approach() -> String {
+    squares("free_approach", 3.0, 1.0, &[(0.0, 1.0), (10.7, 0.0)])
+}
 
 #[test]
 fn the_gap_law_leaves_a_pair_closing_by_its_own_approach_to_newtons_law() {
     let run_it = |settings: &str| {
         run(
             &scenario(&with_formulation_table(
-                FREE_APPROACH,
+                &free_approach(),
                 "moreau",
                 &format!("step = 1.0\n{settings}"),
             )),
