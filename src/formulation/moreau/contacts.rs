@@ -82,8 +82,8 @@ impl Moreau {
                 false => ((c.geom.gap + h * (1.0 - self.theta) * u) / (h * self.theta)).max(-u),
             })
             .collect();
-        let open = closed.iter().filter(|&&shut| !shut).count();
         if self.open_contacts == OpenContacts::Gap {
+            let open = closed.iter().filter(|&&shut| !shut).count();
             self.counters.add(&OPEN_CONTACTS, open as u64);
         }
         let centres = sys.centres();
@@ -117,13 +117,13 @@ impl Moreau {
                         dv,
                         ..
                     } = self.solver.solve(&data, sys.t, h);
-                    let pushing = g
-                        .contacts
-                        .iter()
-                        .zip(&normal)
-                        .filter(|&(&k, &l)| !closed[k] && l > 0.0)
-                        .count();
                     if self.open_contacts == OpenContacts::Gap {
+                        let pushing = g
+                            .contacts
+                            .iter()
+                            .zip(&normal)
+                            .filter(|&(&k, &l)| !closed[k] && l > 0.0)
+                            .count();
                         self.counters.add(&OPEN_CONTACTS_PUSHING, pushing as u64);
                     }
                     (Ok((normal, tangential)), dv)
