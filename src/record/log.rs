@@ -38,7 +38,42 @@ impl ImpulseRecord {
             f64::INFINITY
         }
     }
+
+    /// The impulse's excess over the Coulomb cone in units of its accuracy
+    /// allowance: `(|β| − μ λ) / (μ λ · COULOMB_SLACK + slack)`, where the
+    /// allowance is what the solver's accepted residual guarantees (the
+    /// relative rounding [`COULOMB_SLACK`] of the bound, plus the impulse
+    /// `slack` that the accepted LCP residual corresponds to). At most 1:
+    /// in the cone to the solver's accuracy; negative inside the cone;
+    /// infinite for a tangential impulse beyond a zero allowance. This is
+    /// the one definition of "outside the cone", used by the formulations'
+    /// `coulomb_violations` counter and by `floebench check`.
+    pub fn cone_excess(&self) -> f64 {
+        let bound = self.mu * self.normal;
+        let excess = self.tangent.abs() - bound;
+        let allowance = bound.max(0.0) * COULOMB_SLACK + self.slack;
+        if allowance > 0.0 {
+            excess / allowance
+        } else if excess > 0.0 {
+            f64::INFINITY
+        } else {
+            0.0
+        }
+    }
+
+    /// Whether the impulse is outside the Coulomb cone beyond the solver's
+    /// accuracy: [`ImpulseRecord::cone_excess`] `> 1`.
+    pub fn outside_cone(&self) -> bool {
+        self.cone_excess() > 1.0
+    }
 }
+
+/// Relative allowance of the Coulomb check, `|β| ≤ μ λ (1 + COULOMB_SLACK)
+/// + slack`: the rounding of the bound `μ λ` itself (a few ulps of the
+/// impulses, far above `f64::EPSILON` after the LCP's scaling and
+/// unscaling), on top of each impulse's own `slack` (the accepted LCP
+/// residual's impulse, [`ImpulseRecord::slack`]).
+pub const COULOMB_SLACK: f64 = 1e-9;
 
 /// One contact resolution that changed velocities: an impact (event-driven),
 /// the contact impulses of one step (time stepping), with the kinetic energy
@@ -96,6 +131,12 @@ pub struct ContactLog {
     pub impulses: Vec<ImpulseRecord>,
     /// The impulses beyond the cap (max Coulomb ratio).
     pub impulses_overflow: Overflow,
+    /// Largest [`ImpulseRecord::cone_excess`] over every impulse, kept or
+    /// not (`None` without any).
+    pub max_cone_excess: Option<f64>,
+    /// Impulses outside the cone beyond the solver's accuracy
+    /// ([`ImpulseRecord::outside_cone`]), kept or not.
+    pub impulses_outside_cone: u64,
     /// The first contact events.
     pub events: Vec<ContactEvent>,
     /// The events beyond the cap (max energy gain).
@@ -117,6 +158,9 @@ impl ContactLog {
 
     /// Adds one impulse.
     pub fn push_impulse(&mut self, r: ImpulseRecord) {
+        let excess = r.cone_excess();
+        self.max_cone_excess = Some(self.max_cone_excess.map_or(excess, |m| m.max(excess)));
+        self.impulses_outside_cone += u64::from(excess > 1.0);
         if self.impulses.len() < Self::CAP {
             self.impulses.push(r);
         } else {

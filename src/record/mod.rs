@@ -22,5 +22,5 @@ pub use clock::{thread_cpu_seconds, Stage, StageClock, StageTimes};
 pub use counters::{
     Counter, CounterKind, Counters, Setting, SettingValue, Settings, Unit, UnknownCounter,
 };
-pub use log::{ContactEvent, ContactLog, ImpulseRecord, Overflow};
+pub use log::{ContactEvent, ContactLog, ImpulseRecord, Overflow, COULOMB_SLACK};
 pub use profile::SolveProfile;

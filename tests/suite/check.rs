@@ -218,6 +218,56 @@ fn coulomb_and_sliding_fail_on_wrong_input() {
     });
 }
 
+/// The Coulomb check holds each impulse to the accuracy its solver
+/// guarantees: an impulse past the bound by less than its allowance (the
+/// impulse of the accepted LCP residual) passes, one past it fails, and an
+/// impulse beyond the log's kept records is judged as a kept one.
+#[test]
+fn coulomb_follows_each_impulses_allowance_kept_or_not() {
+    let scn = load("sliding_floe");
+    let r = run(&scn, "event-driven");
+    let at = |ratio: f64, slack: f64| ImpulseRecord {
+        t: 1.0,
+        normal: 100.0,
+        tangent: 0.3 * 100.0 * ratio,
+        mu: 0.3,
+        slack,
+    };
+    // 1 + 1.3e-8 of the bound (as the newcomer's channel measured), inside an
+    // allowance of 1e-6 N·s: in the cone to the solver's accuracy.
+    let mut inside = r.clone();
+    inside.contacts.push_impulse(at(1.0 + 1.3e-8, 1e-6));
+    let o = check_run(&scn, &inside);
+    let c = find(&o, "coulomb");
+    assert!(c.pass && c.measured < 1.0, "{c:#?}");
+    // The same ratio with no residual allowance is outside.
+    fails_when_spoiled(&scn, &r, "coulomb", |b| {
+        b.contacts.push_impulse(at(1.0 + 1.3e-8, 0.0))
+    });
+    // Past the log's cap: the kept records are all inside, the late one is not.
+    fails_when_spoiled(&scn, &r, "coulomb", |b| {
+        for _ in 0..floebench::record::ContactLog::CAP {
+            b.contacts.push_impulse(at(0.5, 0.0));
+        }
+        b.contacts.push_impulse(at(1.0 + 1e-6, 1e-6));
+    });
+}
+
+/// The newcomer's 100-floe channel (issue 55): event-driven slides on the
+/// cone's boundary to `1 + 1.7e-9` of the bound, inside its accepted LCP
+/// residual, and `check` reports no claimed failure.
+#[test]
+fn the_newcomers_channel_has_no_claimed_failure() {
+    let scn = load("fields/channel_100");
+    let r = run(&scn, "event-driven");
+    assert!(
+        r.contacts.max_coulomb_ratio() > 1.0 + 1e-9,
+        "the case exercises impulses on the cone's boundary beyond the bound's rounding"
+    );
+    let rows = check_run(&scn, &r);
+    assert_eq!(claimed_failures(&rows), 0, "{rows:#?}");
+}
+
 #[test]
 fn fracture_checks_fail_on_wrong_input() {
     let scn = load("fracture_ram");

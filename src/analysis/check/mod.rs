@@ -11,7 +11,7 @@
 //! | `momentum` | no forcing (no air or water drag, `f = 0`), no obstacle | `max_t ‖P(t) − P(0)‖ / Σ M‖Ġ(0)‖` | [`MOMENTUM_TOLERANCE`] |
 //! | `impact_energy` | the formulation records contact events | largest kinetic energy gained by one contact event / energy exchanged | [`IMPACT_ENERGY_TOLERANCE`] |
 //! | `energy_conserved` | `e = 1`, `μ = 0`, no forcing | `max_t \|E(t) − E(0)\| / E(0)` | [`ENERGY_CONSERVED_TOLERANCE`] |
-//! | `coulomb` | the formulation records contact impulses | `max \|β\| / (μ λ)` over every impulse | `1 +` [`COULOMB_SLACK`](crate::formulation::contact_solver::COULOMB_SLACK) |
+//! | `coulomb` | the formulation records contact impulses | largest [`cone_excess`](crate::record::ImpulseRecord::cone_excess) over every impulse: `(\|β\| − μ λ)` over the impulse's allowance `μ λ ·` [`COULOMB_SLACK`](crate::record::COULOMB_SLACK) `+` the impulse of the accepted LCP residual (0 when every impulse is inside the cone) | 1 |
 //! | `penetration` | an obstacle or two floes | deepest overlap at the output times (minimum translation distance) and the formulation's own `max_penetration_m` | the event-driven tolerance of the case |
 //! | `symmetry` | the initial configuration is a mirror image of itself about an axis, forcing parallel to it, `f = 0`, the impacts not resolved in the lattices (`impact = "rigid"`: their random meshes are not mirror images) | `max_t,i ‖G_P(i) − S G_i‖ + r_i \|θ_P(i) + θ_i\|` | [`SYMMETRY_TOLERANCE`] × extent |
 //! | `head_on_v1`, `head_on_v2` | two floes, no forcing, no obstacle, no spin, velocities along the line of centres and approaching, symmetric about it, `impact = "rigid"` (the restitution law's closed form) | final velocities along the line | [`HEAD_ON_TOLERANCE`] × approach speed |

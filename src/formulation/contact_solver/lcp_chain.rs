@@ -15,10 +15,7 @@ use crate::lcp::Strategy;
 use crate::lcp::{solve, solve_warm, BasisGuess, LcpDump, LcpSolution};
 use crate::record::profile::bucket_of;
 use crate::record::ImpulseRecord;
-
-/// Relative slack of the Coulomb check `|β| ≤ μ λ (1 + 1e-9)`: an accepted
-/// LCP solution has residual ≤ 1e-10 relative to `‖q‖`.
-pub const COULOMB_SLACK: f64 = 1e-9;
+pub use crate::record::COULOMB_SLACK;
 
 impl ContactSolver {
     /// Lemke with its fallbacks on `lcp`, warm-started from `guess` if
@@ -197,14 +194,14 @@ impl ContactSolver {
 
     /// Coulomb on accepted impulses `λ`, `β` (N·s) with friction coefficient
     /// `mu`: keeps the largest `|β| / (μ λ)` and counts
-    /// [`COULOMB_VIOLATIONS`], i.e. `|β| > μ λ (1 + COULOMB_SLACK) + slack`.
+    /// [`COULOMB_VIOLATIONS`], i.e. `|β| > μ λ (1 + COULOMB_SLACK) + slack`
+    /// ([`ImpulseRecord::outside_cone`]).
     /// `slack[j]` (N·s, 0 if missing) is the rounding allowance of contact
     /// `j`: a tangential impulse below it is rounding (e.g. 1e-21 N·s beside
     /// `λ = 0`) and is left out of the ratio. Every impulse goes into the log
     /// ([`ImpulseRecord`], at time `t`, s), whose ratio is the one used here.
     pub fn check_coulomb(&mut self, t: f64, lambda: &[f64], beta: &[f64], mu: f64, slack: &[f64]) {
         for (j, (l, b)) in lambda.iter().zip(beta).enumerate() {
-            let bound = mu * l;
             let eps = slack.get(j).copied().unwrap_or(0.0);
             let rec = ImpulseRecord {
                 t,
@@ -216,7 +213,7 @@ impl ContactSolver {
             self.log.push_impulse(rec);
             if b.abs() > eps {
                 self.max_coulomb_ratio = self.max_coulomb_ratio.max(rec.coulomb_ratio());
-                if b.abs() > bound * (1.0 + COULOMB_SLACK) + eps {
+                if rec.outside_cone() {
                     self.counters.add(&COULOMB_VIOLATIONS, 1);
                 }
             }

@@ -19,13 +19,13 @@ use super::{
     MOMENTUM_TOLERANCE,
 };
 use crate::analysis::divergence::row_frames;
-use crate::formulation::contact_solver::COULOMB_SLACK;
 use crate::formulation::event_driven::{
     floe_length_scale, EventDrivenSettings, DEFAULT_PENETRATION_FRACTION,
 };
 use crate::geometry::Vec2;
 use crate::model::Scenario;
 use crate::record::counters::common::MAX_PENETRATION;
+use crate::record::COULOMB_SLACK;
 use crate::run::{EndReason, RunResult};
 use fracture::{fracture_conservation, lattice_spin, ram_critical_speed};
 use motion::{
@@ -224,21 +224,27 @@ fn coulomb(r: &mut Rows) {
     if log.impulse_count() == 0 {
         return;
     }
+    let ratio = log.max_coulomb_ratio();
+    let ratio_text = if ratio.is_finite() && (ratio - 1.0).abs() < 1e-3 {
+        format!(
+            "1 {} {:.2e}",
+            if ratio < 1.0 { "-" } else { "+" },
+            (ratio - 1.0).abs()
+        )
+    } else {
+        format!("{ratio:.4}")
+    };
     r.push(
         "coulomb",
-        "every contact impulse in the Coulomb cone |beta| <= mu lambda",
-        log.max_coulomb_ratio(),
+        "every contact impulse in the Coulomb cone |beta| <= mu lambda, to the solver's accuracy",
+        log.max_cone_excess.unwrap_or(0.0).max(0.0),
         None,
-        1.0 + COULOMB_SLACK,
-        "|beta|/(mu lambda)",
+        1.0,
+        "excess/allowance",
         format!(
-            "{} impulses, {} of the kept {} outside the cone",
+            "{} impulses, {} outside the cone beyond their allowance (mu lambda {COULOMB_SLACK:.0e} plus the impulse of the accepted LCP residual); largest |beta|/(mu lambda) = {ratio_text}",
             log.impulse_count(),
-            log.impulses
-                .iter()
-                .filter(|i| i.coulomb_ratio() > 1.0 + COULOMB_SLACK)
-                .count(),
-            log.impulses.len()
+            log.impulses_outside_cone,
         ),
     );
 }
