@@ -7,15 +7,42 @@ use super::format::fmt_num;
 use crate::analysis::check::{claimed_failures, verdict, CheckOutcome};
 use std::fmt::Write as _;
 
-/// The cells of one outcome, in the order of [`TABLE_HEADER`].
+/// `a` and `b` rounded by [`fmt_num`], or, where that prints them alike
+/// though they differ, in scientific notation with the fewest digits (up to
+/// 17) that tell them apart: a printed verdict must agree with the numbers
+/// printed beside it (measured `1.000` against a tolerance `1.000`).
+pub fn fmt_apart(a: f64, b: f64) -> (String, String) {
+    let (fa, fb) = (fmt_num(a), fmt_num(b));
+    if fa != fb || a == b || !a.is_finite() || !b.is_finite() {
+        return (fa, fb);
+    }
+    (4..=17)
+        .map(|d| (format!("{a:.d$e}"), format!("{b:.d$e}")))
+        .find(|(x, y)| x != y)
+        .unwrap_or((format!("{a:e}"), format!("{b:e}")))
+}
+
+/// The cells of one outcome, in the order of [`TABLE_HEADER`]: the measured
+/// value printed apart from the value it is judged against (the tolerance,
+/// or the expected answer), by [`fmt_apart`].
 pub fn table_cells(o: &CheckOutcome) -> [String; 9] {
+    let (measured, expected, tolerance) = match o.expected {
+        Some(x) => {
+            let (m, e) = fmt_apart(o.measured, x);
+            (m, e, fmt_num(o.tolerance))
+        }
+        None => {
+            let (m, t) = fmt_apart(o.measured, o.tolerance);
+            (m, "-".into(), t)
+        }
+    };
     [
         o.case.clone(),
         o.check.clone(),
         o.formulation.clone(),
-        fmt_num(o.measured),
-        o.expected.map_or("-".into(), fmt_num),
-        fmt_num(o.tolerance),
+        measured,
+        expected,
+        tolerance,
         o.unit.clone(),
         verdict(o).into(),
         o.note.clone(),

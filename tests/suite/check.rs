@@ -452,3 +452,20 @@ fn reasons_explain_failing_rows_only() {
     assert!(find(&rows, "penetration").pass);
     assert!(!find(&rows, "symmetry").pass);
 }
+
+/// A printed verdict agrees with the numbers printed beside it: a value
+/// that fails against a tolerance it rounds to is printed with the digits
+/// that tell them apart (issue 55: `1.000` against `1.000`, FAIL).
+#[test]
+fn a_failing_value_is_printed_apart_from_its_tolerance() {
+    use floebench::report::checks::fmt_apart;
+    let (m, t) = fmt_apart(1.000_000_012_9, 1.000_000_001);
+    assert_ne!(m, t);
+    assert!(
+        m.starts_with("1.00000001") && t.starts_with("1.00000000"),
+        "{m} {t}"
+    );
+    // Values that print apart, or are equal, keep the four digits.
+    assert_eq!(fmt_apart(0.5, 1.0), ("0.5000".into(), "1.000".into()));
+    assert_eq!(fmt_apart(1.0, 1.0), ("1.000".into(), "1.000".into()));
+}
