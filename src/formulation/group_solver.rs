@@ -12,7 +12,7 @@
 //! `max_iterations` and (nsgs) `relaxation` ([`crate::iterative`],
 //! docs/physics.md §3.5), which the direct solvers refuse.
 
-use super::contact_solver::{ContactSolver, SolverKind};
+use super::contact_solver::{ContactSolver, LastAnswer, SolverKind};
 use crate::contact::problem::{ContactGroup, ContactLcp, Friction, Gen};
 use crate::contact::Contact;
 use crate::geometry::Vec2;
@@ -203,7 +203,7 @@ impl GroupSolver {
         t: f64,
     ) -> GroupAnswer {
         if !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
-            return self.iterative_answer(prob, a, t);
+            return self.iterative_answer(prob, a, t, self.method());
         }
         // The NSGS problem itself: one friction pair per point (merged
         // friction would change the problem, and its answers are not
@@ -220,7 +220,7 @@ impl GroupSolver {
         let guess = lcp.guess_from(&a.normal(), &a.tangential());
         let work = self.direct.work();
         let Some(z) = self.direct.polish(&lcp, &guess, t) else {
-            return self.iterative_answer(prob, a, t);
+            return self.iterative_answer(prob, a, t, self.method());
         };
         let answer = direct_answer(&lcp, &z);
         let p: Vec<[f64; 2]> = answer
@@ -230,18 +230,34 @@ impl GroupSolver {
             .map(|(l, b)| [*l, *b])
             .collect();
         let o = a.outcome;
+        let res = prob.residual(&p, true);
         self.accuracy.iterative(
-            prob.residual(&p, true),
+            res,
             o.iterations + (self.direct.work() - work),
             true,
             prob.len(),
             a.warm_hits,
         );
+        // The polished answer solves the per-point LCP to Lemke's tolerance.
+        self.accuracy.solver(res, true);
         answer
     }
 
-    /// Records the iterative answer `a` of `prob` and returns it.
-    fn iterative_answer(&mut self, prob: &SparseContacts, a: Answer, t: f64) -> GroupAnswer {
+    /// The iterative method in use (NSGS when none is set).
+    fn method(&self) -> Method {
+        self.iterative
+            .as_ref()
+            .map_or(Method::Nsgs, |it| it.options.method)
+    }
+
+    /// Records the answer `a` of `prob` by `method` and returns it.
+    fn iterative_answer(
+        &mut self,
+        prob: &SparseContacts,
+        a: Answer,
+        t: f64,
+        method: Method,
+    ) -> GroupAnswer {
         let o = a.outcome;
         self.accuracy.iterative(
             o.residual,
@@ -250,6 +266,13 @@ impl GroupSolver {
             prob.len(),
             a.warm_hits,
         );
+        // NSGS solves Coulomb's law itself; APGD the cone relaxation, whose
+        // natural map (without De Saxcé's term) is its stopping residual.
+        let own = match method {
+            Method::Apgd => prob.residual(&a.p, false),
+            _ => o.residual,
+        };
+        self.accuracy.solver(own, o.converged);
         let (normal, tangential) = (a.normal(), a.tangential());
         if prob.friction() {
             self.direct
@@ -295,7 +318,7 @@ impl GroupSolver {
             self.too_large += 1;
             let it = IterativeSolver::new(IterativeOptions::new(Method::Nsgs));
             let a = it.solve_impact(prob);
-            return self.iterative_answer(prob, a, t);
+            return self.iterative_answer(prob, a, t, Method::Nsgs);
         }
         let layout = self.direct.friction_layout(impact);
         let lcp = ContactLcp::assemble(
@@ -315,6 +338,12 @@ impl GroupSolver {
             .collect();
         let res = prob.residual(&p, true);
         self.accuracy.direct(res, self.direct.work() - work);
+        match self.direct.last_answer() {
+            LastAnswer::Lcp { residual, met } => self.accuracy.solver(residual, met),
+            // clarabel's answer on the problem it solved: the relaxation.
+            LastAnswer::Cone { met } => self.accuracy.solver(prob.residual(&p, false), met),
+            LastAnswer::None => {}
+        }
         direct_answer(&lcp, &z)
     }
 

@@ -27,7 +27,7 @@ use super::figures::{self, Animation, Figure};
 use super::page::{self, Block};
 use super::parameters::{case_parameters, settings_table};
 use super::provenance::Provenance;
-use super::tables::{checks_table, headline, pairs_table, runs_table};
+use super::tables::{checks_table, headline, pairs_table, runs_table, RESIDUALS_NOTE};
 use super::verdict::verdict;
 use super::ReportError;
 use crate::analysis::chaos::ChaosProbe;
@@ -312,6 +312,7 @@ pub fn write_report_with(
         )),
         Block::Heading(2, "Headline".into()),
         headline(comps),
+        Block::Para(RESIDUALS_NOTE.into()),
     ];
     for comp in comps {
         let name = &comp.scenario.name;

@@ -4,7 +4,7 @@
 
 use super::counters::*;
 use super::warm::Use;
-use super::ContactSolver;
+use super::{ContactSolver, LastAnswer};
 use crate::contact::cone::{solve_cone, ConeStatus};
 use crate::contact::problem::ContactLcp;
 
@@ -25,9 +25,17 @@ impl ContactSolver {
             ConeStatus::Failed => {
                 c.add(&CONE_FAILED, 1);
                 c.add(&CONE_FALLBACK_LCP, 1);
-                return self.solve_lcp_for(lcp, t, Use::Sustained);
+                let z = self.solve_lcp_for(lcp, t, Use::Sustained);
+                if let LastAnswer::Lcp { met, .. } = &mut self.last {
+                    // The cone program missed; the fallback's LCP residual stands.
+                    *met = false;
+                }
+                return z;
             }
         }
+        self.last = LastAnswer::Cone {
+            met: sol.status == ConeStatus::Solved,
+        };
         c.max(&CONE_MAX_PROJECTION_REL, sol.cone_excess);
         if sol.polished {
             c.add(&CONE_POLISHED, 1);

@@ -6,7 +6,7 @@
 
 use super::counters::*;
 use super::warm::{support_changes, Use};
-use super::ContactSolver;
+use super::{ContactSolver, LastAnswer};
 use crate::contact::problem::ContactLcp;
 use crate::lcp::predict::{basis_mismatch, solve_predicted, Blocks, Prediction};
 use crate::lcp::solve::solve_with_columns;
@@ -135,6 +135,10 @@ impl ContactSolver {
         if self.warm_check && warm_solved {
             self.check_warm(lcp, &sol, usage);
         }
+        self.last = LastAnswer::Lcp {
+            residual: sol.residual,
+            met: sol.status.is_solved(),
+        };
         if sol.status.is_solved() {
             if let Some(c) = self.warm.as_mut() {
                 c[usage as usize].store(lcp, &sol.z);
@@ -147,6 +151,10 @@ impl ContactSolver {
             let sol2 = self.lemke(&fl, None);
             self.record_solve(&fl, &sol2, t);
             if sol2.status.is_solved() {
+                self.last = LastAnswer::Lcp {
+                    residual: sol2.residual,
+                    met: false,
+                };
                 let mut z = vec![0.0; lcp.lcp().n];
                 z[..lcp.m].copy_from_slice(&sol2.z);
                 return z;

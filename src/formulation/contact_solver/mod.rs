@@ -161,6 +161,36 @@ pub struct ContactSolver {
     /// Whether the LCPs merge the friction of flush edge pairs
     /// ([`ContactSolver::with_merge_friction`]).
     merge_friction: bool,
+    /// How the last problem was answered ([`ContactSolver::last_answer`]).
+    last: LastAnswer,
+}
+
+/// How the last contact problem a [`ContactSolver`] solved was answered:
+/// what its solver's own residual and tolerance say
+/// ([`crate::record::accuracy`]: the solver's error, apart from the
+/// answer's departure from Coulomb's law).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LastAnswer {
+    /// Nothing solved yet.
+    None,
+    /// By the LCP chain: the residual `‖min(z, w)‖/‖q‖` of the answer on
+    /// the LCP solved (the frictional one, or the frictionless last
+    /// resort's), and whether an attempt met the acceptance tolerance on
+    /// the frictional LCP.
+    Lcp {
+        /// The LCP residual of the answer returned (dimensionless).
+        residual: f64,
+        /// Whether the frictional LCP was solved to its tolerance.
+        met: bool,
+    },
+    /// By the cone program: whether clarabel met its full accuracy (its
+    /// residual on the relaxation is measured by the caller, who holds the
+    /// sparse problem).
+    Cone {
+        /// Whether clarabel reported the problem solved (not only
+        /// "almost", or rescued by its polish).
+        met: bool,
+    },
 }
 
 /// Default of `merge_friction` ([`ContactSolver::with_merge_friction`]):
@@ -213,6 +243,7 @@ impl ContactSolver {
             profile: SolveProfile::default(),
             timer: Sampler::new(BUCKET_BOUNDS.len() + 1),
             warm: warm_start.then(Default::default),
+            last: LastAnswer::None,
             warm_check: false,
             predict_from: DEFAULT_PREDICT_FROM,
             predict: PredictOptions::default(),
@@ -365,6 +396,12 @@ impl ContactSolver {
         c.set(&LCP_MAX_ACCEPTED_RESIDUAL, l.max_accepted_residual);
         c.set(&MAX_COULOMB_RATIO, self.max_coulomb_ratio);
         c
+    }
+
+    /// How the last problem was answered: its solver's own residual and
+    /// whether it met its tolerance ([`LastAnswer`]).
+    pub fn last_answer(&self) -> LastAnswer {
+        self.last
     }
 
     /// The work of every solve so far: Lemke pivots (every attempt) plus

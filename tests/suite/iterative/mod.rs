@@ -17,6 +17,7 @@ mod local_solve;
 mod residual;
 mod runs;
 mod settings;
+mod solver_residual;
 
 use crate::common::{case_text, scenario, with_formulation_table};
 use floebench::contact::problem::{groups, ContactLcp, Friction, Gen};
