@@ -87,15 +87,22 @@ pub fn format_table(rows: &[CheckOutcome]) -> String {
     for row in &body {
         out.push_str(&line(row));
     }
+    out.push_str(&totals(rows));
+    out.push('\n');
+    out
+}
+
+/// The count of `rows`: `N checks: P pass, K fail (known, not claimed), C
+/// FAIL (claimed)`, the one summary line of `check` and of the report page.
+pub fn totals(rows: &[CheckOutcome]) -> String {
     let known = rows.iter().filter(|o| !o.pass && !o.claimed).count();
-    out.push_str(&format!(
-        "{} checks: {} pass, {} fail (known, not claimed), {} FAIL (claimed)\n",
+    format!(
+        "{} checks: {} pass, {} fail (known, not claimed), {} FAIL (claimed)",
         rows.len(),
         rows.iter().filter(|o| o.pass).count(),
         known,
         claimed_failures(rows)
-    ));
-    out
+    )
 }
 
 /// The outcomes as a Markdown table, for the report page.

@@ -312,6 +312,11 @@ pub fn write_report_with(
         )),
         Block::Heading(2, "Headline".into()),
         headline(comps),
+        Block::Para(format!(
+            "Physical checks over every case and formulation (docs/physics.md §6; as \
+             `floebench check` gives them on the same cases): {}.",
+            super::checks::totals(&comps.iter().flat_map(|c| c.checks.clone()).collect::<Vec<_>>())
+        )),
         Block::Para(RESIDUALS_NOTE.into()),
     ];
     for comp in comps {
