@@ -18,10 +18,12 @@ mod fields;
 mod messages;
 mod overlap;
 mod spec;
+mod warnings;
 
 pub(crate) use messages::closest;
 
 pub use spec::FieldSpec;
+pub use warnings::{EXTENT_FACTOR, SIZE_SPAN};
 
 use super::limits;
 use super::settings::TableSpec;
