@@ -1,7 +1,7 @@
 //! `floebench validate`: load case files and describe them.
 
 use super::{describe, plural, print_warnings, Outcome};
-use floebench::formulation::load_case;
+use floebench::formulation::validate_case;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -20,7 +20,7 @@ pub fn run(args: Args) -> Outcome {
     let files = floebench::run::batch::case_files(&args.cases).map_err(|e| e.to_string())?;
     let mut bad = 0;
     for path in &files {
-        match load_case(path) {
+        match validate_case(path) {
             Ok(scn) => {
                 println!("ok  {}", describe(&scn));
                 print_warnings(&scn);

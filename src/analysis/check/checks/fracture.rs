@@ -12,6 +12,7 @@ use crate::fracture::split::cut;
 use crate::fracture::strike::{spin_prestress, SPIN_PRESTRESS_LIMIT};
 use crate::model::fracture::lattice_spacing;
 use crate::model::fracture::FractureModel;
+use crate::geometry::Vec2;
 
 pub(super) fn fracture_conservation(r: &mut Rows) {
     let fr = &r.run.fractures;
@@ -122,7 +123,9 @@ pub(super) fn lattice_spin(r: &mut Rows) {
             .map(|p| p[0].hypot(p[1]))
             .fold(0.0, f64::max);
         let density = f.mass / (f.area * f.thickness);
-        let ratio = spin_prestress(s, density, radius, row.omega, lattice_spacing(s, f.area));
+        let shape: Vec<Vec2> = f.polygon.iter().map(|p| Vec2::new(p[0], p[1])).collect();
+        let spacing = lattice_spacing(s, f.area, &shape);
+        let ratio = spin_prestress(s, density, radius, row.omega, spacing);
         if at.is_none() || ratio > worst {
             (worst, at) = (ratio, Some((fr.parent, fr.t)));
         }
