@@ -32,7 +32,11 @@ fn row(n: u32, duration: f64, interval: f64, extra: &str) -> String {
 #[test]
 fn a_giant_floe_is_warned_of_and_does_not_move_the_median_scale() {
     let plain = scenario(&row(3, 10.0, 1.0, ""));
-    assert!(plain.source.warnings.is_empty(), "{:?}", plain.source.warnings);
+    assert!(
+        plain.source.warnings.is_empty(),
+        "{:?}",
+        plain.source.warnings
+    );
     let d = plain.median_floe_diameter();
     // A floe of 1e6 m (a unit mistake), far from the others.
     let giant = square(-2.0e6, 1.0e6);
@@ -103,7 +107,8 @@ fn a_run_of_days_is_warned_of_at_its_duration_and_validate_prints_it() {
 fn validate_refuses_the_output_interval_a_fixed_step_refuses_naming_file_and_line() {
     let dir = tempdir();
     // A floe against an obstacle: every formulation but free-drift applies.
-    let obstacle = "\n[[obstacle]]\npolygon = [[70.0, -10.0], [80.0, -10.0], [80.0, 20.0], [70.0, 20.0]]\n";
+    let obstacle =
+        "\n[[obstacle]]\npolygon = [[70.0, -10.0], [80.0, -10.0], [80.0, 20.0], [70.0, 20.0]]\n";
     let text = row(3, 3.0, 0.3, obstacle);
     let file = dir.path().join("interval.toml");
     std::fs::write(&file, &text).unwrap();
@@ -115,10 +120,15 @@ fn validate_refuses_the_output_interval_a_fixed_step_refuses_naming_file_and_lin
     let e = check_formulations(&scn).unwrap_err();
     assert_eq!(e.file, file);
     assert_eq!(e.line, Some(5));
-    assert!(e.message.contains("[formulation.moreau] step, the default"), "{e}");
+    assert!(
+        e.message.contains("[formulation.moreau] step, the default"),
+        "{e}"
+    );
     assert!(e.message.contains("step = 0.1 would do"), "{e}");
     // The builder refuses with the same located message.
-    let built = build("moreau", &scn, &FormulationOptions::default()).err().unwrap();
+    let built = build("moreau", &scn, &FormulationOptions::default())
+        .err()
+        .unwrap();
     assert_eq!(built, e.to_string());
     // `validate` fails on it.
     let out = floebench().arg("validate").arg(&file).output().unwrap();
@@ -146,10 +156,18 @@ fn the_default_lattice_spacing_fits_two_narrow_bars_and_a_refused_one_says_what_
     let scn = parse_case(&two_bars(""), Path::new("bars.toml")).unwrap_or_else(|e| panic!("{e}"));
     check_formulations(&scn).unwrap();
     // The 200 m bar's default (√A/8 = 5.59 m) is cut to half its width.
-    let s = floebench::fracture::strike::lattice_spacing(&scn.fracture, scn.floes[1].area, &scn.floes[1].shape);
+    let s = floebench::fracture::strike::lattice_spacing(
+        &scn.fracture,
+        scn.floes[1].area,
+        &scn.floes[1].shape,
+    );
     assert_eq!(s, 5.0);
     // The 100 m bar keeps √A/8 = 3.95 m: the rule changes no spacing that passed.
-    let s0 = floebench::fracture::strike::lattice_spacing(&scn.fracture, scn.floes[0].area, &scn.floes[0].shape);
+    let s0 = floebench::fracture::strike::lattice_spacing(
+        &scn.fracture,
+        scn.floes[0].area,
+        &scn.floes[0].shape,
+    );
     assert_eq!(s0, 0.125 * scn.floes[0].area.sqrt());
     // It runs a short time.
     let mut f = build("event-driven", &scn, &FormulationOptions::default()).unwrap();

@@ -177,7 +177,13 @@ pub struct Moreau {
 /// output times off the grid of the step of `[formulation.moreau]`.
 fn check(scn: &Scenario) -> Result<(), CaseError> {
     let s = MoreauSettings::of(scn)?;
-    check_output_grid(scn, "moreau", &scn.settings_table(TABLE.name), "step", s.step)
+    check_output_grid(
+        scn,
+        "moreau",
+        &scn.settings_table(TABLE.name),
+        "step",
+        s.step,
+    )
 }
 
 impl Moreau {

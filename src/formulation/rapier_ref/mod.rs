@@ -231,7 +231,13 @@ impl std::fmt::Debug for RapierReference {
 /// the grid of the step of `[formulation.rapier]`.
 fn check(scn: &Scenario) -> Result<(), CaseError> {
     let settings = Resolved::of(scn)?;
-    check_output_grid(scn, ENTRY.name, &scn.settings_table(TABLE.name), "step", settings.step)
+    check_output_grid(
+        scn,
+        ENTRY.name,
+        &scn.settings_table(TABLE.name),
+        "step",
+        settings.step,
+    )
 }
 
 impl RapierReference {

@@ -8,8 +8,8 @@
 use super::environment::{check_grid_times, environment};
 use super::fields::{fields, floe_total, validate_field};
 use super::overlap::check_overlaps;
-use super::warnings::find_warnings;
 use super::spec::{CaseFile, CaseHeader, ContactSpec, FloeSpec, IntegratorSpec, ObstacleSpec};
+use super::warnings::find_warnings;
 use super::{vec2, CaseError, Ctx};
 use crate::geometry::{area_properties, check_simple_ccw, radius_about, Vec2};
 use crate::model::limits::{self, check_count};

@@ -98,7 +98,10 @@ const FIELDS: &[(&str, &[&str])] = &[
         "vortex",
         &["center", "radius", "speed", "center_velocity", "scale"],
     ),
-    ("netcdf", &["file", "variables", "origin", "start", "outside"]),
+    (
+        "netcdf",
+        &["file", "variables", "origin", "start", "outside"],
+    ),
 ];
 
 /// The keys field `kind` takes (`None` for an unknown field).

@@ -10,9 +10,9 @@ use crate::analysis::check::structure::{
 use crate::analysis::check::{FRACTURE_CONSERVATION_TOLERANCE, RAM_CRITICAL_SPEED_TOLERANCE};
 use crate::fracture::split::cut;
 use crate::fracture::strike::{spin_prestress, SPIN_PRESTRESS_LIMIT};
+use crate::geometry::Vec2;
 use crate::model::fracture::lattice_spacing;
 use crate::model::fracture::FractureModel;
-use crate::geometry::Vec2;
 
 pub(super) fn fracture_conservation(r: &mut Rows) {
     let fr = &r.run.fractures;
