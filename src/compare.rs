@@ -41,7 +41,7 @@ pub struct CompareOptions {
     /// Progress bars on stderr.
     pub progress: bool,
     /// Divergence threshold on the RMS position difference, as a fraction of
-    /// the mean floe diameter (-); default 0.1.
+    /// the median floe diameter (-); default 0.1.
     pub divergence_threshold: f64,
     /// Override of the cases' smooth integrator.
     pub integrator: Option<IntegratorKind>,

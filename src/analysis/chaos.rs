@@ -3,9 +3,10 @@
 //! of the divergence between the two runs is measured (docs/physics.md §6.5).
 //!
 //! - **Perturbation** ([`perturbed`]): every floe's centre of mass moves by
-//!   [`PERTURBATION`] × `d̄` (the mean floe diameter) in a direction drawn by
+//!   [`PERTURBATION`] × `d_med` (the median floe diameter,
+//!   [`Scenario::median_floe_diameter`]) in a direction drawn by
 //!   the seeded generator, so the RMS position difference between the runs
-//!   starts at `D(0)` = 1e-12 (in units of `d̄`, the unit of every
+//!   starts at `D(0)` = 1e-12 (in units of `d_med`, the unit of every
 //!   divergence of the report).
 //! - **Growth window**: from the last output where `D ≤ 10 D(0)` to the
 //!   first output after it where `D ≥` [`SATURATION`] (or the end). In a
@@ -23,7 +24,7 @@
 //!   activation test, the order of two nearly simultaneous impacts), which
 //!   the sample count and the fit exclude.
 
-use super::divergence::{self, mean_diameter, TimeMismatch};
+use super::divergence::{self, TimeMismatch};
 use crate::geometry::Vec2;
 use crate::model::Scenario;
 use crate::rng::SplitMix64;
@@ -31,14 +32,14 @@ use crate::run::RunResult;
 use serde::Serialize;
 
 /// The relative size of the perturbation of the initial positions (of the
-/// mean floe diameter): a thousand times the rounding of `f64` positions of
-/// order `d̄`, far below any physical scale.
+/// median floe diameter): a thousand times the rounding of `f64` positions
+/// of order `d_med`, far below any physical scale.
 pub const PERTURBATION: f64 = 1e-12;
 
 /// Seed of the perturbation's directions.
 pub const SEED: u64 = 0x5EED_C4A0;
 
-/// The divergence (of `d̄`) beyond which growth is no longer exponential.
+/// The divergence (of `d_med`) beyond which growth is no longer exponential.
 pub const SATURATION: f64 = 1e-2;
 
 /// Smallest growth `max D / D(0)` called chaotic: six decades, which no
@@ -53,10 +54,10 @@ pub const MIN_WINDOW_SAMPLES: usize = 5;
 /// Smallest coefficient of determination of the fit of `ln D` against `t`.
 pub const MIN_FIT_R2: f64 = 0.8;
 
-/// `scn` with every floe's centre of mass moved by [`PERTURBATION`] × `d̄`
+/// `scn` with every floe's centre of mass moved by [`PERTURBATION`] × `d_med`
 /// in a seeded random direction (see the module doc).
 pub fn perturbed(scn: &Scenario) -> Scenario {
-    let size = PERTURBATION * mean_diameter(scn);
+    let size = PERTURBATION * scn.median_floe_diameter();
     let mut rng = SplitMix64::new(SEED);
     let mut out = scn.clone();
     for f in &mut out.floes {
@@ -73,7 +74,7 @@ pub struct ChaosProbe {
     pub formulation: String,
     /// The relative perturbation of the initial positions.
     pub perturbation: f64,
-    /// `(t, D(t))`: the RMS position difference between the two runs, of `d̄`.
+    /// `(t, D(t))`: the RMS position difference between the two runs, of `d_med`.
     pub samples: Vec<(f64, f64)>,
     /// `max D / D(0)`.
     pub growth: f64,

@@ -5,8 +5,9 @@
 //! of mass (m) and the difference of its cumulative rotation angle (rad, not
 //! wrapped: a floe that turned a full turn more has turned 2π more). The
 //! position difference is summarised by its RMS over floes, divided by the
-//! mean floe diameter `d̄` (the mean of the equal-area diameters
-//! `2·sqrt(A/π)`), and by its maximum over floes, in metres. Runs in which
+//! median floe diameter `d_med` (the median of the equal-area diameters
+//! `2·sqrt(A/π)`, [`Scenario::median_floe_diameter`], the one length scale
+//! of the report), and by its maximum over floes, in metres. Runs in which
 //! floes broke are compared by the material of each initial floe (the
 //! mass-weighted centre of its pieces, [`material_rows`]).
 
@@ -34,7 +35,7 @@ pub struct TimeMismatch {
 pub struct DivergenceSample {
     /// Time, s.
     pub t: f64,
-    /// RMS over floes of the position difference, divided by the mean floe diameter (-).
+    /// RMS over floes of the position difference, divided by the median floe diameter (-).
     pub rms_position_rel: f64,
     /// Largest position difference of a floe, m.
     pub max_position_m: f64,
@@ -68,18 +69,6 @@ pub struct PairDivergence {
     pub diverged_at: Option<f64>,
 }
 
-/// The mean equal-area floe diameter `mean(2·sqrt(A/π))`, m.
-pub fn mean_diameter(scn: &Scenario) -> f64 {
-    if scn.floes.is_empty() {
-        return 0.0;
-    }
-    scn.floes
-        .iter()
-        .map(|f| 2.0 * (f.area / std::f64::consts::PI).sqrt())
-        .sum::<f64>()
-        / scn.floes.len() as f64
-}
-
 /// The trajectory cut into frames: one slice of rows per output time (the
 /// floes alive then, by id; every floe of the case when none breaks).
 pub fn frames(run: &RunResult) -> impl Iterator<Item = &[TrajectoryRow]> {
@@ -98,7 +87,7 @@ fn same_floes(a: &[TrajectoryRow], b: &[TrajectoryRow]) -> bool {
 
 /// The divergence between runs `a` and `b` of `scn`, over the output times
 /// both reached. `threshold` is on the RMS position difference relative to
-/// the mean floe diameter.
+/// the median floe diameter.
 ///
 /// When a floe broke in either run, each initial floe is followed through
 /// its descendants instead ([`material_rows`]): the runs are compared by
@@ -203,7 +192,7 @@ pub fn divergence_of_rows(
     (b, rows_b): (&str, &[TrajectoryRow]),
     threshold: f64,
 ) -> Result<PairDivergence, TimeMismatch> {
-    let d = mean_diameter(scn);
+    let d = scn.median_floe_diameter();
     let mut samples = Vec::new();
     for (fa, fb) in row_frames(rows_a).zip(row_frames(rows_b)) {
         // Rows of different floes cannot be compared ([`divergence`]

@@ -29,7 +29,7 @@ pub struct Args {
     #[arg(short, long, value_parser = clap::value_parser!(u64).range(1..))]
     jobs: Option<u64>,
     /// Divergence threshold: RMS position difference between two runs, as a
-    /// fraction of the mean floe diameter (-).
+    /// fraction of the median floe diameter (-).
     #[arg(long, default_value_t = 0.1)]
     threshold: f64,
     /// Smooth integrator, overriding the cases.

@@ -174,8 +174,19 @@ fn load_cases_for(
     allow: bool,
 ) -> Result<Vec<(PathBuf, Scenario)>, String> {
     let loaded = floebench::run::batch::load_cases(inputs).map_err(|e| e.to_string())?;
+    for (_, scn) in &loaded {
+        print_warnings(scn);
+    }
     refuse_ignored_contacts(names, loaded.iter().map(|(p, s)| (p.as_path(), s)), allow)?;
     Ok(loaded)
+}
+
+/// The warnings of a loaded case on stderr, one a line:
+/// `warning: <file>:<line>: …` (docs/case-format.md, "Warnings").
+fn print_warnings(scn: &Scenario) {
+    for w in &scn.source.warnings {
+        eprintln!("warning: {w}");
+    }
 }
 
 /// The command line, for the report pages (newlines and backquotes as spaces).

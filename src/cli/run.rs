@@ -1,6 +1,6 @@
 //! `floebench run`: one case with one formulation, its output files written.
 
-use super::{describe, refuse_ignored_contacts, Outcome, INTERRUPTED};
+use super::{describe, print_warnings, refuse_ignored_contacts, Outcome, INTERRUPTED};
 use floebench::formulation::{self, load_case, FormulationOptions};
 use floebench::model::IntegratorKind;
 use floebench::report::format::fmt_num;
@@ -74,6 +74,7 @@ pub fn run(args: Args) -> Outcome {
     } = args;
     let entry = formulation::entry(&name).map_err(|e| e.to_string())?;
     let mut scn = load_case(&case).map_err(|e| e.to_string())?;
+    print_warnings(&scn);
     if let Some(file) = from {
         output::read_state(&file, at)
             .and_then(|(t, bodies)| {

@@ -1,7 +1,7 @@
 //! `floebench validate`: load case files and describe them.
 
-use super::{describe, plural, Outcome};
-use floebench::formulation::load_case;
+use super::{describe, plural, print_warnings, Outcome};
+use floebench::formulation::validate_case;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -13,14 +13,18 @@ pub struct Args {
     cases: Vec<PathBuf>,
 }
 
-/// Describes every case file on stdout and names every bad one on stderr;
+/// Describes every case file on stdout and names every bad one on stderr,
+/// with the warnings of every good one (`warning: <file>:<line>: …`);
 /// fails when one is bad.
 pub fn run(args: Args) -> Outcome {
     let files = floebench::run::batch::case_files(&args.cases).map_err(|e| e.to_string())?;
     let mut bad = 0;
     for path in &files {
-        match load_case(path) {
-            Ok(scn) => println!("ok  {}", describe(&scn)),
+        match validate_case(path) {
+            Ok(scn) => {
+                println!("ok  {}", describe(&scn));
+                print_warnings(&scn);
+            }
             Err(e) => {
                 eprintln!("error: {e}");
                 bad += 1;

@@ -27,6 +27,7 @@ pub const ENTRY: Entry = Entry {
     name: "free-drift",
     description: "no contacts: every floe drifts under the environment forces alone",
     build: |scn, opts| Ok(Box::new(FreeDrift::new(scn, opts))),
+    check: None,
     settings: None,
     resolves_contacts: false,
     dumps_lcps: false,

@@ -33,8 +33,13 @@
 //! schemes (`moreau`, `moreau-cone`, `rapier`) step on `t_k = k h` and
 //! refuse a case whose output times are not on that grid
 //! ([`check_output_grid`]): they report only states of their own grid,
-//! never interpolated ones.
+//! never interpolated ones. That refusal is the formulation's
+//! [`Entry::check`], which its builder calls and which
+//! [`validate_case`] (`floebench validate`) and the batch (before any run)
+//! call too: a case is refused at validation, naming the file, the line and
+//! the key, by every check a formulation makes when it is built.
 
+mod checks;
 pub mod contact_solver;
 pub mod context;
 pub mod event_driven;
@@ -49,6 +54,7 @@ use crate::model::{
 use crate::physics::{SmoothIntegrator, StepRecord};
 use crate::record::{ContactLog, Counters, Settings, SolveProfile};
 use crate::state::System;
+pub use checks::{check_formulations, check_output_grid, validate_case, Check};
 pub use context::{Context, FixedTopology, ImpactAnswer, ImpactQuery, Interrupt, Reads, Topology};
 
 /// The smallest floe radius, or 1 m without floes: the length the default
@@ -348,24 +354,6 @@ pub fn grid_index(base: f64, h: f64, t: f64) -> Option<u64> {
     on.then_some(j as u64)
 }
 
-/// Refuses a case whose output times (`k × output_interval` and the
-/// duration) are not on the grid `t_k = k h` of a fixed step `h` (s): the
-/// fixed-step schemes report only states of their own grid. `what` names
-/// the formulation and `key` the setting, e.g. `[formulation.moreau] step`.
-pub fn check_output_grid(scn: &Scenario, what: &str, key: &str, h: f64) -> Result<(), String> {
-    for (name, value) in [
-        ("output_interval", scn.output_interval),
-        ("duration", scn.duration),
-    ] {
-        if grid_index(0.0, h, value).is_none_or(|j| j == 0) {
-            return Err(format!(
-                "{name} = {value} s is not a multiple of the {what} step {h} s ({key}): a fixed-step scheme reports only the states of its grid; choose a step that divides both output_interval and duration"
-            ));
-        }
-    }
-    Ok(())
-}
-
 /// Options shared by every formulation, from the command line.
 #[derive(Debug, Clone, Default)]
 pub struct FormulationOptions {
@@ -403,6 +391,11 @@ pub struct Entry {
     pub description: &'static str,
     /// Its builder.
     pub build: Builder,
+    /// What it refuses in a case when it is built (its settings against
+    /// the case's times), with the file and the line; its builder calls it,
+    /// and so do [`validate_case`] and the batch before any run (`None`:
+    /// it refuses nothing).
+    pub check: Option<Check>,
     /// The `[formulation.<table>]` it reads, with the table's parser (two
     /// entries may read the same table).
     pub settings: Option<TableSpec>,

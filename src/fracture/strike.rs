@@ -59,7 +59,7 @@ use crate::state::{BodyState, System};
 /// `seed`. The one place a [`LatticeSpec`] of a run is made.
 pub fn lattice_spec(s: &FractureSettings, floe: &Floe) -> LatticeSpec {
     LatticeSpec {
-        spacing: lattice_spacing(s, floe.area),
+        spacing: lattice_spacing(s, floe.area, &floe.shape),
         thickness: floe.thickness,
         density: floe.density,
         young: s.young,

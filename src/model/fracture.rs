@@ -28,14 +28,33 @@ pub use cohesive::{cohesive_max_spacing, cohesive_onset_strain};
 /// `√A`: four cells across, below which a lattice has no interior.
 pub const MAX_SPACING_FRACTION: f64 = 0.25;
 
-/// The lattice spacing (m) of a floe of area `area` (m²) in the case's
-/// `[fracture]` table: `spacing`, or [`DEFAULT_SPACING_FRACTION`] of `√A`,
-/// at most [`MAX_SPACING_FRACTION`] of it.
-pub fn lattice_spacing(s: &FractureSettings, area: f64) -> f64 {
+/// The lattice spacing (m) of a floe of area `area` (m²) and outline
+/// `shape` (m) in the case's `[fracture]` table: `spacing`, or the default
+/// [`DEFAULT_SPACING_FRACTION`] of `√A`; at most [`MAX_SPACING_FRACTION`]
+/// of `√A`. With `impact = "lattice"` the default is also at most
+/// [`max_spacing_across`] of the floe's narrowest width, so that the
+/// default passes the check of [`MIN_NODES_ACROSS`] (a floe whose
+/// `√A`/8 already passes keeps it: the rule changes only the spacing of
+/// the narrow floes that the check used to refuse).
+pub fn lattice_spacing(s: &FractureSettings, area: f64, shape: &[crate::geometry::Vec2]) -> f64 {
     let size = area.sqrt();
+    let default = || {
+        let d = DEFAULT_SPACING_FRACTION * size;
+        if s.lattice_impacts() {
+            d.min(max_spacing_across(min_width(shape)))
+        } else {
+            d
+        }
+    };
     s.spacing
-        .unwrap_or(DEFAULT_SPACING_FRACTION * size)
+        .unwrap_or_else(default)
         .min(MAX_SPACING_FRACTION * size)
+}
+
+/// The largest spacing (m) that puts [`MIN_NODES_ACROSS`] lattice nodes
+/// across a width `width` (m): `width / (MIN_NODES_ACROSS − 1)`.
+pub fn max_spacing_across(width: f64) -> f64 {
+    width / (MIN_NODES_ACROSS - 1.0)
 }
 
 /// The fewest lattice nodes across a floe's narrowest width that
@@ -269,18 +288,22 @@ impl FractureSettings {
         }
         for (i, f) in floes.iter().enumerate() {
             let width = min_width(&f.shape);
-            let spacing = lattice_spacing(self, f.area);
+            let spacing = lattice_spacing(self, f.area, &f.shape);
+            // The default spacing passes by construction ([`lattice_spacing`]);
+            // an explicit one is refused with the value that would do.
             if width / spacing + 1.0 < MIN_NODES_ACROSS {
-                let key = if self.spacing.is_some() {
-                    "spacing"
-                } else {
-                    "impact"
-                };
+                let largest = floes
+                    .iter()
+                    .map(|f| max_spacing_across(min_width(&f.shape)))
+                    .fold(f64::INFINITY, f64::min);
                 return Err(t.error(
-                    Some(key),
+                    Some("spacing"),
                     format!(
-                        "impact = \"lattice\": floe {i} is {width} m across at its narrowest, and its lattice spacing {spacing} m puts fewer than {MIN_NODES_ACROSS} nodes across it; set spacing <= {} m",
-                        width / (MIN_NODES_ACROSS - 1.0)
+                        "impact = \"lattice\": floe {i} ({}) is {} m across at its narrowest, and the lattice spacing {} m puts fewer than {MIN_NODES_ACROSS} nodes across it; spacing <= {} m would do for every floe (or leave spacing out: the default fits each floe)",
+                        f.origin.label(),
+                        crate::model::limits::show(width),
+                        crate::model::limits::show(spacing),
+                        crate::model::limits::show(largest)
                     ),
                 ));
             }

@@ -307,6 +307,27 @@ pub fn run_memory_bytes(floes: f64, outputs: f64) -> f64 {
     (outputs + 1.0) * (BYTES_PER_ROW * floes + BYTES_PER_OUTPUT) + BYTES_PER_FLOE * floes
 }
 
+/// CPU seconds per floe per simulated second of the rough run-time
+/// estimate [`rough_cpu_seconds`]: the rate of the default formulation
+/// (event-driven) on a 100-floe channel driven by the wind (5e-5; the
+/// 16-floe `cases/narrow_channel.toml` runs at 8e-6). A rough figure: it
+/// is known before running only to within one or two orders of magnitude
+/// (a jammed pack costs more per floe, free drift less), enough to tell
+/// a run of minutes from one of days.
+pub const ROUGH_CPU_PER_FLOE_SECOND: f64 = 5e-5;
+
+/// The CPU time above which loading a case warns ([`rough_cpu_seconds`]),
+/// s: one day.
+pub const CPU_WARNING_SECONDS: f64 = 86_400.0;
+
+/// A rough estimate of the CPU time of one run of `floes` floes over
+/// `duration` (s) before it runs, s: `floes × duration ×`
+/// [`ROUGH_CPU_PER_FLOE_SECOND`]. The run's own estimate (the progress
+/// bar's, from its measured rate) is known only once it runs.
+pub fn rough_cpu_seconds(floes: f64, duration: f64) -> f64 {
+    floes * duration * ROUGH_CPU_PER_FLOE_SECOND
+}
+
 /// The refusal of an interval `h` (s: a step, or the output interval) that
 /// gives more than `limit` (steps, outputs) over `duration` (s); `name` is
 /// the key as messages show it.

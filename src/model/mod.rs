@@ -16,6 +16,7 @@ pub mod fracture;
 pub mod limits;
 pub mod netcdf;
 pub mod settings;
+pub mod source;
 
 use crate::geometry::{area_properties, radius_about, Vec2};
 use serde::Serialize;
@@ -25,6 +26,7 @@ pub use case::{load_case_with, parse_case_with, CaseError};
 pub use forcing::{OutsideLog, VelocityField, VelocitySeries};
 pub use fracture::{FloeHistory, FractureSettings};
 pub use settings::{SettingsReader, SettingsTable, TableSpec};
+pub use source::{CaseSource, CaseWarning};
 
 /// Default ice density, kg/m³.
 pub const DEFAULT_ICE_DENSITY: f64 = 917.0;
@@ -101,6 +103,16 @@ pub enum FloeOrigin {
     },
 }
 
+impl FloeOrigin {
+    /// `[[floe]] #k` or `[[field]] #f floe i`, as messages name a floe.
+    pub fn label(&self) -> String {
+        match self {
+            FloeOrigin::Listed(k) => format!("[[floe]] #{k}"),
+            FloeOrigin::Field { field, index } => format!("[[field]] #{field} floe {index}"),
+        }
+    }
+}
+
 impl Floe {
     /// Builds a floe from its world outline at t = 0 (validated simple, CCW,
     /// by [`crate::geometry::check_simple_ccw`]).
@@ -156,6 +168,12 @@ impl Floe {
     /// Mass per unit area `ρ_i h`, kg/m².
     pub fn surface_density(&self) -> f64 {
         self.density * self.thickness
+    }
+
+    /// The equal-area diameter `2·sqrt(A/π)`, m: the diameter of the disc
+    /// of the floe's area.
+    pub fn diameter(&self) -> f64 {
+        2.0 * (self.area / std::f64::consts::PI).sqrt()
     }
 }
 
@@ -348,6 +366,11 @@ pub struct Scenario {
     /// loaded; during a run the floe set `floes` changes only by a fracture
     /// ([`crate::fracture::apply_split`]), which records here what it did.
     pub history: FloeHistory,
+    /// The case file, the lines of its keys and floes, and the warnings
+    /// found while loading it (empty for a scenario not read from a file;
+    /// not case data: not serialised).
+    #[serde(skip)]
+    pub source: CaseSource,
 }
 
 /// The earlier run a scenario starts from.
@@ -423,6 +446,24 @@ impl Scenario {
             return f64::INFINITY;
         }
         rho_h / (2.0 * kw * v)
+    }
+
+    /// The median equal-area floe diameter `d_med`, m ([`Floe::diameter`];
+    /// the mean of the two middle ones for an even count; 0 without
+    /// floes): the one length scale of the report, the unit of every
+    /// divergence between runs and of the chaos probe's perturbation
+    /// (docs/output-format.md). The median, not the mean, so that one floe
+    /// of another size (a floe written in the wrong units) does not set the
+    /// scale of all the others.
+    pub fn median_floe_diameter(&self) -> f64 {
+        let mut d: Vec<f64> = self.floes.iter().map(Floe::diameter).collect();
+        d.sort_by(f64::total_cmp);
+        let n = d.len();
+        match n {
+            0 => 0.0,
+            _ if n % 2 == 1 => d[n / 2],
+            _ => 0.5 * (d[n / 2 - 1] + d[n / 2]),
+        }
     }
 
     /// The smallest floe radius, m (infinite without floes).

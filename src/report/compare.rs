@@ -33,7 +33,7 @@ use super::ReportError;
 use crate::analysis::chaos::ChaosProbe;
 use crate::analysis::check::CheckOutcome;
 use crate::analysis::comparison::CaseComparison;
-use crate::analysis::divergence::{self, PairDivergence};
+use crate::analysis::divergence::PairDivergence;
 use crate::analysis::floe_sizes::FloeSizes;
 use crate::analysis::metrics::MetricRow;
 use crate::fsio::write_atomic;
@@ -130,7 +130,9 @@ struct CaseSummary<'a> {
     output_interval_s: f64,
     restitution: f64,
     friction: f64,
-    mean_diameter_m: f64,
+    /// The median equal-area floe diameter `d_med`, m: the unit of every
+    /// divergence.
+    median_diameter_m: f64,
     verdict: Vec<String>,
     /// Runs of each formulation.
     repeats: usize,
@@ -171,7 +173,7 @@ fn write_case(comp: &CaseComparison, dir: &Path, netcdf: bool) -> Result<CasePar
         output_interval_s: comp.scenario.output_interval,
         restitution: comp.scenario.contact.restitution,
         friction: comp.scenario.contact.friction,
-        mean_diameter_m: divergence::mean_diameter(&comp.scenario),
+        median_diameter_m: comp.scenario.median_floe_diameter(),
         verdict: verdict.clone(),
         repeats: comp.cpu.iter().map(Spread::count).max().unwrap_or(0),
         cpu: comp
@@ -299,8 +301,9 @@ pub fn write_report_with(
              (ranges up to 7 repeats) overlap or their medians are within 1.25×, and runs under 0.25 s are repeated until \
              they total that (docs/physics.md §6.6). The physics of the \
              repeats is bit-identical (checked). Δx is a floe's centre-of-mass distance between \
-             two runs at the same output time, d̄ the mean equal-area floe diameter: every \
-             divergence is in d̄. Verdicts rank formulations by their error to the exact \
+             two runs at the same output time, d_med the median equal-area floe diameter (the \
+             median, so that one floe of another size does not set the scale): every \
+             divergence is in d_med. Verdicts rank formulations by their error to the exact \
              answers where a check has one; divergence between runs says how much two runs \
              differ, not which is right. Data: each case's `metrics.csv`, `divergence.csv`, \
              `checks.csv`, `summary.json` and `<formulation>/` folder.",

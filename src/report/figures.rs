@@ -7,7 +7,7 @@
 //!   resolved and left vibrating): the ledger's split against time
 //!   (`lattice_energy.rs`);
 //! - `divergence`: RMS position difference from the reference (the first
-//!   formulation), relative to the mean floe diameter, with the threshold;
+//!   formulation), relative to the median floe diameter, with the threshold;
 //! - `paths`: the centre-of-mass paths of up to three floes (those that
 //!   travel furthest in the reference run), every formulation;
 //! - `snapshots`: the floe field at the start, middle and end, one column
@@ -253,7 +253,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 &LineChart {
                     title: &format!("{name}: divergence between runs, from {rname}"),
                     x_label: "t (s)",
-                    y_label: "RMS position difference / mean floe diameter d̄ (-)",
+                    y_label: "RMS position difference / median floe diameter d̄ (-)",
                     series: &series,
                     x_scale: Scale::Linear,
                     y_scale: Scale::Auto,
@@ -266,7 +266,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 "divergence",
                 format!("divergence between runs, from {rname}"),
                 &format!(
-                    "the RMS over floes of the distance between a floe's positions in two runs, in mean floe diameters d̄, against the threshold (black dashes); the dotted curve is {rname} against itself started from positions perturbed by 1e-12 d̄: its growth tells whether the case is chaotic"
+                    "the RMS over floes of the distance between a floe's positions in two runs, in median floe diameters d̄, against the threshold (black dashes); the dotted curve is {rname} against itself started from positions perturbed by 1e-12 d̄: its growth tells whether the case is chaotic"
                 ),
             );
         }

@@ -90,7 +90,7 @@ pub fn orders_csv(orders: &[Order]) -> String {
 /// The axis label of an error metric.
 fn metric_label(name: &str, unit: &str) -> String {
     let what = match name {
-        "position" => "max RMS position difference / d̄".to_string(),
+        "position" => "max RMS position difference / d_med".to_string(),
         "kinetic_final" => "final kinetic energy error".to_string(),
         "dissipated" => "dissipated energy error".to_string(),
         other => format!("{} error", other.strip_prefix("check:").unwrap_or(other)),
@@ -390,7 +390,7 @@ pub fn write_report(c: &Collected, out: &Path, command: &str) -> Result<Vec<Path
              {done} of {} points finished. CPU time is each run's own thread CPU seconds. \
              Errors are relative to the exact or reference value (absolute, in the unit shown, \
              where that value is 0); `position` is the largest RMS position difference from the \
-             reference run over the output times, divided by the mean floe diameter d̄; \
+             reference run over the output times, divided by the median floe diameter d_med; \
              `check:<id>` is the error of a physical check against its closed form. \
              Data: `sweep.csv`, `orders.csv`, one `points/<id>.json` per point.",
             env!("CARGO_PKG_VERSION"),

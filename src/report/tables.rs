@@ -182,8 +182,8 @@ pub(super) fn pairs_table(comp: &CaseComparison) -> Block {
     let header = [
         "a",
         "b",
-        "max RMS Δx / d̄",
-        "final RMS Δx / d̄",
+        "max RMS Δx / d_med",
+        "final RMS Δx / d_med",
         "max Δx (m)",
         "max Δθ (rad)",
         "diverged at (s)",
@@ -299,7 +299,7 @@ pub(super) fn headline(comps: &[CaseComparison]) -> Block {
         "Coulomb-law residual (max)",
         "E_k final (J)",
         "dissipated (J)",
-        "max divergence from the first (d̄)",
+        "max divergence from the first (d_med)",
         "checks passed",
     ];
     let mut rows = Vec::new();

@@ -8,7 +8,7 @@
 //! - **chaos**: whether a 1e-12 perturbation of the reference's initial
 //!   positions grows exponentially ([`crate::analysis::chaos`]);
 //! - **divergence between runs**: the RMS position difference from the
-//!   first formulation, in mean floe diameters `d̄` (the unit of every
+//!   first formulation, in median floe diameters `d_med` (the unit of every
 //!   divergence of the report), against the threshold; on a chaotic case it
 //!   is not a disagreement about the physics;
 //! - **dissipation** in contacts, ranked, ties within rounding;
@@ -154,12 +154,12 @@ fn divergence(comp: &CaseComparison, reference: &str) -> Option<String> {
         .iter()
         .map(|p| match p.diverged_at {
             None => format!(
-                "{} within it (max {} d̄)",
+                "{} within it (max {} d_med)",
                 p.b,
                 fmt_num(p.max_rms_position_rel)
             ),
             Some(t) => format!(
-                "{} beyond it from t = {} s (max {} d̄)",
+                "{} beyond it from t = {} s (max {} d_med)",
                 p.b,
                 fmt_num(t),
                 fmt_num(p.max_rms_position_rel)
@@ -167,7 +167,7 @@ fn divergence(comp: &CaseComparison, reference: &str) -> Option<String> {
         })
         .collect();
     Some(format!(
-        "Divergence between runs (RMS position difference from {reference}, in mean floe diameters d̄; threshold {thr} d̄): {}.",
+        "Divergence between runs (RMS position difference from {reference}, in median floe diameters d_med; threshold {thr} d_med): {}.",
         items.join("; ")
     ))
 }

@@ -246,6 +246,11 @@ pub fn run_jobs_aligned(
     // Every formulation must accept every case before anything runs.
     for job in &jobs {
         for name in &job.formulations {
+            // A refusal of the case ([`formulation::Entry::check`]) names
+            // its file and line itself.
+            if let Some(check) = formulation::entry(name).ok().and_then(|e| e.check) {
+                check(&job.scenario).map_err(|e| BatchError::Case(e.to_string()))?;
+            }
             formulation::build(name, &job.scenario, &fopts).map_err(|e| {
                 BatchError::Formulation(format!("{}: {name}: {e}", job.path.display()))
             })?;

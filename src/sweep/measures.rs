@@ -4,7 +4,7 @@
 //! | --- | --- | --- |
 //! | `cpu` | s | the run's thread CPU time ([`crate::run::Timing::cpu_total`]) |
 //! | `completed` | 1 | 1 when the run reached the case's duration, else 0 |
-//! | `position` | 1 | the largest, over the output times both runs reached, RMS over floes of the position difference from the reference run, divided by the mean floe diameter (`compare`'s `max_rms_position_rel`, [`crate::analysis::divergence`]) |
+//! | `position` | 1 | the largest, over the output times both runs reached, RMS over floes of the position difference from the reference run, divided by the median floe diameter (`compare`'s `max_rms_position_rel`, [`crate::analysis::divergence`]) |
 //! | `kinetic_final` | 1 (J) | `\|E_f − E_f,ref\| / \|E_f,ref\|` of the final kinetic energy |
 //! | `dissipated` | 1 (J) | the same for the energy dissipated by contacts |
 //! | `first_event` | 1 (s) | `\|t_e − t_1\| / t_1`: the time of the run's first contact event against the exact first impact `t_1` of a bouncing case (docs/physics.md §6.1); the event-driven scheme locates it early by about `δ/(10 v_1)` (its impact gap) |

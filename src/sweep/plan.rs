@@ -133,7 +133,7 @@ impl Reference {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Measure {
     /// `position`: the largest RMS position difference from the reference
-    /// run over the output times, relative to the mean floe diameter.
+    /// run over the output times, relative to the median floe diameter.
     Position,
     /// `kinetic_final`: the relative error of the final kinetic energy.
     KineticFinal,

@@ -148,7 +148,7 @@ fn compare_writes_every_promised_file_and_each_parses() {
             "file",
             "floes",
             "duration_s",
-            "mean_diameter_m",
+            "median_diameter_m",
             "verdict",
             "runs",
             "pairs",
@@ -268,7 +268,7 @@ fn identical_runs_do_not_diverge_and_the_touching_cradle_separates_formulations(
     // The metric is symmetric and its largest floe distance bounds the RMS.
     let back = divergence::divergence(&scn, &r, &a, 0.1).unwrap();
     assert_eq!(back.max_rms_position_rel, d.max_rms_position_rel);
-    let dbar = divergence::mean_diameter(&scn);
+    let dbar = scn.median_floe_diameter();
     for s in &d.samples {
         assert!(s.rms_position_rel * dbar <= s.max_position_m * (1.0 + 1e-12));
     }
@@ -391,7 +391,7 @@ fn verdicts_judge_against_the_exact_answers_with_ties_and_label_chaos() {
     assert!(probe.rate.unwrap() > 0.0 && probe.growth > 1e6);
     let v = verdict(pool);
     assert!(line(&v, "Chaotic case").contains("not a disagreement"));
-    assert!(line(&v, "Divergence between runs").contains("d̄"));
+    assert!(line(&v, "Divergence between runs").contains("d_med"));
 }
 
 #[test]

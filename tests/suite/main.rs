@@ -8,6 +8,7 @@ mod common;
 
 mod animation;
 mod case_files;
+mod case_warnings;
 mod check;
 mod cli;
 mod cohesive;

@@ -62,6 +62,7 @@ const ENTRY: Entry = Entry {
     name: "event-driven-frictionless",
     description: "the event-driven scheme with every friction coefficient set to 0",
     build: |scn, opts| Ok(Box::new(FrictionlessEventDriven::new(scn, opts)?)),
+    check: None,
     settings: None,
     resolves_contacts: true,
     dumps_lcps: true,

@@ -74,6 +74,7 @@ pub const ENTRY: Entry = Entry {
     name: "event-driven",
     description: "Rabatel (2015): advance to each impact, velocity-impulse LCP (Stewart-Trinkle friction) by Lemke, Poisson restitution",
     build: |scn, opts| Ok(Box::new(EventDriven::new(scn, opts)?)),
+    check: None,
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: true,

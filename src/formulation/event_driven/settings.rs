@@ -45,8 +45,10 @@ pub struct EventDrivenSettings {
     /// floe radius: see [`EventDrivenSettings::penetration_tolerance`]).
     pub penetration_tolerance: Option<f64>,
     /// `solver`: the method of the sustained-contact problems, `"lcp"`
-    /// (default: Lemke, exact Coulomb) or `"cone"` (the convex relaxation);
-    /// impacts are always the compression LCP of Poisson's law.
+    /// (default: Lemke, exact Coulomb), `"cone"` (the convex relaxation,
+    /// clarabel), `"nsgs"` or `"apgd"` (the iterative solvers,
+    /// [`crate::iterative`]); impacts are the compression LCP of Poisson's
+    /// law (solved by NSGS under `"nsgs"`, docs/case-format.md).
     pub solver: SolverKind,
     /// `warm_start`: start each LCP from the basis of its contacts' last
     /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes

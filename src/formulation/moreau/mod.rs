@@ -88,6 +88,7 @@ pub const ENTRY: Entry = Entry {
     name: "moreau",
     description: "Moreau-Jean time stepping: fixed step, theta-method, Newton impact law, one contact problem per step and group; solver from the case ([formulation.moreau] solver, default lcp: Lemke)",
     build: |scn, opts| Ok(Box::new(Moreau::new(scn, opts, None)?)),
+    check: Some(check),
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: true,
@@ -109,6 +110,7 @@ pub const CONE_ENTRY: Entry = Entry {
     name: "moreau-cone",
     description: "Moreau-Jean time stepping with the Anitescu-Tasora convex cone relaxation solved by clarabel (sliding contacts separate at mu |u_T|)",
     build: |scn, opts| Ok(Box::new(Moreau::new(scn, opts, Some(SolverKind::Cone))?)),
+    check: Some(check),
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: false,
@@ -171,6 +173,19 @@ pub struct Moreau {
     projection: Option<f64>,
 }
 
+/// What `moreau` and `moreau-cone` refuse in a case ([`Entry::check`]):
+/// output times off the grid of the step of `[formulation.moreau]`.
+fn check(scn: &Scenario) -> Result<(), CaseError> {
+    let s = MoreauSettings::of(scn)?;
+    check_output_grid(
+        scn,
+        "moreau",
+        &scn.settings_table(TABLE.name),
+        "step",
+        s.step,
+    )
+}
+
 impl Moreau {
     /// Sets up the formulation for `scn` with the case's
     /// `[formulation.moreau]` settings, the solver overridden by `solver`
@@ -181,12 +196,8 @@ impl Moreau {
         solver: Option<SolverKind>,
     ) -> Result<Moreau, String> {
         faer::set_global_parallelism(faer::Par::Seq);
+        check(scn).map_err(|e| e.to_string())?;
         let s = MoreauSettings::of(scn).map_err(|e| e.to_string())?;
-        let name = match solver {
-            Some(SolverKind::Cone) => CONE_ENTRY.name,
-            _ => ENTRY.name,
-        };
-        check_output_grid(scn, name, "[formulation.moreau] step", s.step)?;
         let rmin = scn.min_floe_radius();
         let activation_tolerance = if rmin.is_finite() {
             ACTIVATION_TOLERANCE_FRACTION * rmin

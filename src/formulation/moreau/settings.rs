@@ -75,8 +75,10 @@ pub struct MoreauSettings {
     /// `gamma`: γ of the predicted gap `g + h γ u_N` activating a contact, in
     /// [0, 1] (default 0.5, Acary & Brogliato's choice).
     pub gamma: f64,
-    /// `solver`: the one-step contact solver, `"lcp"` (default) or `"cone"`;
-    /// the entry `moreau-cone` overrides it.
+    /// `solver`: the one-step contact solver, `"lcp"` (default: Lemke,
+    /// exact Coulomb), `"cone"` (the convex relaxation, clarabel), `"nsgs"`
+    /// or `"apgd"` (the iterative solvers, [`crate::iterative`]); the entry
+    /// `moreau-cone` overrides it with `"cone"`.
     pub solver: SolverKind,
     /// `warm_start`: start each LCP from the basis of its contacts' last
     /// accepted solution (default [`DEFAULT_WARM_START`]: off, as it changes

@@ -60,6 +60,7 @@ pub const ENTRY: Entry = Entry {
     name: "rapier",
     description: "rapier2d-f64 0.36: soft contacts (TGS-soft, substeps), restitution on new contacts only; the regularised reference",
     build: |scn, opts| Ok(Box::new(RapierReference::new(scn, opts)?)),
+    check: Some(check),
     settings: Some(TABLE),
     resolves_contacts: true,
     dumps_lcps: false,
@@ -226,11 +227,24 @@ impl std::fmt::Debug for RapierReference {
     }
 }
 
+/// What `rapier` refuses in a case ([`Entry::check`]): output times off
+/// the grid of the step of `[formulation.rapier]`.
+fn check(scn: &Scenario) -> Result<(), CaseError> {
+    let settings = Resolved::of(scn)?;
+    check_output_grid(
+        scn,
+        ENTRY.name,
+        &scn.settings_table(TABLE.name),
+        "step",
+        settings.step,
+    )
+}
+
 impl RapierReference {
     /// Sets up rapier for `scn`. Fails if parry rejects a polygon.
     pub fn new(scn: &Scenario, _opts: &FormulationOptions) -> Result<RapierReference, String> {
+        check(scn).map_err(|e| e.to_string())?;
         let settings = Resolved::of(scn).map_err(|e| e.to_string())?;
-        check_output_grid(scn, ENTRY.name, "[formulation.rapier] step", settings.step)?;
         let params = settings.integration_parameters(settings.step);
         let mut bodies = RigidBodySet::new();
         let mut colliders = ColliderSet::new();

@@ -9,12 +9,13 @@ use super::environment::{check_grid_times, environment};
 use super::fields::{fields, floe_total, validate_field};
 use super::overlap::check_overlaps;
 use super::spec::{CaseFile, CaseHeader, ContactSpec, FloeSpec, IntegratorSpec, ObstacleSpec};
+use super::warnings::find_warnings;
 use super::{vec2, CaseError, Ctx};
 use crate::geometry::{area_properties, check_simple_ccw, radius_about, Vec2};
 use crate::model::limits::{self, check_count};
 use crate::model::settings::{SettingsTable, TableSpec};
 use crate::model::{
-    ContactLaw, Floe, FloeHistory, FloeOrigin, FractureSettings, IntegratorKind,
+    CaseSource, ContactLaw, Floe, FloeHistory, FloeOrigin, FractureSettings, IntegratorKind,
     IntegratorSettings, Obstacle, Scenario,
 };
 use std::collections::BTreeMap;
@@ -50,6 +51,11 @@ pub(super) fn build(
     check_memory(ctx, &hspan, &header, total)?;
     // Listed floes must not overlap each other or an obstacle.
     check_overlaps(ctx, &floes, &floe_spans, &obstacles, &obstacle_spans)?;
+    let field_lines: Vec<usize> = case
+        .field
+        .iter()
+        .map(|f| ctx.line_of(f.span().start))
+        .collect();
     fields(ctx, case.field, &mut floes, &obstacles)?;
     let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
     let integrator = integrator(ctx, case.integrator, header.duration)?;
@@ -57,8 +63,38 @@ pub(super) fn build(
     for (i, f) in floes.iter_mut().enumerate() {
         f.id = i;
     }
+    // Every other rule first: an empty case is refused last.
+    if floes.is_empty() {
+        return Err(ctx.err(
+            Some(hspan.clone()),
+            format!(
+                "case `{}` has no floe ({}): a case needs at least one floe (a [[floe]] table, or a [[field]] with count > 0)",
+                header.name,
+                match obstacles.len() {
+                    0 => "and no obstacle".to_string(),
+                    n => format!("only {n} obstacle{}", if n == 1 { "" } else { "s" }),
+                }
+            ),
+        ));
+    }
+    let source = CaseSource {
+        file: ctx.file.to_path_buf(),
+        case_lines: ["duration", "output_interval", "name"]
+            .into_iter()
+            .filter_map(|k| ctx.key_line(&hspan, k).map(|l| (k.to_string(), l)))
+            .chain([("case".to_string(), ctx.line_of(hspan.start))])
+            .collect(),
+        floe_lines: floes
+            .iter()
+            .map(|f| match f.origin {
+                FloeOrigin::Listed(k) => floe_spans.get(k).map(|s| ctx.line_of(s.start)),
+                FloeOrigin::Field { field, .. } => field_lines.get(field).copied(),
+            })
+            .collect(),
+        warnings: Vec::new(),
+    };
     let history = FloeHistory::new(floes.len());
-    Ok(Scenario {
+    let mut scn = Scenario {
         name: header.name,
         description: header.description,
         duration: header.duration,
@@ -72,7 +108,10 @@ pub(super) fn build(
         restart: None,
         fracture,
         history,
-    })
+        source,
+    };
+    find_warnings(&mut scn);
+    Ok(scn)
 }
 
 /// `[case]`: the name (it names output folders), the duration and the
@@ -266,10 +305,7 @@ fn fracture_table(
     let span = spec.span();
     // The split (src/fracture/split.rs) cuts a convex floe along a chord.
     if let Some((i, f)) = floes.iter().enumerate().find(|(_, f)| !f.is_convex()) {
-        let which = match f.origin {
-            FloeOrigin::Listed(k) => format!("[[floe]] #{k}"),
-            FloeOrigin::Field { field, index } => format!("[[field]] #{field} floe {index}"),
-        };
+        let which = f.origin.label();
         return Err(ctx.err(
             Some(span),
             format!(

@@ -62,28 +62,14 @@ fn fluid(
         ctx.at(span, which, limit.check(&name, v))?;
     }
     let kind = f.field.as_deref().unwrap_or("uniform");
-    let allowed: &[&str] = match kind {
-        "uniform" => &["velocity", "series"],
-        "linear" => &["velocity", "at", "gradient", "extent", "outside", "scale"],
-        "vortex" => &["center", "radius", "speed", "center_velocity", "scale"],
-        "netcdf" => &["file", "variables", "origin", "start", "outside"],
-        other => {
-            return Err(ctx.key_err(
-                span,
-                "field",
-                format!(
-                    "[environment] {which}.field = {other:?}: expected \"uniform\", \"linear\", \"vortex\" or \"netcdf\""
-                ),
-            ))
-        }
-    };
-    if let Some(key) = f.written().into_iter().find(|k| !allowed.contains(k)) {
+    // The keys of each field are checked before the typed reading
+    // ([`check_field_keys`]); here only the field's name.
+    if field_keys(kind).is_none() {
         return Err(ctx.key_err(
             span,
-            key,
+            "field",
             format!(
-                "[environment] {which}.{key} does not belong to field = \"{kind}\" (its keys: {})",
-                allowed.join(", ")
+                "[environment] {which}.field = {kind:?}: expected \"uniform\", \"linear\", \"vortex\" or \"netcdf\""
             ),
         ));
     }
@@ -98,6 +84,95 @@ fn fluid(
         drag: f.drag,
         velocity,
     })
+}
+
+/// The fields of a fluid's velocity, with the keys each takes (beside
+/// `density`, `drag` and `field`), docs/case-format.md "Forcing fields".
+const FIELDS: &[(&str, &[&str])] = &[
+    ("uniform", &["velocity", "series"]),
+    (
+        "linear",
+        &["velocity", "at", "gradient", "extent", "outside", "scale"],
+    ),
+    (
+        "vortex",
+        &["center", "radius", "speed", "center_velocity", "scale"],
+    ),
+    (
+        "netcdf",
+        &["file", "variables", "origin", "start", "outside"],
+    ),
+];
+
+/// The keys field `kind` takes (`None` for an unknown field).
+fn field_keys(kind: &str) -> Option<&'static [&'static str]> {
+    FIELDS.iter().find(|f| f.0 == kind).map(|f| f.1)
+}
+
+/// `[environment]` as far as [`check_field_keys`] reads it: each fluid's
+/// keys, whatever their values.
+#[derive(serde::Deserialize)]
+struct RawCase {
+    environment: Option<Spanned<RawEnv>>,
+}
+
+#[derive(serde::Deserialize)]
+struct RawEnv {
+    air: Option<Spanned<toml::Table>>,
+    water: Option<Spanned<toml::Table>>,
+}
+
+/// Refuses a key of another field in a fluid's table (`radius`, a vortex
+/// key, in a uniform field), before the typed reading, whose message would
+/// be about the value's type: the key is named, with the fields it belongs
+/// to and the keys of the fluid's own field. An unknown key (a typo) and
+/// an unknown field are left to the typed reading, which names them.
+pub(super) fn check_field_keys(ctx: &Ctx) -> Result<(), CaseError> {
+    let Ok(RawCase {
+        environment: Some(env),
+    }) = toml::from_str::<RawCase>(ctx.text)
+    else {
+        return Ok(());
+    };
+    let env_span = env.span();
+    let env = env.into_inner();
+    for (which, fluid) in [("air", env.air), ("water", env.water)] {
+        let Some(fluid) = fluid else { continue };
+        let span = if fluid.span().start < ctx.text.len() {
+            fluid.span()
+        } else {
+            env_span.clone()
+        };
+        let table = fluid.into_inner();
+        let kind = match table.get("field") {
+            None => "uniform",
+            Some(toml::Value::String(k)) => k.as_str(),
+            Some(_) => continue,
+        };
+        let Some(allowed) = field_keys(kind) else {
+            continue;
+        };
+        for key in table.keys() {
+            let owners: Vec<String> = FIELDS
+                .iter()
+                .filter(|f| f.1.contains(&key.as_str()))
+                .map(|f| format!("field = \"{}\"", f.0))
+                .collect();
+            if owners.is_empty() || allowed.contains(&key.as_str()) {
+                continue;
+            }
+            return Err(ctx.key_err(
+                &span,
+                key,
+                format!(
+                    "[environment] {which}.{key} does not belong to field = \"{kind}\" (its keys: {}); `{key}` is a key of {}",
+                    allowed.join(", "),
+                    owners.join(" and ")
+                ),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A key that a field needs.

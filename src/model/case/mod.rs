@@ -18,10 +18,12 @@ mod fields;
 mod messages;
 mod overlap;
 mod spec;
+mod warnings;
 
 pub(crate) use messages::closest;
 
 pub use spec::FieldSpec;
+pub use warnings::{EXTENT_FACTOR, SIZE_SPAN};
 
 use super::limits;
 use super::settings::TableSpec;
@@ -206,6 +208,7 @@ pub fn parse_case_with(
     // Syntax first, then the version, before any typed rule.
     let raw: toml::Table = toml::from_str(text).map_err(|e| ctx.toml_err(&e))?;
     check_version(&ctx, &raw)?;
+    environment::check_field_keys(&ctx)?;
     let case: CaseFile = toml::from_str(text).map_err(|e| ctx.toml_err(&e))?;
     build(&ctx, case, tables)
 }

@@ -203,34 +203,6 @@ pub(super) struct FluidSpec {
     pub(super) start: Option<String>,
 }
 
-impl FluidSpec {
-    /// The keys written, by name, for the per-field rules.
-    pub(super) fn written(&self) -> Vec<&'static str> {
-        let mut k = Vec::new();
-        let mut add = |name, present: bool| {
-            if present {
-                k.push(name)
-            }
-        };
-        add("velocity", self.velocity.is_some());
-        add("series", self.series.is_some());
-        add("at", self.at.is_some());
-        add("gradient", self.gradient.is_some());
-        add("extent", self.extent.is_some());
-        add("outside", self.outside.is_some());
-        add("scale", self.scale.is_some());
-        add("center", self.center.is_some());
-        add("radius", self.radius.is_some());
-        add("speed", self.speed.is_some());
-        add("center_velocity", self.center_velocity.is_some());
-        add("file", self.file.is_some());
-        add("variables", self.variables.is_some());
-        add("origin", self.origin.is_some());
-        add("start", self.start.is_some());
-        k
-    }
-}
-
 /// An optional `[[a, b], [c, d]]`, each array of exactly 2 values.
 fn exact_opt_box<'de, D: Deserializer<'de>>(d: D) -> Result<Option<[[f64; 2]; 2]>, D::Error> {
     Option::<Exact<Exact<f64, 2>, 2>>::deserialize(d).map(|e| e.map(|e| e.0.map(|p| p.0)))

@@ -58,7 +58,7 @@ impl FractureSettings {
         }
         let max = cohesive_max_spacing(self.toughness, self.strength, self.young, self.poisson);
         for (i, f) in floes.iter().enumerate() {
-            let spacing = lattice_spacing(self, f.area);
+            let spacing = lattice_spacing(self, f.area, &f.shape);
             if spacing >= max {
                 let key = if self.spacing.is_some() {
                     "spacing"

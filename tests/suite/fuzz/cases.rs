@@ -24,7 +24,7 @@ fn lattice_nodes(scn: &Scenario) -> f64 {
     scn.floes
         .iter()
         .map(|f| {
-            let s = floebench::fracture::strike::lattice_spacing(&scn.fracture, f.area);
+            let s = floebench::fracture::strike::lattice_spacing(&scn.fracture, f.area, &f.shape);
             f.area / (0.5 * 3f64.sqrt() * s * s)
         })
         .fold(0.0, f64::max)

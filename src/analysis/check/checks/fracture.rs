@@ -10,6 +10,7 @@ use crate::analysis::check::structure::{
 use crate::analysis::check::{FRACTURE_CONSERVATION_TOLERANCE, RAM_CRITICAL_SPEED_TOLERANCE};
 use crate::fracture::split::cut;
 use crate::fracture::strike::{spin_prestress, SPIN_PRESTRESS_LIMIT};
+use crate::geometry::Vec2;
 use crate::model::fracture::lattice_spacing;
 use crate::model::fracture::FractureModel;
 
@@ -122,7 +123,9 @@ pub(super) fn lattice_spin(r: &mut Rows) {
             .map(|p| p[0].hypot(p[1]))
             .fold(0.0, f64::max);
         let density = f.mass / (f.area * f.thickness);
-        let ratio = spin_prestress(s, density, radius, row.omega, lattice_spacing(s, f.area));
+        let shape: Vec<Vec2> = f.polygon.iter().map(|p| Vec2::new(p[0], p[1])).collect();
+        let spacing = lattice_spacing(s, f.area, &shape);
+        let ratio = spin_prestress(s, density, radius, row.omega, spacing);
         if at.is_none() || ratio > worst {
             (worst, at) = (ratio, Some((fr.parent, fr.t)));
         }
