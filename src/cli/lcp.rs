@@ -1,6 +1,6 @@
 //! `floebench lcp`: re-solve a dumped LCP, or time every dump of a folder.
 
-use super::{count, Outcome};
+use super::{count, writable_file, Outcome};
 use floebench::fsio;
 use floebench::lcp::timing::{self, TimingOptions};
 use floebench::lcp::{residual, solve, Covering, LcpDump, SolveOptions};
@@ -49,7 +49,7 @@ pub struct Args {
         long,
         value_name = "R",
         requires = "time",
-        alias = "small-unpolished-below"
+        visible_alias = "small-unpolished-below"
     )]
     unpolished_below: Option<f64>,
     /// Pivot tolerance of the Lemke attempts (relative to the largest
@@ -75,6 +75,9 @@ pub struct Args {
 pub fn run(args: Args) -> Outcome {
     if args.time {
         let opts = timing_options(&args)?;
+        if let Some(file) = &args.csv {
+            writable_file("--csv", file)?;
+        }
         time_lcps(&args.path, &opts, args.csv.as_deref())
     } else if args.path.is_dir() {
         Err(format!(

@@ -40,7 +40,11 @@ impl std::str::FromStr for Choice {
                 .parse::<SolverKind>()
                 .map(Choice::Direct)
                 .map_err(|_| {
-                    format!("unknown solver `{other}`; expected `lcp`, `cone`, `nsgs` or `apgd`")
+                    let hint = crate::model::case::closest(other, &["lcp", "cone", "nsgs", "apgd"])
+                        .map_or(String::new(), |k| format!(" (did you mean `{k}`?)"));
+                    format!(
+                        "unknown solver `{other}`{hint}; expected `lcp`, `cone`, `nsgs` or `apgd`"
+                    )
                 }),
         }
     }
