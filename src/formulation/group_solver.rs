@@ -206,7 +206,7 @@ impl GroupSolver {
         a: Answer,
         t: f64,
     ) -> GroupAnswer {
-        if !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
+        if a.outcome.interrupted || !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
             return self.iterative_answer(prob, a, t);
         }
         // The NSGS problem itself: one friction pair per point (merged
@@ -247,15 +247,21 @@ impl GroupSolver {
     /// Records the iterative answer `a` of `prob` and returns it.
     fn iterative_answer(&mut self, prob: &SparseContacts, a: Answer, t: f64) -> GroupAnswer {
         let o = a.outcome;
-        self.accuracy.iterative(
-            o.residual,
-            o.iterations,
-            o.converged,
-            prob.len(),
-            a.warm_hits,
-        );
+        if o.interrupted {
+            // Cut short by a stop request: counted apart, not as an
+            // unconverged solve; the run discards the step (crate::stop).
+            self.direct.count_interrupted();
+        } else {
+            self.accuracy.iterative(
+                o.residual,
+                o.iterations,
+                o.converged,
+                prob.len(),
+                a.warm_hits,
+            );
+        }
         let (normal, tangential) = (a.normal(), a.tangential());
-        if prob.friction() {
+        if prob.friction() && !o.interrupted {
             self.direct
                 .check_coulomb(t, &normal, &tangential, prob.mu, &[]);
         }
@@ -317,8 +323,12 @@ impl GroupSolver {
             .zip(&tangential)
             .map(|(l, b)| [*l, *b])
             .collect();
-        let res = prob.residual(&p, true);
-        self.accuracy.direct(res, self.direct.work() - work);
+        // A solve cut short by a stop request (counted by the direct
+        // solver) is no measure of its accuracy: the run discards the step.
+        if !crate::stop::requested() {
+            let res = prob.residual(&p, true);
+            self.accuracy.direct(res, self.direct.work() - work);
+        }
         direct_answer(&lcp, &z)
     }
 

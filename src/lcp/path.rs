@@ -151,6 +151,9 @@ pub(crate) fn run<B: Basis>(
         if e.pivots() >= max_pivots {
             return (Termination::MaxPivots, Some("pivot cap reached"));
         }
+        if crate::stop::poll(e.pivots() as u64) {
+            return (Termination::Interrupted, Some("a stop was asked for"));
+        }
         if !e.load(entering) {
             return (
                 Termination::NumericalFailure,
