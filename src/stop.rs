@@ -87,7 +87,7 @@ pub fn requested() -> bool {
 /// loops' pivot, sweep or step count), so that a loop pays one poll per
 /// [`POLL_EVERY`] rounds.
 pub fn poll(k: u64) -> bool {
-    k % POLL_EVERY == 0 && requested()
+    k.is_multiple_of(POLL_EVERY) && requested()
 }
 
 /// The guard of [`current`]: restores the thread's earlier handle when

@@ -260,7 +260,10 @@ fn every_option_of_every_help_is_in_docs_commands() {
     // The names the help shows.
     let (_, help, _) = cli(&["run".as_ref(), "--help".as_ref()]);
     assert!(help.contains("-f, --formulation <NAME>"), "{help}");
-    assert!(help.contains("docs/output-format.md") && !help.contains("README"), "{help}");
+    assert!(
+        help.contains("docs/output-format.md") && !help.contains("README"),
+        "{help}"
+    );
     let (_, help, _) = cli(&["--help".as_ref()]);
     assert!(
         help.contains("floebench compare cases/head_on.toml")

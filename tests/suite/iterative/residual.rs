@@ -101,6 +101,7 @@ fn a_capped_answer_that_creates_energy_is_continued_until_it_does_not() {
                 iterations: 1,
                 residual: 1.0,
                 converged: false,
+                interrupted: false,
             },
             warm_hits: 0,
         };
