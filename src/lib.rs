@@ -14,9 +14,9 @@
 //! layers before it (`python3 tools/arch/imports.py` lists the imports
 //! that do not):
 //!
-//! 0. geometry, rng, fsio, record, lcp: the foundations (polygons and the broad
-//!    phase, the seeded generator, atomic file writes, the reporting vocabulary,
-//!    LCPs and their solvers);
+//! 0. geometry, rng, fsio, stop, record, lcp: the foundations (polygons and the broad
+//!    phase, the seeded generator, atomic file writes, the stop request polled
+//!    inside long solves, the reporting vocabulary, LCPs and their solvers);
 //! 1. model: pure data (floes, cases, fields, forcing, limits, material
 //!    constants) and its input readers (case files, CF NetCDF forcing);
 //! 2. contact: detection and the contact problems;
@@ -38,7 +38,8 @@
 //!   obstacles, environment, contact law, settings);
 //! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]),
 //!   the sweep-and-prune broad phase;
-//! - [`fsio`]: atomic file writes (temporary file, then rename);
+//! - [`fsio`]: atomic file writes (temporary file, then rename), the probe of an output folder;
+//! - [`stop`]: the stop request (SIGINT, SIGTERM) and its poll inside long solves;
 //! - [`contact`]: shared contact detection (sweep and prune, convex polygon contact points);
 //! - [`lcp`]: linear complementarity problems, our Lemke solver with fallbacks, dumps;
 //! - [`iterative`]: the iterative contact solvers of dense packs (NSGS, APGD) on the sparse
@@ -78,4 +79,5 @@ pub mod report;
 pub mod rng;
 pub mod run;
 pub mod state;
+pub mod stop;
 pub mod sweep;

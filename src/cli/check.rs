@@ -1,6 +1,8 @@
 //! `floebench check`: the physical checks of cases, as a table.
 
-use super::{count, known_formulations, load_cases_for, plural, Outcome, INTERRUPTED};
+use super::{
+    count, known_formulations, load_cases_for, plural, writable_file, Outcome, INTERRUPTED,
+};
 use floebench::analysis::check;
 use floebench::report::checks::{format_table, markdown_table};
 use floebench::run::batch::{self, BatchOptions};
@@ -20,6 +22,9 @@ pub struct Args {
     /// Also write the table as Markdown to this file.
     #[arg(long, value_name = "FILE")]
     markdown: Option<PathBuf>,
+    /// Runs at a time, at least 1 [default: the number of cores].
+    #[arg(short, long, value_parser = clap::value_parser!(u64).range(1..))]
+    jobs: Option<u64>,
     /// Runs of each (case, formulation), at least 1: CPU times are reported
     /// as median and spread, and the physics of the repeats must be
     /// bit-identical (a difference is reported as a finding). With 2 or
@@ -48,7 +53,13 @@ pub fn run(args: Args) -> Outcome {
     if let Some(f) = args.formulations {
         opts.formulations = f;
     }
+    if let Some(j) = args.jobs {
+        opts.jobs = count(j);
+    }
     known_formulations(&opts.formulations)?;
+    if let Some(file) = &args.markdown {
+        writable_file("--markdown", file)?;
+    }
     let loaded = load_cases_for(&args.cases, &opts.formulations, args.allow_contacts)?;
     let done = batch::run_cases(loaded, &opts).map_err(|e| e.to_string())?;
     let rows: Vec<check::CheckOutcome> = done

@@ -2,7 +2,8 @@
 //! comparison report.
 
 use super::{
-    command_line, count, describe, known_formulations, load_cases_for, plural, Outcome, INTERRUPTED,
+    command_line, count, describe, known_formulations, load_cases_for, plural, writable_folder,
+    Outcome, INTERRUPTED,
 };
 use floebench::compare::{self, CompareOptions};
 use floebench::model::IntegratorKind;
@@ -22,9 +23,16 @@ pub struct Args {
     /// applies; free-drift only on contact-free cases].
     #[arg(short, long, value_delimiter = ',')]
     formulations: Option<Vec<String>>,
-    /// Report folder.
+    /// Report folder. A folder holding the cases of an earlier report that
+    /// this one does not have is refused before any run (see --replace);
+    /// a case folder of the same name is replaced.
     #[arg(short, long, default_value = "reports")]
     out: PathBuf,
+    /// Remove, once the new report is written, the case folders of an
+    /// earlier report in the output folder that this one does not have,
+    /// so the folder holds what its page shows (not when interrupted).
+    #[arg(long)]
+    replace: bool,
     /// Runs at a time, at least 1 [default: the number of cores].
     #[arg(short, long, value_parser = clap::value_parser!(u64).range(1..))]
     jobs: Option<u64>,
@@ -32,7 +40,9 @@ pub struct Args {
     /// fraction of the median floe diameter (-).
     #[arg(long, default_value_t = 0.1)]
     threshold: f64,
-    /// Smooth integrator, overriding the cases.
+    /// Smooth integrator of every run, overriding the cases: `dopri5`
+    /// (adaptive, exact for constant forces) or `euler` (explicit, as in
+    /// Rabatel's report).
     #[arg(long)]
     integrator: Option<IntegratorKind>,
     /// Runs of each (case, formulation), at least 1: CPU times are reported
@@ -54,10 +64,12 @@ pub struct Args {
     quiet: bool,
 }
 
-/// Runs the comparison, writes the report, prints each case's verdicts and
-/// removes the case folders of an earlier report not in this one (not when
-/// interrupted: then the status is [`INTERRUPTED`]). The arguments and the
-/// output folder are checked before any run.
+/// Runs the comparison, writes the report and prints each case's verdicts;
+/// with `--replace`, removes the case folders of an earlier report not in
+/// this one (not when interrupted: then the status is [`INTERRUPTED`]).
+/// The arguments and the output folder (that it can be written, and that
+/// it holds no earlier case without `--replace`) are checked before any
+/// run.
 pub fn run(args: Args) -> Outcome {
     let mut opts = CompareOptions {
         progress: !args.quiet,
@@ -82,6 +94,17 @@ pub fn run(args: Args) -> Outcome {
     let names: Vec<&str> = names.iter().map(String::as_str).collect();
     // The output folder is checked before any run: a mistake costs nothing.
     report::folder::check(out, &names).map_err(|e| format!("-o: {e}"))?;
+    let earlier = report::folder::earlier(out, &names).map_err(|e| format!("-o: {e}"))?;
+    if !(earlier.is_empty() || args.replace) {
+        return Err(format!(
+            "-o: {} holds {} of an earlier report that this one does not have ({}); \
+             --replace removes them once this report is written, or choose another -o",
+            out.display(),
+            plural(earlier.len(), "case folder"),
+            earlier.join(", ")
+        ));
+    }
+    writable_folder("-o", out)?;
     for (_, scn) in &loaded {
         eprintln!("{}", describe(scn));
     }
@@ -124,10 +147,13 @@ pub fn run(args: Args) -> Outcome {
         // The unfinished cases' earlier folders are kept, not cleared.
         return Ok(ExitCode::from(INTERRUPTED));
     }
+    if !args.replace {
+        return Ok(ExitCode::SUCCESS);
+    }
     let removed = report::folder::remove_stale(out, &reported).map_err(|e| e.to_string())?;
     for dir in removed {
         eprintln!(
-            "removed {} (a case of an earlier report into this folder, not in this one)",
+            "removed {} (a case of an earlier report into this folder, not in this one: --replace)",
             dir.display()
         );
     }

@@ -1,6 +1,6 @@
 //! `floebench lcp`: re-solve a dumped LCP, or time every dump of a folder.
 
-use super::{count, Outcome};
+use super::{count, writable_file, Outcome, INTERRUPTED};
 use floebench::fsio;
 use floebench::lcp::timing::{self, TimingOptions};
 use floebench::lcp::{residual, solve, Covering, LcpDump, SolveOptions};
@@ -49,7 +49,7 @@ pub struct Args {
         long,
         value_name = "R",
         requires = "time",
-        alias = "small-unpolished-below"
+        visible_alias = "small-unpolished-below"
     )]
     unpolished_below: Option<f64>,
     /// Pivot tolerance of the Lemke attempts (relative to the largest
@@ -75,6 +75,9 @@ pub struct Args {
 pub fn run(args: Args) -> Outcome {
     if args.time {
         let opts = timing_options(&args)?;
+        if let Some(file) = &args.csv {
+            writable_file("--csv", file)?;
+        }
         time_lcps(&args.path, &opts, args.csv.as_deref())
     } else if args.path.is_dir() {
         Err(format!(
@@ -169,7 +172,9 @@ fn resolve_lcp(file: &Path) -> Outcome {
             fmt_num(a.residual)
         );
     }
-    if sol.status.is_solved() {
+    if sol.status == floebench::lcp::SolveStatus::Interrupted {
+        Ok(ExitCode::from(INTERRUPTED))
+    } else if sol.status.is_solved() {
         Ok(ExitCode::SUCCESS)
     } else {
         Ok(ExitCode::FAILURE)
@@ -187,11 +192,19 @@ fn time_lcps(path: &Path, opts: &TimingOptions, csv: Option<&Path>) -> Outcome {
     if files.is_empty() {
         return Err(format!("no *.json dump in {}", path.display()));
     }
-    let rows = files
-        .iter()
-        .map(|f| timing::time_file(f, opts))
-        .collect::<Result<Vec<_>, _>>()
-        .map_err(|e| e.to_string())?;
+    let mut rows = Vec::with_capacity(files.len());
+    for f in &files {
+        if floebench::run::interrupt::requested() {
+            // A signal: the solves it cut short are no timing.
+            eprintln!("interrupted: nothing written");
+            return Ok(ExitCode::from(INTERRUPTED));
+        }
+        rows.push(timing::time_file(f, opts).map_err(|e| e.to_string())?);
+    }
+    if floebench::run::interrupt::requested() {
+        eprintln!("interrupted: nothing written");
+        return Ok(ExitCode::from(INTERRUPTED));
+    }
     if let Some(file) = csv {
         fsio::write_atomic(file, timing::csv(&rows).as_bytes())
             .map_err(|e| format!("cannot write {}: {e}", file.display()))?;

@@ -28,7 +28,7 @@ use std::process::ExitCode;
     about = "Contact mechanics of sea-ice floes: run the same cases with several contact formulations",
     long_about = "floebench runs sea-ice floe scenarios (TOML case files, see docs/case-format.md) \
                   with several contact formulations and writes trajectories, energy ledgers \
-                  and counters as CSV/JSON.\n\nStart with:\n  floebench validate cases/free_drift_coriolis.toml\n  floebench run cases/free_drift_coriolis.toml"
+                  and counters as CSV/JSON.\n\nStart with (from the repository's folder, as in the README):\n  floebench compare cases/head_on.toml   # every formulation on a bundled case, report in reports/\n  floebench validate cases/              # what each case holds; a bad file is named with its line"
 )]
 pub struct Cli {
     /// The command to run.
@@ -187,6 +187,22 @@ fn print_warnings(scn: &Scenario) {
     for w in &scn.source.warnings {
         eprintln!("warning: {w}");
     }
+}
+
+/// Refuses, before any run, an output folder `dir` that cannot be written
+/// (it is created, a probe file written and removed:
+/// [`floebench::fsio::probe_folder`]); the error names the option `flag`,
+/// the path and the OS's reason on one line.
+fn writable_folder(flag: &str, dir: &Path) -> Result<(), String> {
+    floebench::fsio::probe_folder(dir)
+        .map_err(|e| format!("{flag}: cannot write to {}: {e}", dir.display()))
+}
+
+/// [`writable_folder`] for an output file `file` (its folder is probed:
+/// [`floebench::fsio::probe_file`]).
+fn writable_file(flag: &str, file: &Path) -> Result<(), String> {
+    floebench::fsio::probe_file(file)
+        .map_err(|e| format!("{flag}: cannot write {}: {e}", file.display()))
 }
 
 /// The command line, for the report pages (newlines and backquotes as spaces).

@@ -2,7 +2,8 @@
 //! the fracture models (a chain of bars, a floe's lattice) and print its
 //! pieces.
 
-use super::{plural, Outcome};
+use super::{plural, Outcome, INTERRUPTED};
+use floebench::fracture::chain::Stop;
 use floebench::fracture::chain::{BarSpec, BondRule, Chain, ChainOptions, Material};
 use floebench::fracture::lattice::rectangle::FaceStrike;
 use floebench::fracture::lattice::LatticeSpec;
@@ -173,7 +174,7 @@ pub fn run_1d(args: Args1d) -> Outcome {
         }
         std::fs::write(path, text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(status(o.reason))
 }
 
 /// `floebench percussion-2d`: strikes the floe ([`FaceStrike`]), prints the
@@ -255,7 +256,17 @@ pub fn run_2d(args: Args2d) -> Outcome {
             .map_err(|e| e.to_string())?;
         eprintln!("wrote {} and {}", png.display(), svg.display());
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(status(o.reason))
+}
+
+/// The exit status of a percussion that stopped for `reason`:
+/// [`INTERRUPTED`] when a signal stopped it (its state then printed).
+fn status(reason: Stop) -> ExitCode {
+    if reason == Stop::Interrupted {
+        ExitCode::from(INTERRUPTED)
+    } else {
+        ExitCode::SUCCESS
+    }
 }
 
 /// A `--bar` of `percussion-1d`: `LENGTH,NODES,VELOCITY`.

@@ -1,6 +1,8 @@
 //! `floebench run`: one case with one formulation, its output files written.
 
-use super::{describe, print_warnings, refuse_ignored_contacts, Outcome, INTERRUPTED};
+use super::{
+    describe, print_warnings, refuse_ignored_contacts, writable_folder, Outcome, INTERRUPTED,
+};
 use floebench::formulation::{self, load_case, FormulationOptions};
 use floebench::model::IntegratorKind;
 use floebench::report::format::fmt_num;
@@ -17,7 +19,7 @@ pub struct Args {
     /// The case file (.toml).
     case: PathBuf,
     /// Formulation (see `floebench formulations`).
-    #[arg(short = 'f', long = "formulations", visible_alias = "formulation", default_value = DEFAULT_FORMULATION)]
+    #[arg(short = 'f', long = "formulation", alias = "formulations", value_name = "NAME", default_value = DEFAULT_FORMULATION)]
     formulation: String,
     /// Output folder [default: out/<case name>/<formulation>].
     #[arg(short, long)]
@@ -27,7 +29,8 @@ pub struct Args {
     #[arg(long)]
     integrator: Option<IntegratorKind>,
     /// Write every LCP the formulation solves into DIR as <seq>.json
-    /// (keys M, q, z, w, t, contacts, pivots, status; see README); DIR
+    /// (keys M, q, z, w, t, contacts, pivots, status; see
+    /// docs/output-format.md, "LCP dumps"); DIR
     /// must be empty or new, and the formulation one that solves LCPs.
     #[arg(long, value_name = "DIR")]
     dump_lcp: Option<PathBuf>,
@@ -111,8 +114,7 @@ pub fn run(args: Args) -> Outcome {
                 ));
             }
         }
-        std::fs::create_dir_all(dir)
-            .map_err(|e| format!("cannot create {}: {e}", dir.display()))?;
+        writable_folder("--dump-lcp", dir)?;
     }
     let opts = FormulationOptions {
         integrator,
@@ -124,6 +126,7 @@ pub fn run(args: Args) -> Outcome {
     if out.exists() && !out.is_dir() {
         return Err(format!("{} exists and is not a folder", out.display()));
     }
+    writable_folder("-o", &out)?;
     eprintln!("{}", describe(&scn));
     let runner = Runner::new(RunOptions {
         progress: !quiet,

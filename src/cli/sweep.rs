@@ -1,7 +1,7 @@
 //! `floebench sweep`: run a sweep plan's points (here, or as a Slurm job
 //! array), then merge the finished points into the report.
 
-use super::{command_line, count, plural, Outcome, INTERRUPTED};
+use super::{command_line, count, plural, writable_folder, Outcome, INTERRUPTED};
 use floebench::sweep::plan::Plan;
 use floebench::sweep::points::Point;
 use floebench::sweep::{self, execute, plan, points, slurm};
@@ -57,6 +57,7 @@ pub fn run(args: Args) -> Outcome {
     if out.exists() && !out.is_dir() {
         return Err(format!("-o: {} exists and is not a folder", out.display()));
     }
+    writable_folder("-o", &out)?;
     if let Some(dir) = &args.slurm {
         let opts = slurm::SlurmOptions {
             chunk: count(args.chunk),

@@ -36,8 +36,7 @@ use crate::geometry::Vec2;
 use crate::model::{Body, Scenario};
 use crate::record::{Counters, Stage, StageClock};
 use crate::state::{BodyState, Ledger, System};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::Arc;
+pub use crate::stop::Interrupt;
 
 /// Which reports the topology stage reads: a formulation builds loads only
 /// when they are read (a case without fracture reads none).
@@ -243,47 +242,6 @@ impl Topology for FixedTopology {
 
     fn apply(&mut self, _: &mut Scenario, _: &mut System) -> Option<Vec<usize>> {
         None
-    }
-}
-
-/// The process-wide flag that SIGINT and SIGTERM set
-/// ([`crate::run::interrupt::install`]).
-static PROCESS: AtomicBool = AtomicBool::new(false);
-
-/// A handle on a stop request: the process's (set by a signal) or one of
-/// its own (for embedding programs and tests). The runner polls it at each
-/// output time and formulations at each step of their own grid
-/// ([`Context::poll_interrupt`]).
-#[derive(Debug, Clone, Default)]
-pub enum Interrupt {
-    /// The process-wide request: a signal, or [`Interrupt::request`] on any
-    /// handle of the process.
-    #[default]
-    Process,
-    /// A request of its own, shared by the clones of the handle.
-    Own(Arc<AtomicBool>),
-}
-
-impl Interrupt {
-    /// A handle of its own, not set by signals.
-    pub fn own() -> Interrupt {
-        Interrupt::Own(Arc::new(AtomicBool::new(false)))
-    }
-
-    /// Whether a stop was asked for.
-    pub fn requested(&self) -> bool {
-        match self {
-            Interrupt::Process => PROCESS.load(Ordering::SeqCst),
-            Interrupt::Own(flag) => flag.load(Ordering::SeqCst),
-        }
-    }
-
-    /// Asks the runs polling this handle to stop at their next output time.
-    pub fn request(&self) {
-        match self {
-            Interrupt::Process => PROCESS.store(true, Ordering::SeqCst),
-            Interrupt::Own(flag) => flag.store(true, Ordering::SeqCst),
-        }
     }
 }
 

@@ -40,7 +40,11 @@ impl std::str::FromStr for Choice {
                 .parse::<SolverKind>()
                 .map(Choice::Direct)
                 .map_err(|_| {
-                    format!("unknown solver `{other}`; expected `lcp`, `cone`, `nsgs` or `apgd`")
+                    let hint = crate::model::case::closest(other, &["lcp", "cone", "nsgs", "apgd"])
+                        .map_or(String::new(), |k| format!(" (did you mean `{k}`?)"));
+                    format!(
+                        "unknown solver `{other}`{hint}; expected `lcp`, `cone`, `nsgs` or `apgd`"
+                    )
                 }),
         }
     }
@@ -202,7 +206,7 @@ impl GroupSolver {
         a: Answer,
         t: f64,
     ) -> GroupAnswer {
-        if !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
+        if a.outcome.interrupted || !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
             return self.iterative_answer(prob, a, t, self.method());
         }
         // The NSGS problem itself: one friction pair per point (merged
@@ -259,22 +263,28 @@ impl GroupSolver {
         method: Method,
     ) -> GroupAnswer {
         let o = a.outcome;
-        self.accuracy.iterative(
-            o.residual,
-            o.iterations,
-            o.converged,
-            prob.len(),
-            a.warm_hits,
-        );
-        // NSGS solves Coulomb's law itself; APGD the cone relaxation, whose
-        // natural map (without De Saxcé's term) is its stopping residual.
-        let own = match method {
-            Method::Apgd => prob.residual(&a.p, false),
-            _ => o.residual,
-        };
-        self.accuracy.solver(own, o.converged);
+        if o.interrupted {
+            // Cut short by a stop request: counted apart, not as an
+            // unconverged solve; the run discards the step (crate::stop).
+            self.direct.count_interrupted();
+        } else {
+            self.accuracy.iterative(
+                o.residual,
+                o.iterations,
+                o.converged,
+                prob.len(),
+                a.warm_hits,
+            );
+            // NSGS solves Coulomb's law itself; APGD the cone relaxation, whose
+            // natural map (without De Saxcé's term) is its stopping residual.
+            let own = match method {
+                Method::Apgd => prob.residual(&a.p, false),
+                _ => o.residual,
+            };
+            self.accuracy.solver(own, o.converged);
+        }
         let (normal, tangential) = (a.normal(), a.tangential());
-        if prob.friction() {
+        if prob.friction() && !o.interrupted {
             self.direct
                 .check_coulomb(t, &normal, &tangential, prob.mu, &[]);
         }
@@ -336,13 +346,17 @@ impl GroupSolver {
             .zip(&tangential)
             .map(|(l, b)| [*l, *b])
             .collect();
-        let res = prob.residual(&p, true);
-        self.accuracy.direct(res, self.direct.work() - work);
-        match self.direct.last_answer() {
-            LastAnswer::Lcp { residual, met } => self.accuracy.solver(residual, met),
-            // clarabel's answer on the problem it solved: the relaxation.
-            LastAnswer::Cone { met } => self.accuracy.solver(prob.residual(&p, false), met),
-            LastAnswer::None => {}
+        // A solve cut short by a stop request (counted by the direct
+        // solver) is no measure of its accuracy: the run discards the step.
+        if !crate::stop::requested() {
+            let res = prob.residual(&p, true);
+            self.accuracy.direct(res, self.direct.work() - work);
+            match self.direct.last_answer() {
+                LastAnswer::Lcp { residual, met } => self.accuracy.solver(residual, met),
+                // clarabel's answer on the problem it solved: the relaxation.
+                LastAnswer::Cone { met } => self.accuracy.solver(prob.residual(&p, false), met),
+                LastAnswer::None => {}
+            }
         }
         direct_answer(&lcp, &z)
     }

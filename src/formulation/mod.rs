@@ -452,13 +452,12 @@ pub const REGISTRY: &[Entry] = &[
 pub fn entry(name: &str) -> Result<&'static Entry, String> {
     let name = name.trim();
     REGISTRY.iter().find(|e| e.name == name).ok_or_else(|| {
+        let known: Vec<&str> = REGISTRY.iter().map(|e| e.name).collect();
+        let hint = crate::model::case::closest(name, &known)
+            .map_or(String::new(), |k| format!(" (did you mean `{k}`?)"));
         format!(
-            "unknown formulation `{name}`; known: {}",
-            REGISTRY
-                .iter()
-                .map(|e| e.name)
-                .collect::<Vec<_>>()
-                .join(", ")
+            "unknown formulation `{name}`{hint}; known: {}",
+            known.join(", ")
         )
     })
 }

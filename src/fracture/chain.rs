@@ -327,6 +327,9 @@ impl Chain {
         let mut max_drift: f64 = 0.0;
         let options = self.options;
         let reason = loop {
+            if crate::stop::poll(self.steps) {
+                break Stop::Interrupted;
+            }
             self.step();
             let e = self.energies();
             if self.links.iter().all(|l| l.c == 0.0) {

@@ -93,7 +93,12 @@ pub fn solve(
     let mut y = p.to_vec();
     let mut theta: f64 = 1.0;
     let mut iterations = 0;
+    let mut interrupted = false;
     while best_res > tolerance && iterations < max_iterations {
+        if crate::stop::poll(iterations) {
+            interrupted = true;
+            break;
+        }
         iterations += 1;
         // Backtracking on L at y.
         let mut cand = vec![[0.0; 2]; m];
@@ -162,6 +167,7 @@ pub fn solve(
             iterations,
             residual,
             converged,
+            interrupted,
         },
         best_v,
     )

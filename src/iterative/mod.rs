@@ -306,7 +306,10 @@ impl IterativeSolver {
             creates_energy(before, after)
         };
         let mut rounds = 0;
-        while !a.outcome.converged && a.outcome.iterations < ceiling && creates(&a.dv) {
+        while !(a.outcome.converged || a.outcome.interrupted)
+            && a.outcome.iterations < ceiling
+            && creates(&a.dv)
+        {
             let budget = o.max_iterations.min(ceiling - a.outcome.iterations);
             let (outcome, dv) = match o.method {
                 Method::Nsgs => nsgs::solve(prob, &mut a.p, o.tolerance, budget, o.relaxation),

@@ -83,6 +83,11 @@ pub struct Outcome {
     pub residual: f64,
     /// Whether the residual reached the tolerance.
     pub converged: bool,
+    /// Whether a stop request ([`crate::stop`], polled every
+    /// [`crate::stop::POLL_EVERY`] sweeps or iterations) ended the solve
+    /// early: its answer is finite but no solution, and the run that asked
+    /// discards it.
+    pub interrupted: bool,
 }
 
 /// The most sweeps between two evaluations of the true residual when the
@@ -171,7 +176,12 @@ pub fn solve(
     let mut iterations = 0;
     let mut since_check = 0;
     let mut trigger = CHANGE_FACTOR * tolerance * scale;
+    let mut interrupted = false;
     while residual > tolerance && iterations < max_iterations {
+        if crate::stop::poll(iterations) {
+            interrupted = true;
+            break;
+        }
         let change = sweep(prob, p, &mut v, relaxation);
         iterations += 1;
         since_check += 1;
@@ -191,6 +201,7 @@ pub fn solve(
             iterations,
             residual,
             converged: residual <= tolerance,
+            interrupted,
         },
         v,
     )

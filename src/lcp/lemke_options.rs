@@ -76,11 +76,14 @@ pub enum Termination {
     NumericalFailure,
     /// Inconsistent sizes, an invalid covering vector or invalid options.
     InvalidInput,
+    /// A stop was asked for ([`crate::stop::requested`], polled every
+    /// [`crate::stop::POLL_EVERY`] pivots): the path was left where it was.
+    Interrupted,
 }
 
 impl Termination {
     /// Name used in logs and CSV: `"Solved"`, `"RayTermination"`,
-    /// `"MaxPivots"`, `"NumericalFailure"`, `"InvalidInput"`.
+    /// `"MaxPivots"`, `"NumericalFailure"`, `"InvalidInput"`, `"Interrupted"`.
     pub fn as_str(&self) -> &'static str {
         match self {
             Self::Solved => "Solved",
@@ -88,6 +91,7 @@ impl Termination {
             Self::MaxPivots => "MaxPivots",
             Self::NumericalFailure => "NumericalFailure",
             Self::InvalidInput => "InvalidInput",
+            Self::Interrupted => "Interrupted",
         }
     }
 }

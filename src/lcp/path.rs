@@ -151,6 +151,13 @@ pub(crate) fn run<B: Basis>(
         if e.pivots() >= max_pivots {
             return (Termination::MaxPivots, Some("pivot cap reached"));
         }
+        // Polled at every pivot of a large problem (a pivot costs O(n²)
+        // there, the poll nanoseconds), every POLL_EVERY of a small one.
+        if (n >= POLL_EACH_PIVOT_FROM || crate::stop::poll(e.pivots() as u64))
+            && crate::stop::requested()
+        {
+            return (Termination::Interrupted, Some("a stop was asked for"));
+        }
         if !e.load(entering) {
             return (
                 Termination::NumericalFailure,
@@ -187,6 +194,12 @@ pub(crate) fn run<B: Basis>(
         }
     }
 }
+
+/// The size from which Lemke's path polls the stop request
+/// ([`crate::stop`]) at every pivot rather than every
+/// [`crate::stop::POLL_EVERY`]: a pivot of 64 unknowns costs some 10⁴
+/// operations, a poll a few nanoseconds.
+const POLL_EACH_PIVOT_FROM: usize = 64;
 
 /// `true` if `z0` is basic with a value at or below `z0_tol`.
 fn z0_negligible<B: Basis>(e: &B, opts: &LemkeOptions) -> bool {

@@ -45,22 +45,27 @@ pub enum SolveStatus {
     SolvedByFallback,
     /// No attempt met the tolerance; `z` is the best finite candidate or 0.
     Failed,
+    /// A stop was asked for during an attempt ([`crate::stop`]): no later
+    /// attempt was made; `z` is the best finite candidate or 0, not a
+    /// solution (a run discards the step that holds it).
+    Interrupted,
 }
 
 impl SolveStatus {
     /// Name used in logs and dumps: `"Solved"`, `"SolvedByFallback"`,
-    /// `"Failed"`.
+    /// `"Failed"`, `"Interrupted"`.
     pub fn as_str(&self) -> &'static str {
         match self {
             Self::Solved => "Solved",
             Self::SolvedByFallback => "SolvedByFallback",
             Self::Failed => "Failed",
+            Self::Interrupted => "Interrupted",
         }
     }
 
     /// `true` for [`SolveStatus::Solved`] and [`SolveStatus::SolvedByFallback`].
     pub fn is_solved(&self) -> bool {
-        !matches!(self, Self::Failed)
+        matches!(self, Self::Solved | Self::SolvedByFallback)
     }
 }
 
@@ -260,6 +265,9 @@ impl SolveCounters {
             SolveStatus::Solved => self.solved += 1,
             SolveStatus::SolvedByFallback => self.solved_by_fallback += 1,
             SolveStatus::Failed => self.failed += 1,
+            // Not a failure: the run that asked for the stop discards it
+            // (crate::stop); the formulations count it apart.
+            SolveStatus::Interrupted => {}
         }
         match s.accepted_by {
             Some(Strategy::AlternativeRule) => self.by_alternative_rule += 1,

@@ -310,7 +310,8 @@ fn solve_plan(
             && resid <= opts.tolerance.min(unpolished_below);
         let mut polished = false;
         let mut basis_solves = 0;
-        if opts.polish && resid > 0.0 && finite && !settled {
+        let interrupted = termination == Termination::Interrupted;
+        if opts.polish && resid > 0.0 && finite && !settled && !interrupted {
             let refined = run.tableau && termination == Termination::Solved;
             if refined {
                 polished |= refine(ws, &mut sc, (m, q), &scale, &mut resid);
@@ -351,7 +352,7 @@ fn solve_plan(
             best_r = resid;
             have_best = true;
         }
-        if accepted || !finite || termination == Termination::InvalidInput {
+        if accepted || !finite || interrupted || termination == Termination::InvalidInput {
             break;
         }
     }
@@ -366,6 +367,12 @@ fn solve_plan(
         Some(Strategy::WarmLemke) => SolveStatus::Solved,
         Some(a) if Some(a) == first_cold => SolveStatus::Solved,
         Some(_) => SolveStatus::SolvedByFallback,
+        None if attempts
+            .last()
+            .is_some_and(|a| a.termination == Termination::Interrupted) =>
+        {
+            SolveStatus::Interrupted
+        }
         None => SolveStatus::Failed,
     };
     out.accepted_by = accepted_by;

@@ -11,10 +11,13 @@
 //! and is not itself a report: no `index.md`).
 //!
 //! [`check`] is called before any run (so a mistake costs nothing) and again
-//! by the writer; [`record`] lists the folders after the page is written;
-//! [`remove_stale`] removes the listed case folders the last report no
-//! longer has (a comparison of fewer cases into the same folder), so the
-//! folder holds exactly what its page shows.
+//! by the writer; [`record`] lists the folders after the page is written.
+//! A comparison of other cases into the same folder would leave the
+//! earlier report's case folders beside a page that does not show them:
+//! [`earlier`] names them before any run, so the command can refuse, and
+//! only when the user says so (`compare --replace`) does [`remove_stale`]
+//! remove them after the new page is written, so the folder holds exactly
+//! what its page shows. Nothing is ever removed without that word.
 
 use super::ReportError;
 use crate::fsio::write_atomic;
@@ -88,6 +91,19 @@ pub fn check(out: &Path, names: &[&str]) -> Result<(), ReportError> {
     Ok(())
 }
 
+/// The case folders of an earlier report into `out` (listed in its
+/// [`MANIFEST`] and still there) that are not among `names`, sorted: the
+/// folders [`remove_stale`] would remove after a report of `names`.
+pub fn earlier(out: &Path, names: &[&str]) -> Result<Vec<String>, ReportError> {
+    if !out.is_dir() {
+        return Ok(Vec::new());
+    }
+    Ok(owned(out)?
+        .into_iter()
+        .filter(|n| !names.contains(&n.as_str()) && out.join(n).is_dir())
+        .collect())
+}
+
 /// Lists `names` (with the folders listed before that still exist) as the
 /// case folders of `out`.
 pub fn record(out: &Path, names: &[&str]) -> Result<(), ReportError> {
@@ -107,7 +123,8 @@ fn write_list(out: &Path, cases: BTreeSet<String>) -> Result<(), ReportError> {
 }
 
 /// Removes the case folders `out` lists that are not among `names` (a
-/// report of fewer cases into the same folder); returns them.
+/// report of other cases into the same folder, called only when the user
+/// asked for it: `compare --replace`); returns them.
 pub fn remove_stale(out: &Path, names: &[&str]) -> Result<Vec<PathBuf>, ReportError> {
     let listed = owned(out)?;
     let mut removed = Vec::new();

@@ -5,7 +5,10 @@
 //! process. The flag is the process's [`Interrupt`] handle, which a run
 //! gets in its [`super::RunOptions`] (the default): the runner polls it at
 //! each output time, and the formulations at each step of their own grid
-//! ([`crate::formulation::Context::poll_interrupt`]); a program that embeds
+//! ([`crate::formulation::Context::poll_interrupt`]), and the long loops
+//! inside a step (Lemke's pivots, iterative solvers, percussions) through
+//! the run's handle made current on its thread ([`crate::stop`]); a
+//! program that embeds
 //! runs can give each its own handle ([`Interrupt::own`]). An interrupted run ends with
 //! [`super::EndReason::Interrupted`], its outputs written up to its last
 //! output time, and the batch runner starts no new run. A second signal has
@@ -14,7 +17,7 @@
 //!
 //! The handler only stores to an atomic flag, which is async-signal-safe.
 
-use crate::formulation::Interrupt;
+use crate::stop::Interrupt;
 
 extern "C" fn on_signal(_signal: libc::c_int) {
     Interrupt::Process.request();

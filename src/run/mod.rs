@@ -347,6 +347,8 @@ impl Runner {
         // The run's topology stage: fracture, once for every formulation.
         let mut topology = FractureStage::new(scn);
         let stop = &self.options.interrupt;
+        // The solvers of this thread poll the run's handle inside a step.
+        let _current = crate::stop::current(stop);
         let mut sys = System::initial(scn);
         let e0 = sys.kinetic_energy(scn);
         // A point outside a forcing field's extent left by an earlier run
@@ -377,6 +379,13 @@ impl Runner {
             let mut next = sys.clone();
             let mut cx = Context::new(&mut clock, &mut topology, stop);
             match form.advance(scn, &mut next, t, &mut cx) {
+                // A stop seen inside a solve of the advance (its answer cut
+                // short, crate::stop): the advance is discarded, the run
+                // ends at its last output time.
+                Ok(()) if stop.requested() => {
+                    end = EndReason::Interrupted { t: sys.t };
+                    break;
+                }
                 Ok(()) => {}
                 // A signal between two steps: ended as at an output time.
                 Err(FormulationError::Interrupted { .. }) => {

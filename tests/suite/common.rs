@@ -187,6 +187,17 @@ pub fn interrupt_after(
     after: std::time::Duration,
     signal: libc::c_int,
 ) -> (Option<i32>, String) {
+    let (code, seen, _) = interrupt_after_timed(args, ready, after, signal);
+    (code, seen)
+}
+
+/// [`interrupt_after`], with the time from the signal to the process's end.
+pub fn interrupt_after_timed(
+    args: &[&std::ffi::OsStr],
+    ready: &str,
+    after: std::time::Duration,
+    signal: libc::c_int,
+) -> (Option<i32>, String, std::time::Duration) {
     use std::io::{BufRead, Read};
     let mut child = floebench()
         .args(args)
@@ -208,8 +219,10 @@ pub fn interrupt_after(
     let pid = libc::pid_t::try_from(child.id()).unwrap();
     // SAFETY: a signal to our own child process.
     assert_eq!(unsafe { libc::kill(pid, signal) }, 0);
+    let sent = std::time::Instant::now();
     err.read_to_string(&mut seen).unwrap();
-    (child.wait().unwrap().code(), seen)
+    let code = child.wait().unwrap().code();
+    (code, seen, sent.elapsed())
 }
 
 /// A temporary folder, removed when the value is dropped: keep it alive for

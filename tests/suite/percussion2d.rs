@@ -471,3 +471,35 @@ fn on_the_triangular_mesh_the_onset_of_damage_converges_with_shrinking_differenc
     // ... with a scatter over the offsets of about 5 % (measured 0.0185).
     assert!(stats[2].1 < 0.08 * stats[2].0, "{stats:?}");
 }
+
+#[test]
+fn a_stop_request_ends_a_percussion_at_once_and_none_leaves_it_unchanged() {
+    // The percussion polls the thread's stop handle (floebench::stop)
+    // every POLL_EVERY steps: asked before, it ends at its first poll with
+    // the state it has (finite), reason `interrupted`; with a handle never
+    // set it runs as under the process's, to the bit.
+    use floebench::stop::{self, Interrupt};
+    let l = floe(1.0);
+    let mass: f64 = l.mass.iter().sum();
+    let run = || strike(&l, RigidMotion::default(), 5.0, mass, 0.1, breakable(1e-4));
+    let full = run();
+    assert_ne!(full.reason, Stop::Interrupted);
+    assert!(full.steps > stop::POLL_EVERY, "{} steps", full.steps);
+    let quiet = Interrupt::own();
+    let same = {
+        let _current = stop::current(&quiet);
+        run()
+    };
+    assert_eq!(same.steps, full.steps);
+    assert_eq!(same.striker_velocity, full.striker_velocity);
+    let stopped = Interrupt::own();
+    stopped.request();
+    let cut = {
+        let _current = stop::current(&stopped);
+        run()
+    };
+    assert_eq!(cut.reason, Stop::Interrupted);
+    assert_eq!(cut.reason.name(), "interrupted");
+    assert_eq!(cut.steps, 0, "ended at its first poll");
+    assert!(cut.fragments.iter().all(|f| f.velocity.x.is_finite()));
+}

@@ -25,6 +25,13 @@ pub const LCP_LAST_RESORT_FRICTIONLESS: Counter = Counter::sum(
     "lcp_last_resort_frictionless",
     "frictional LCPs replaced by the frictionless LCP of the same contacts",
 );
+/// Contact solves cut short by a stop request (SIGINT, SIGTERM:
+/// [`crate::stop`]); the run ends at its last output before them, so their
+/// answers reach no output. Not a failure; only listed when not 0.
+pub const SOLVES_INTERRUPTED: Counter = Counter::sum(
+    "solves_interrupted",
+    "contact solves cut short by a stop request (SIGINT, SIGTERM); the run ended at its last output before them",
+);
 /// Contact problems left without impulse (every attempt failed).
 pub const LCP_UNRESOLVED: Counter = Counter::sum(
     "lcp_unresolved",

@@ -68,6 +68,7 @@ impl ContactSolver {
                 SolveStatus::Solved => b.first_attempt += 1,
                 SolveStatus::SolvedByFallback => b.fallback += 1,
                 SolveStatus::Failed => b.failed += 1,
+                SolveStatus::Interrupted => {}
             }
             b.seconds += seconds.unwrap_or(0.0);
         }
@@ -83,6 +84,10 @@ impl ContactSolver {
         self.counters.declare(POLISH_COUNTERS);
         self.counters.add(&POLISH_SOLVES, 1);
         let sol = self.lemke(lcp, Some(guess));
+        if sol.status == SolveStatus::Interrupted {
+            self.counters.add(&SOLVES_INTERRUPTED, 1);
+            return None;
+        }
         self.record_solve(lcp, &sol, t);
         if sol.accepted_by == Some(Strategy::WarmStart) {
             self.counters.add(&POLISH_ACTIVE_SET_EXACT, 1);
@@ -93,6 +98,13 @@ impl ContactSolver {
             self.counters.add(&POLISH_FAILED, 1);
             None
         }
+    }
+
+    /// Counts a contact solve cut short by a stop request
+    /// ([`SOLVES_INTERRUPTED`]; an iterative one, whose solver has no
+    /// counters of its own).
+    pub fn count_interrupted(&mut self) {
+        self.counters.add(&SOLVES_INTERRUPTED, 1);
     }
 
     /// Counts one solve from a predicted basis `p` with outcome `sol`.
@@ -127,6 +139,12 @@ impl ContactSolver {
             c.guess(lcp)
         });
         let sol = self.lemke(lcp, guess.as_ref());
+        if sol.status == SolveStatus::Interrupted {
+            // No record, no fallback: the run ends at its last output
+            // before this step (crate::stop); the answer is finite.
+            self.counters.add(&SOLVES_INTERRUPTED, 1);
+            return vec![0.0; lcp.lcp().n];
+        }
         self.record_solve(lcp, &sol, t);
         let warm_solved = matches!(
             sol.accepted_by,

@@ -111,9 +111,13 @@ impl std::str::FromStr for SolverKind {
         match s {
             "lcp" => Ok(SolverKind::Lcp),
             "cone" => Ok(SolverKind::Cone),
-            other => Err(format!(
-                "unknown solver `{other}`; expected `lcp` or `cone`"
-            )),
+            other => {
+                let hint = crate::model::case::closest(other, &["lcp", "cone"])
+                    .map_or(String::new(), |k| format!(" (did you mean `{k}`?)"));
+                Err(format!(
+                    "unknown solver `{other}`{hint}; expected `lcp` or `cone`"
+                ))
+            }
         }
     }
 }

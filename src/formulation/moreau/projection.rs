@@ -110,7 +110,7 @@ impl Moreau {
                 self.counters.add(&PROJECTIONS, 1);
                 self.counters
                     .max(&PROJECTION_RESIDUAL_MAX, outcome.residual);
-                if !outcome.converged {
+                if !(outcome.converged || outcome.interrupted) {
                     self.counters.add(&PROJECTIONS_UNCONVERGED, 1);
                 }
                 if dq.iter().flatten().any(|d| !d.is_finite()) {

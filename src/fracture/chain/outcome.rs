@@ -39,6 +39,10 @@ pub enum Stop {
     Rang,
     /// `limit_transits` transit times passed.
     TimeLimit,
+    /// A stop was asked for ([`crate::stop`], polled every
+    /// [`crate::stop::POLL_EVERY`] steps): the percussion was left where it
+    /// was (a run that asked discards it).
+    Interrupted,
 }
 
 impl Stop {
@@ -48,6 +52,7 @@ impl Stop {
             Stop::Settled => "settled",
             Stop::Rang => "rang",
             Stop::TimeLimit => "time-limit",
+            Stop::Interrupted => "interrupted",
         }
     }
 }

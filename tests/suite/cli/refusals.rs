@@ -31,6 +31,24 @@ fn one_grammar_for_formulations_and_jobs() {
         "0".as_ref(),
     ]);
     assert!(!ok && stderr.contains("-j"), "{stderr}");
+    // check takes -j as compare does.
+    let (ok, _, stderr) = cli(&[
+        "check".as_ref(),
+        case_path("head_on").as_os_str(),
+        "-f".as_ref(),
+        "event-driven".as_ref(),
+        "-j".as_ref(),
+        "1".as_ref(),
+        "--quiet".as_ref(),
+    ]);
+    assert!(ok, "{stderr}");
+    let (ok, _, stderr) = cli(&[
+        "check".as_ref(),
+        case_path("head_on").as_os_str(),
+        "-j".as_ref(),
+        "0".as_ref(),
+    ]);
+    assert!(!ok && stderr.contains("-j"), "{stderr}");
 }
 
 #[test]
@@ -166,9 +184,94 @@ fn an_unknown_formulation_is_named_without_blaming_a_case() {
         ]);
         assert!(!ok);
         assert!(
-            stderr.contains("error: -f: unknown formulation `rapeir`; known: event-driven"),
+            stderr.contains(
+                "error: -f: unknown formulation `rapeir` (did you mean `rapier`?); known: event-driven"
+            ),
             "{cmd}: {stderr}"
         );
         assert!(!stderr.contains("head_on.toml"), "{cmd}: {stderr}");
     }
+    // run too, with its one formulation: the case keys' did-you-mean.
+    let (ok, _, stderr) = cli(&[
+        "run".as_ref(),
+        case_path("head_on").as_os_str(),
+        "-f".as_ref(),
+        "event_driven".as_ref(),
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("unknown formulation `event_driven` (did you mean `event-driven`?)"),
+        "{stderr}"
+    );
+    // A name far from every formulation gets no guess.
+    let (ok, _, stderr) = cli(&[
+        "run".as_ref(),
+        case_path("head_on").as_os_str(),
+        "--formulation".as_ref(),
+        "xyzzy-quux".as_ref(),
+    ]);
+    assert!(!ok && !stderr.contains("did you mean"), "{stderr}");
+}
+
+#[test]
+fn every_option_of_every_help_is_in_docs_commands() {
+    // The help and docs/commands.md describe the same options: each long
+    // option a command's --help lists is named in docs/commands.md.
+    let docs = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/commands.md"),
+    )
+    .unwrap();
+    let commands = [
+        "validate",
+        "run",
+        "compare",
+        "check",
+        "lcp",
+        "sweep",
+        "percussion-1d",
+        "percussion-2d",
+    ];
+    let mut missing = Vec::new();
+    for cmd in commands {
+        let (ok, help, stderr) = cli(&[cmd.as_ref(), "--help".as_ref()]);
+        assert!(ok, "{stderr}");
+        for line in help.lines() {
+            // `  -o, --out <OUT>`: the docs may name it by either form.
+            let line = line.trim_start();
+            let short = line
+                .strip_prefix('-')
+                .filter(|rest| rest.get(1..3) == Some(", "))
+                .and_then(|rest| rest.get(..1))
+                .map(|c| format!("-{c} "));
+            for word in line.split(|c: char| !(c.is_ascii_alphanumeric() || c == '-')) {
+                let Some(name) = word.strip_prefix("--") else {
+                    continue;
+                };
+                let named = docs.contains(&format!("--{name}"))
+                    || short.as_ref().is_some_and(|s| docs.contains(s.as_str()));
+                if !name.is_empty() && name != "help" && !named {
+                    missing.push(format!("{cmd} --{name}"));
+                }
+            }
+        }
+    }
+    missing.dedup();
+    assert!(missing.is_empty(), "not in docs/commands.md: {missing:?}");
+    // The names the help shows.
+    let (_, help, _) = cli(&["run".as_ref(), "--help".as_ref()]);
+    assert!(help.contains("-f, --formulation <NAME>"), "{help}");
+    assert!(
+        help.contains("docs/output-format.md") && !help.contains("README"),
+        "{help}"
+    );
+    let (_, help, _) = cli(&["--help".as_ref()]);
+    assert!(
+        help.contains("floebench compare cases/head_on.toml")
+            && help.contains("floebench validate cases/"),
+        "{help}"
+    );
+    let (_, help, _) = cli(&["lcp".as_ref(), "--help".as_ref()]);
+    assert!(help.contains("small-unpolished-below"), "{help}");
+    let (_, help, _) = cli(&["check".as_ref(), "--help".as_ref()]);
+    assert!(help.contains("-j, --jobs"), "{help}");
 }

@@ -2,7 +2,7 @@
 //! output time, at the formulation's next step, and `compare` keeps the
 //! cases that finished.
 
-use crate::common::{case_path, interrupt_after, tempdir};
+use crate::common::{case_path, interrupt_after, interrupt_after_timed, tempdir};
 
 #[test]
 fn sigint_ends_a_run_with_its_outputs_written_up_to_the_last_output_time() {
@@ -108,4 +108,40 @@ fn sigterm_during_compare_keeps_the_cases_that_finished() {
     assert!(!out.join("field_200_coast").exists());
     let page = std::fs::read_to_string(out.join("index.md")).unwrap();
     assert!(page.contains("head_on") && !page.contains("## field_200_coast"));
+}
+
+#[test]
+fn sigterm_ends_a_run_inside_its_lattice_impacts_promptly_with_its_files() {
+    // A run whose steps hold lattice percussions (and Lemke solves): the
+    // loops inside a step poll the stop request, so SIGTERM ends the run
+    // within about a second (2 s allowed for a loaded machine), exit 130,
+    // its files written up to its last output time.
+    let dir = tempdir();
+    let out = dir.path().join("o");
+    let (code, stderr, took) = interrupt_after_timed(
+        &[
+            "run".as_ref(),
+            case_path("fields/lattice_field_200_impact").as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            "--quiet".as_ref(),
+        ],
+        "lattice_field_200_impact:",
+        std::time::Duration::from_millis(2500),
+        libc::SIGTERM,
+    );
+    assert_eq!(code, Some(130), "{stderr}");
+    assert!(
+        took < std::time::Duration::from_secs(2),
+        "ended {took:?} after SIGTERM"
+    );
+    assert!(stderr.contains("run interrupted at t = "), "{stderr}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["end"]["reason"], "interrupted", "{summary}");
+    let trajectory = std::fs::read_to_string(out.join("trajectory.csv")).unwrap();
+    let last = trajectory.lines().last().unwrap();
+    let t: f64 = last.split(',').next().unwrap().parse().unwrap();
+    assert_eq!(Some(t), summary["t_reached"].as_f64());
+    assert!(t < 1200.0, "stopped before the end");
 }

@@ -101,6 +101,7 @@ fn a_capped_answer_that_creates_energy_is_continued_until_it_does_not() {
                 iterations: 1,
                 residual: 1.0,
                 converged: false,
+                interrupted: false,
             },
             warm_hits: 0,
         };
@@ -134,4 +135,49 @@ fn a_capped_answer_that_creates_energy_is_continued_until_it_does_not() {
         continued += 1;
     }
     assert!(continued >= 1);
+}
+
+#[test]
+fn a_stop_request_ends_nsgs_and_apgd_at_their_first_poll_with_a_finite_answer() {
+    // The iterative solvers poll the thread's stop handle
+    // (floebench::stop) every POLL_EVERY iterations, the first before any:
+    // asked before, a solve takes no iteration, says `interrupted` and not
+    // `converged`, and leaves finite impulses; a handle never set changes
+    // nothing, to the bit.
+    use floebench::iterative::apgd;
+    use floebench::stop::{self, Interrupt};
+    let scn = frictional_cradle();
+    let probs = problems(&scn);
+    assert!(!probs.is_empty());
+    for (_, sp) in &probs {
+        let solve = |method: Method| {
+            let mut p = vec![[0.0; 2]; sp.len()];
+            let (o, _) = match method {
+                Method::Nsgs => nsgs::solve(sp, &mut p, 1e-14, 500, 1.0),
+                Method::Apgd => apgd::solve(sp, &mut p, 1e-14, 500),
+            };
+            (o, p)
+        };
+        for method in [Method::Nsgs, Method::Apgd] {
+            let (full, p_full) = solve(method);
+            assert!(!full.interrupted);
+            assert!(full.iterations > 0, "{method:?}");
+            let quiet = Interrupt::own();
+            let same = {
+                let _current = stop::current(&quiet);
+                solve(method)
+            };
+            assert_eq!(same, (full, p_full), "{method:?}");
+            let stopped = Interrupt::own();
+            stopped.request();
+            let (cut, p) = {
+                let _current = stop::current(&stopped);
+                solve(method)
+            };
+            assert!(cut.interrupted && !cut.converged, "{method:?}: {cut:?}");
+            assert_eq!(cut.iterations, 0, "{method:?}");
+            assert!(cut.residual.is_finite());
+            assert!(p.iter().flatten().all(|x| x.is_finite()));
+        }
+    }
 }

@@ -37,6 +37,7 @@ fn committed_corpus_solves_with_residual_on_the_original_data() {
             SolveStatus::Solved => first += 1,
             SolveStatus::SolvedByFallback => fallback += 1,
             SolveStatus::Failed => {}
+            SolveStatus::Interrupted => panic!("{name}: interrupted without a stop request"),
         }
     }
     eprintln!(

@@ -18,6 +18,7 @@ mod direct_exits;
 mod dumps;
 mod failures;
 mod float_range;
+mod interrupt;
 mod p_matrix;
 mod paths;
 mod residual;

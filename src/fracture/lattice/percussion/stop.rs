@@ -4,7 +4,7 @@
 //! and the run to the chain's stop ([`Percussion::run`]).
 
 use super::{Fragment, Outcome, Percussion};
-use crate::fracture::chain::Settling;
+use crate::fracture::chain::{Settling, Stop};
 use crate::geometry::perp;
 
 impl Percussion<'_> {
@@ -91,6 +91,9 @@ impl Percussion<'_> {
         let mut max_drift: f64 = 0.0;
         let options = self.options;
         let reason = loop {
+            if crate::stop::poll(self.steps) {
+                break Stop::Interrupted;
+            }
             self.step();
             let e = self.energies();
             if undamped {
