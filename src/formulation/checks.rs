@@ -5,7 +5,7 @@
 //! case is refused once, naming the file, the line and the key.
 
 use super::{grid_index, load_case, REGISTRY};
-use crate::model::{CaseError, Scenario, SettingsTable};
+use crate::model::{limits, CaseError, Scenario, SettingsTable};
 use std::path::Path;
 
 /// A formulation's check of a case ([`crate::formulation::Entry::check`]).
@@ -17,11 +17,14 @@ fn on_grid(h: f64, value: f64) -> bool {
     grid_index(0.0, h, value).is_some_and(|j| j > 0)
 }
 
-/// The largest `h / k` (k = 1 … 1000) on whose grid both `a` and `b` (s)
-/// lie, if any: a step to suggest.
+/// The largest `h / k` (k = 1 … 1000) on whose grid both the output
+/// interval `a` and the duration `b` (s) lie, within the limits of a step
+/// ([`limits::STEP`], [`limits::STEPS`] over `b`), if any: a step to
+/// suggest.
 fn fitting_step(h: f64, a: f64, b: f64) -> Option<f64> {
     (1..=1000u32)
         .map(|k| h / f64::from(k))
+        .take_while(|&c| limits::STEP.admits(c) && limits::STEPS.admits(limits::output_count(b, c)))
         .find(|&c| on_grid(c, a) && on_grid(c, b))
 }
 

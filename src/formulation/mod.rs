@@ -492,19 +492,19 @@ fn names_where(pred: impl Fn(&Entry) -> bool) -> String {
 pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<Instance, String> {
     let entry = entry(name)?;
     if scn.fracture.enabled() && !entry.supports_fracture {
-        return Err(format!(
+        return Err(scn.source.key_error("fracture.model", format!(
             "{name} does not break floes yet, and case `{}` asks for it ([fracture] model = \"{}\"); formulations that do: {}",
             scn.name,
             scn.fracture.model.name(),
             names_where(|e| e.supports_fracture)
-        ));
+        )).to_string());
     }
     if scn.fracture.lattice_impacts() && !entry.lattice_impacts {
-        return Err(format!(
+        return Err(scn.source.key_error("fracture.impact", format!(
             "{name} has no impact event to resolve in the lattices, and case `{}` asks for it ([fracture] impact = \"lattice\", docs/physics.md §9.10); formulations that do: {}",
             scn.name,
             names_where(|e| e.lattice_impacts)
-        ));
+        )).to_string());
     }
     Ok(Instance {
         entry,

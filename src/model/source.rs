@@ -44,6 +44,10 @@ pub struct CaseSource {
     /// `output_interval`, …), and of the `[case]` header itself under
     /// `case`.
     pub case_lines: BTreeMap<String, usize>,
+    /// The line of each key of the other tables that a refusal after
+    /// loading may name, as `table.key` (`fracture.model`,
+    /// `fracture.impact`).
+    pub key_lines: BTreeMap<String, usize>,
     /// The line of the table each initial floe comes from (its `[[floe]]`
     /// or its `[[field]]`), by floe index.
     pub floe_lines: Vec<Option<usize>>,
@@ -66,6 +70,16 @@ impl CaseSource {
         CaseError {
             file: self.file.clone(),
             line: self.case_line(key),
+            message: message.into(),
+        }
+    }
+
+    /// An error at the line of `key` (`table.key`, [`CaseSource::key_lines`];
+    /// no line when it is not written).
+    pub fn key_error(&self, key: &str, message: impl Into<String>) -> CaseError {
+        CaseError {
+            file: self.file.clone(),
+            line: self.key_lines.get(key).copied(),
             message: message.into(),
         }
     }

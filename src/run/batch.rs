@@ -252,7 +252,13 @@ pub fn run_jobs_aligned(
                 check(&job.scenario).map_err(|e| BatchError::Case(e.to_string()))?;
             }
             formulation::build(name, &job.scenario, &fopts).map_err(|e| {
-                BatchError::Formulation(format!("{}: {name}: {e}", job.path.display()))
+                // A refusal located in the case file already names it.
+                let path = job.path.display().to_string();
+                BatchError::Formulation(if e.starts_with(&path) {
+                    e
+                } else {
+                    format!("{path}: {name}: {e}")
+                })
             })?;
         }
     }

@@ -256,7 +256,7 @@ fn bad_impact_settings_are_refused_with_file_and_line() {
     let (err, line) = refusal(&text.replace("spacing = 2.5", "spacing = 6.0"), "spacing");
     assert!(
         err.contains(&format!("bad.toml:{line}:"))
-            && err.contains("floe 0 is 10 m across")
+            && err.contains("floe 0 ([[floe]] #0) is 10 m across")
             && err.contains("spacing 6 m")
             && err.contains("spacing <= 5 m"),
         "{err}"

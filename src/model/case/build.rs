@@ -57,6 +57,19 @@ pub(super) fn build(
         .map(|f| ctx.line_of(f.span().start))
         .collect();
     fields(ctx, case.field, &mut floes, &obstacles)?;
+    let key_lines = case
+        .fracture
+        .as_ref()
+        .map(|t| {
+            ["model", "impact"]
+                .into_iter()
+                .filter_map(|k| {
+                    ctx.key_line(&t.span(), k)
+                        .map(|l| (format!("fracture.{k}"), l))
+                })
+                .collect()
+        })
+        .unwrap_or_default();
     let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
     let integrator = integrator(ctx, case.integrator, header.duration)?;
     let fracture = fracture_table(ctx, case.fracture, &floes)?;
@@ -84,6 +97,7 @@ pub(super) fn build(
             .filter_map(|k| ctx.key_line(&hspan, k).map(|l| (k.to_string(), l)))
             .chain([("case".to_string(), ctx.line_of(hspan.start))])
             .collect(),
+        key_lines,
         floe_lines: floes
             .iter()
             .map(|f| match f.origin {

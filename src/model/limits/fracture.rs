@@ -51,7 +51,7 @@ pub const SPACING: Limit = Limit::range(
     1e-3,
     1e5,
     "m",
-    "a millimetre to 100 km; a floe's lattice needs a few nodes across",
+    "a millimetre to 100 km; a floe's lattice needs a few nodes across (with impact = \"lattice\", at least 3 across its narrowest width w: spacing <= w / 2, which the default satisfies)",
 )
 .exclusive_min();
 /// `critical_strain`: the bond strain of `rule = "strain"`.
