@@ -62,12 +62,13 @@ pub struct Figure {
     pub caption: String,
 }
 
-fn polygon(points: impl IntoIterator<Item = Vec2>) -> Vec<(f64, f64)> {
+/// `points` as `(x, y)` pairs, m.
+pub(super) fn polygon(points: impl IntoIterator<Item = Vec2>) -> Vec<(f64, f64)> {
     points.into_iter().map(|p| (p.x, p.y)).collect()
 }
 
 /// The obstacles of `scn` as polygons.
-fn obstacle_polygons(scn: &Scenario) -> Vec<Vec<(f64, f64)>> {
+pub(super) fn obstacle_polygons(scn: &Scenario) -> Vec<Vec<(f64, f64)>> {
     scn.obstacles
         .iter()
         .map(|o| polygon(o.polygon.iter().copied()))
@@ -100,6 +101,7 @@ fn field_panel(
         floes,
         labels,
         obstacles: obstacles.to_vec(),
+        ..Panel::default()
     }
 }
 
