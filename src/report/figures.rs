@@ -122,9 +122,8 @@ fn time_stamp(scn: &Scenario, frame: &[TrajectoryRow]) -> String {
 }
 
 /// The energy series `f` of every run, against time.
-fn energy_series(comp: &CaseComparison, f: fn(&crate::run::EnergySample) -> f64) -> Vec<Series> {
-    comp.runs
-        .iter()
+fn energy_series(runs: &[RunResult], f: fn(&crate::run::EnergySample) -> f64) -> Vec<Series> {
+    runs.iter()
         .enumerate()
         .map(|(i, r)| {
             Series::new(
@@ -161,19 +160,14 @@ fn travelling_floes(run: &RunResult, k: usize) -> Vec<usize> {
     d.into_iter().take(k).map(|(i, _)| i).collect()
 }
 
-/// Draws every figure of `comp` into `dir`.
-pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
-    let scn = &comp.scenario;
-    let name = &scn.name;
-    let mut figs = Vec::new();
-    let mut add = |stem: &str, alt: String, caption: &str| {
-        figs.push(Figure {
-            alt,
-            stem: stem.to_string(),
-            caption: caption.to_string(),
-        })
-    };
-
+/// `kinetic` and `dissipated`: the energies of `runs` (of the case
+/// `name`) against time, into `dir`.
+fn energy_figures(
+    name: &str,
+    runs: &[RunResult],
+    dir: &Path,
+    add: &mut impl FnMut(&str, String, &str),
+) -> Result<(), ReportError> {
     type EnergyOf = fn(&crate::run::EnergySample) -> f64;
     let energies: [(&str, &str, &str, &str, EnergyOf); 2] = [
         (
@@ -198,7 +192,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 title: &format!("{name}: {what}"),
                 x_label: "t (s)",
                 y_label,
-                series: &energy_series(comp, f),
+                series: &energy_series(runs, f),
                 x_scale: Scale::Linear,
                 y_scale: Scale::Linear,
                 marks: &[],
@@ -208,6 +202,87 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         .map_err(plot_err(&stem))?;
         add(file, format!("{what} against time"), caption);
     }
+    Ok(())
+}
+
+/// `snapshots`: the floes of every run of `runs` (columns; of the case
+/// `scn`, with its `obstacles`) at the first, middle and last output of
+/// the first run (rows), into `dir`.
+fn snapshot_figure(
+    scn: &Scenario,
+    runs: &[RunResult],
+    obstacles: &[Vec<(f64, f64)>],
+    dir: &Path,
+    add: &mut impl FnMut(&str, String, &str),
+) -> Result<(), ReportError> {
+    let Some(reference) = runs.first() else {
+        return Ok(());
+    };
+    let name = &scn.name;
+    // Snapshots at the start, the middle and the end of the reference run.
+    let count = frames(reference).count();
+    let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
+    rows.dedup();
+    let mut panels = Vec::new();
+    for &k in &rows {
+        for r in runs {
+            let frame = frames(r).nth(k);
+            let title = match frame {
+                Some(f) => format!("{}, {}", r.summary.formulation, time_stamp(scn, f)),
+                None => format!("{}: not reached", r.summary.formulation),
+            };
+            panels.push(field_panel(r, frame, title, obstacles));
+        }
+    }
+    let stem = dir.join("snapshots");
+    plot::snapshot_grid(
+        &format!("{name}: floes at three times"),
+        rows.len(),
+        runs.len(),
+        &panels,
+        &stem,
+    )
+    .map_err(plot_err(&stem))?;
+    add(
+        "snapshots",
+        "the floes at the start, middle and end".into(),
+        "the floes of every run (columns) at the first, middle and last output of the first run (rows)",
+    );
+    Ok(())
+}
+
+/// Draws the figures of one run `run` of `scn` into `dir` (`floebench run
+/// --plot`): `kinetic`, `dissipated` and `snapshots`, as a comparison of
+/// that run alone draws them.
+pub fn draw_run(scn: &Scenario, run: &RunResult, dir: &Path) -> Result<Vec<Figure>, ReportError> {
+    let mut figs = Vec::new();
+    let mut add = |stem: &str, alt: String, caption: &str| {
+        figs.push(Figure {
+            alt,
+            stem: stem.to_string(),
+            caption: caption.to_string(),
+        })
+    };
+    let runs = std::slice::from_ref(run);
+    energy_figures(&scn.name, runs, dir, &mut add)?;
+    snapshot_figure(scn, runs, &obstacle_polygons(scn), dir, &mut add)?;
+    Ok(figs)
+}
+
+/// Draws every figure of `comp` into `dir`.
+pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
+    let scn = &comp.scenario;
+    let name = &scn.name;
+    let mut figs = Vec::new();
+    let mut add = |stem: &str, alt: String, caption: &str| {
+        figs.push(Figure {
+            alt,
+            stem: stem.to_string(),
+            caption: caption.to_string(),
+        })
+    };
+
+    energy_figures(name, &comp.runs, dir, &mut add)?;
     super::lattice_energy::figures(comp, dir, &mut add)?;
 
     if let Some(reference) = comp.runs.first() {
@@ -324,35 +399,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
             "the centre-of-mass paths of the floes that travel furthest in the first run: colour is the formulation, the dash pattern the floe (labelled at the end of its path in the first run); a dot marks the start",
         );
 
-        // Snapshots at the start, the middle and the end of the reference run.
-        let count = frames(reference).count();
-        let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
-        rows.dedup();
-        let mut panels = Vec::new();
-        for &k in &rows {
-            for r in &comp.runs {
-                let frame = frames(r).nth(k);
-                let title = match frame {
-                    Some(f) => format!("{}, {}", r.summary.formulation, time_stamp(scn, f)),
-                    None => format!("{}: not reached", r.summary.formulation),
-                };
-                panels.push(field_panel(r, frame, title, &obstacles));
-            }
-        }
-        let stem = dir.join("snapshots");
-        plot::snapshot_grid(
-            &format!("{name}: floes at three times"),
-            rows.len(),
-            comp.runs.len(),
-            &panels,
-            &stem,
-        )
-        .map_err(plot_err(&stem))?;
-        add(
-            "snapshots",
-            "the floes at the start, middle and end".into(),
-            "the floes of every run (columns) at the first, middle and last output of the first run (rows)",
-        );
+        snapshot_figure(scn, &comp.runs, &obstacles, dir, &mut add)?;
         exact_figures(comp, dir, &mut add)?;
     }
     floe_size_figure(comp, dir, &mut add)?;
