@@ -191,7 +191,8 @@ pub struct PlanView<'a> {
     /// Obstacle polygons (vertices in metres).
     pub obstacles: &'a [Vec<(f64, f64)>],
     /// Text labels at points (metres), e.g. a floe's number at the end of
-    /// its path.
+    /// its path; a label that would overlap one written before it is left
+    /// out.
     pub labels: &'a [(String, (f64, f64))],
 }
 
@@ -277,8 +278,8 @@ pub struct MarkedPanel {
 
 /// Draws `panels`, `cols` per row, under `title` and one legend of every
 /// labelled line, into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
-/// A point label is not written where the same label (or any label) is
-/// already written at nearly the same place.
+/// A point label is not written where it would overlap a label already
+/// written.
 pub fn marked_panels(
     title: &str,
     cols: usize,
