@@ -140,26 +140,11 @@ fn energy_series(runs: &[RunResult], f: fn(&crate::run::EnergySample) -> f64) ->
         .collect()
 }
 
-/// The larger side of the box of `points` (0 without any), m.
-fn extent<'p>(points: impl Iterator<Item = &'p (f64, f64)>) -> f64 {
-    let (mut lo, mut hi) = ((f64::INFINITY, f64::INFINITY), (f64::NEG_INFINITY, f64::NEG_INFINITY));
-    for p in points.filter(|p| p.0.is_finite() && p.1.is_finite()) {
-        lo = (lo.0.min(p.0), lo.1.min(p.1));
-        hi = (hi.0.max(p.0), hi.1.max(p.1));
-    }
-    (hi.0 - lo.0).max(hi.1 - lo.1).max(0.0)
-}
-
-/// Whether the paths `a` and `b` (one per floe) have the same points to
-/// within `tol` metres in each coordinate.
-fn same_paths(a: &[Vec<(f64, f64)>], b: &[Vec<(f64, f64)>], tol: f64) -> bool {
-    a.len() == b.len()
-        && a.iter().zip(b).all(|(p, q)| {
-            p.len() == q.len()
-                && p.iter()
-                    .zip(q)
-                    .all(|(u, v)| (u.0 - v.0).abs() <= tol && (u.1 - v.1).abs() <= tol)
-        })
+/// The line width (pixels) of the paths of run `i` of `n`: the first
+/// widest, 2 pixels more than the next, the last 2, so that runs drawn
+/// over the same path leave the earlier ones visible as coloured edges.
+fn path_width(i: usize, n: usize) -> u32 {
+    2 + 2 * n.saturating_sub(i + 1) as u32
 }
 
 /// Up to `k` floes that travel furthest (start to end) in `run`.
@@ -379,9 +364,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         // Colour: the formulation; dash: the floe; legend entries for both.
         let mut paths = Vec::new();
         let mut labels = Vec::new();
-        let mut of_run: Vec<Vec<Vec<(f64, f64)>>> = Vec::new();
         for (i, r) in comp.runs.iter().enumerate() {
-            let mut mine = Vec::new();
             for (j, &f) in chosen.iter().enumerate() {
                 let points: Vec<(f64, f64)> = frames(r)
                     .filter_map(|fr| fr.iter().find(|row| row.floe == f))
@@ -392,28 +375,18 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                         labels.push((format!("floe {f}"), end));
                     }
                 }
-                mine.push(points.clone());
                 paths.push(Series {
                     dash: Some(j),
+                    width: path_width(i, comp.runs.len()),
                     ..Series::new("", i, points)
                 });
             }
-            of_run.push(mine);
         }
-        // Runs drawn over the same paths hide each other: the legend says so.
-        let tol = 1e-3 * extent(of_run.iter().flatten().flatten());
         for (i, r) in comp.runs.iter().enumerate() {
-            let same = (0..i).find(|&k| same_paths(&of_run[k], &of_run[i], tol));
-            let label = match same {
-                Some(k) => format!(
-                    "{} (same paths as {})",
-                    r.summary.formulation, comp.runs[k].summary.formulation
-                ),
-                None => r.summary.formulation.clone(),
-            };
             paths.push(Series {
                 dash: Some(0),
-                ..Series::new(label, i, Vec::new())
+                width: path_width(i, comp.runs.len()),
+                ..Series::new(r.summary.formulation.clone(), i, Vec::new())
             });
         }
         for (j, &f) in chosen.iter().enumerate() {
@@ -437,7 +410,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         add(
             "paths",
             format!("paths of floes {chosen:?}"),
-            "the centre-of-mass paths of the floes that travel furthest in the first run: colour is the formulation, the dash pattern the floe (labelled at the end of its path in the first run); a dot marks the start; a run whose paths coincide with an earlier run's (within a thousandth of the plot's extent) hides them, and the legend names it \"same paths as\" that run",
+            "the centre-of-mass paths of the floes that travel furthest in the first run: colour is the formulation, the dash pattern the floe (labelled at the end of its path in the first run); a dot marks the start; each run is drawn narrower than the one before it, so that paths that coincide show as nested coloured edges",
         );
 
         snapshot_figure(scn, &comp.runs, &obstacles, dir, &mut add)?;

@@ -90,7 +90,7 @@ impl Xy<'_> {
         let (xr, yr) = plot.get_pixel_range();
         let mut entries = Vec::new();
         for (k, s) in self.series.iter().enumerate() {
-            let style = color(s.color).stroke_width(2);
+            let style = color(s.color).stroke_width(s.width.max(1));
             // Vary the dash also when the palette wraps around.
             let dash = DASHES[s.dash.unwrap_or(k + s.color / PALETTE.len()) % DASHES.len()];
             if !s.label.is_empty() {

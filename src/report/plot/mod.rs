@@ -112,6 +112,9 @@ pub struct Series {
     /// Dash pattern (index into the chart's patterns, 0 solid), or `None`
     /// for the pattern of the series' position in the chart.
     pub dash: Option<usize>,
+    /// Line width, pixels (2 by [`Series::new`]): a wider line drawn first
+    /// stays visible around a narrower one drawn over it.
+    pub width: u32,
 }
 
 impl Series {
@@ -122,6 +125,7 @@ impl Series {
             color,
             points,
             dash: None,
+            width: 2,
         }
     }
 }
