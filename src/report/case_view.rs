@@ -143,7 +143,8 @@ pub fn draw(scn: &Scenario, png: &Path) -> Result<PathBuf, ReportError> {
             panel.arrows.extend(arrows);
         }
     }
-    let velocities: Vec<(Vec2, Vec2)> = scn.floes.iter().map(|f| (f.position, f.velocity)).collect();
+    let velocities: Vec<(Vec2, Vec2)> =
+        scn.floes.iter().map(|f| (f.position, f.velocity)).collect();
     let moving = scaled(&velocities, ARROW_FRACTION * side, "", EXACT);
     if !moving.is_empty() {
         kinds.push("floe velocities");

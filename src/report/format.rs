@@ -129,7 +129,10 @@ mod tests {
         assert_eq!(p(2.345, 2.2, 2.5), "2.3 (2.2-2.5)");
         // No spread (one run): two significant digits.
         assert_eq!(p(2.345, 2.345, 2.345), "2.3 (2.3-2.3)");
-        assert_eq!(fmt_measured(&[2.365e-4, 3.582e-5], 0.0), ["2.4e-4", "3.6e-5"]);
+        assert_eq!(
+            fmt_measured(&[2.365e-4, 3.582e-5], 0.0),
+            ["2.4e-4", "3.6e-5"]
+        );
         assert_eq!(p(51.3, 12.0, 90.0), "51 (12-90)");
         assert_eq!(p(1.234e-5, 1.2e-5, 1.3e-5), "1.2e-5 (1.2e-5-1.3e-5)");
         assert_eq!(p(9.9e-4, 8.1e-4, 1.02e-3), "0.0010 (0.0008-0.0010)");

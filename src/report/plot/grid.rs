@@ -186,7 +186,12 @@ type Rect = (i32, i32, i32, i32);
 fn label_box(text: &str, c: (i32, i32), size: u32) -> Rect {
     let w = (text.chars().count() as f64 * 0.64 * size as f64).ceil() as i32;
     let h = size as i32;
-    (c.0 - w / 2 - 1, c.1 - h / 2 - 1, c.0 + w / 2 + 1, c.1 + h / 2 + 1)
+    (
+        c.0 - w / 2 - 1,
+        c.1 - h / 2 - 1,
+        c.0 + w / 2 + 1,
+        c.1 + h / 2 + 1,
+    )
 }
 
 /// Whether the boxes `a` and `b` overlap.
@@ -264,7 +269,11 @@ fn arrows<DB: DrawingBackend>(
             continue;
         }
         // Beyond the head, along the arrow.
-        let (ux, uy) = if len >= 1.0 { (dx / len, dy / len) } else { (1.0, 0.0) };
+        let (ux, uy) = if len >= 1.0 {
+            (dx / len, dy / len)
+        } else {
+            (1.0, 0.0)
+        };
         let half = label_box(&a.label, (0, 0), ARROW_FONT);
         let reach = ((half.2 as f64 * ux).abs() + (half.3 as f64 * uy).abs() + 4.0).round();
         let c = (
@@ -310,7 +319,9 @@ fn scale_bar<DB: DrawingBackend>(
             BLACK.stroke_width(2),
         ))?;
     }
-    let text = font(14).color(&BLACK).pos(Pos::new(HPos::Center, VPos::Bottom));
+    let text = font(14)
+        .color(&BLACK)
+        .pos(Pos::new(HPos::Center, VPos::Bottom));
     area.draw(&Text::new(
         format!("{len:.decimals$} m"),
         (x0 + px / 2, y0 - 7),

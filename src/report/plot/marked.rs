@@ -168,7 +168,12 @@ impl Marked<'_> {
                 }
                 let pos = (at.0 + MARK + 3, at.1 - MARK - 12);
                 let (w, h) = plot.estimate_text_size(&q.2, &text)?;
-                let b = (pos.0 - 1, pos.1 - 1, pos.0 + w as i32 + 1, pos.1 + h as i32 + 1);
+                let b = (
+                    pos.0 - 1,
+                    pos.1 - 1,
+                    pos.0 + w as i32 + 1,
+                    pos.1 + h as i32 + 1,
+                );
                 let crowded = written
                     .iter()
                     .any(|o| b.0 < o.2 && o.0 < b.2 && b.1 < o.3 && o.1 < b.3);
