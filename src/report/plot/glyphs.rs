@@ -236,3 +236,54 @@ impl<DB: DrawingBackend> DrawingBackend for Glyphs<DB> {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{draw_glyphs, faces, layout};
+    use ab_glyph::{Font, ScaleFont};
+
+    /// The columns of the pixels `text` covers, at 20 pixels.
+    fn columns(text: &str) -> Vec<i32> {
+        let (regular, _) = faces().expect("the embedded font");
+        let mut xs = Vec::new();
+        draw_glyphs(regular, 20.0, text, |x, _, a| {
+            if a > 0.0 {
+                xs.push(x);
+            }
+            Ok::<(), ()>(())
+        })
+        .unwrap();
+        xs
+    }
+
+    #[test]
+    fn a_glyph_keeps_its_bearing() {
+        let (regular, _) = faces().expect("the embedded font");
+        let f = regular.as_scaled(20.0);
+        // `=` has a bearing of a few pixels: its ink starts there, not at
+        // the pen (plotters' drawing put it at the pen: `t= 0`).
+        let lsb = f.h_side_bearing(f.glyph_id('='));
+        assert!(lsb >= 1.0, "{lsb}");
+        let first = columns("=").into_iter().min().unwrap();
+        assert_eq!(first, lsb.floor() as i32);
+        // A space then `=`: the ink starts past the space's advance.
+        let space = f.h_advance(f.glyph_id(' '));
+        let after = columns(" =").into_iter().min().unwrap();
+        assert_eq!(after, (space + lsb).floor() as i32);
+    }
+
+    #[test]
+    fn a_combining_mark_is_drawn_over_its_letter() {
+        let (regular, _) = faces().expect("the embedded font");
+        let f = regular.as_scaled(20.0);
+        let d = f.h_advance(f.glyph_id('d'));
+        // The macron of d̄ adds no width and no pixel beyond the d.
+        assert_eq!(
+            layout(regular, 20.0, "d\u{304}"),
+            layout(regular, 20.0, "d")
+        );
+        let right = columns("d\u{304}").into_iter().max().unwrap();
+        assert!(right <= d.ceil() as i32, "{right} > {d}");
+        assert!(columns("d\u{304}").len() > columns("d").len());
+    }
+}
