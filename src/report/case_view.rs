@@ -51,9 +51,9 @@ fn speed(v: f64) -> String {
 }
 
 /// Arrows `(at, velocity)` drawn from `at`, scaled so that the fastest
-/// is `longest` metres long, each labelled `<what> <speed>` (`what` empty:
-/// the speed alone); still arrows are left out.
-fn scaled(vectors: &[(Vec2, Vec2)], longest: f64, what: &str, color: usize) -> Vec<Arrow> {
+/// is `longest` metres long, each labelled with its speed (the title says
+/// what each colour is); still arrows are left out.
+fn scaled(vectors: &[(Vec2, Vec2)], longest: f64, color: usize) -> Vec<Arrow> {
     let top = vectors.iter().map(|(_, u)| u.norm()).fold(0.0, f64::max);
     if !(top > 0.0 && top.is_finite()) {
         return Vec::new();
@@ -67,11 +67,7 @@ fn scaled(vectors: &[(Vec2, Vec2)], longest: f64, what: &str, color: usize) -> V
                 from: (p.x, p.y),
                 to: (q.x, q.y),
                 color,
-                label: if what.is_empty() {
-                    speed(u.norm())
-                } else {
-                    format!("{what} {}", speed(u.norm()))
-                },
+                label: speed(u.norm()),
             }
         })
         .collect()
@@ -84,7 +80,6 @@ fn fluid_arrows(
     field: &VelocityField,
     (lo, hi): (Vec2, Vec2),
     slot: usize,
-    what: &str,
     color: usize,
 ) -> Vec<Arrow> {
     let side = (hi.x - lo.x).max(hi.y - lo.y).max(f64::MIN_POSITIVE);
@@ -101,7 +96,7 @@ fn fluid_arrows(
             .map(|p| (p, field.at(&p, 0.0, &log)))
             .collect()
     };
-    scaled(&points, longest, what, color)
+    scaled(&points, longest, color)
 }
 
 /// Draws `scn` as it starts into the PNG file `png` and returns it: the
@@ -130,31 +125,34 @@ pub fn draw(scn: &Scenario, png: &Path) -> Result<PathBuf, ReportError> {
     let ext = extent(&panel);
     let side = (ext.1.x - ext.0.x).max(ext.1.y - ext.0.y);
     let mut kinds = Vec::new();
+    // The floes' velocities first: their labels win a place over the
+    // fluids'.
+    let velocities: Vec<(Vec2, Vec2)> =
+        scn.floes.iter().map(|f| (f.position, f.velocity)).collect();
+    let moving = scaled(&velocities, ARROW_FRACTION * side, EXACT);
+    if !moving.is_empty() {
+        kinds.push("floe velocities (black)");
+    }
+    panel.arrows.extend(moving);
     let env = &scn.environment;
-    for (k, (fluid, what, color)) in [(&env.air, "wind", WIND), (&env.water, "current", CURRENT)]
-        .into_iter()
-        .enumerate()
-    {
+    let fluids = [
+        (&env.air, "wind (vermillion)", WIND),
+        (&env.water, "current (green)", CURRENT),
+    ];
+    for (k, (fluid, what, color)) in fluids.into_iter().enumerate() {
         if fluid.drag_factor() > 0.0 {
-            let arrows = fluid_arrows(&fluid.velocity, ext, k, what, color);
+            let arrows = fluid_arrows(&fluid.velocity, ext, k, color);
             if !arrows.is_empty() {
                 kinds.push(what);
             }
             panel.arrows.extend(arrows);
         }
     }
-    let velocities: Vec<(Vec2, Vec2)> =
-        scn.floes.iter().map(|f| (f.position, f.velocity)).collect();
-    let moving = scaled(&velocities, ARROW_FRACTION * side, "", EXACT);
-    if !moving.is_empty() {
-        kinds.push("floe velocities");
-    }
-    panel.arrows.extend(moving);
     panel.title = if kinds.is_empty() {
         "at t = 0 s: no wind, no current, no floe moving".into()
     } else {
         format!(
-            "at t = 0 s; arrows: {} (each to its own scale)",
+            "at t = 0 s; arrows: {}, each kind to its own scale",
             kinds.join(", ")
         )
     };

@@ -238,8 +238,8 @@ fn floe_labels<DB: DrawingBackend>(
 const ARROW_FONT: u32 = 13;
 
 /// Draws `arrows` (a shaft and a head of two strokes in pixel space), each
-/// label just beyond its head where it overlaps none of `taken` (which it
-/// joins).
+/// label just beyond its head where it lies inside the plotting area and
+/// overlaps none of `taken` (which it joins).
 fn arrows<DB: DrawingBackend>(
     chart: &mut ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     arrows: &[Arrow],
@@ -281,7 +281,8 @@ fn arrows<DB: DrawingBackend>(
             q.1 + (reach * uy).round() as i32,
         );
         let b = label_box(&a.label, c, ARROW_FONT);
-        if taken.iter().any(|t| overlap(t, &b)) {
+        let inside = b.0 >= xr.start && b.2 <= xr.end && b.1 >= yr.start && b.3 <= yr.end;
+        if !inside || taken.iter().any(|t| overlap(t, &b)) {
             continue;
         }
         taken.push(b);
