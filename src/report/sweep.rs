@@ -90,7 +90,7 @@ pub fn orders_csv(orders: &[Order]) -> String {
 /// The axis label of an error metric.
 fn metric_label(name: &str, unit: &str) -> String {
     let what = match name {
-        "position" => format!("max RMS position difference / {}", super::figures::DIAMETER),
+        "position" => format!("max RMS Δx / {}", super::figures::DIAMETER),
         "kinetic_final" => "final kinetic energy error".to_string(),
         "dissipated" => "dissipated energy error".to_string(),
         other => format!("{} error", other.strip_prefix("check:").unwrap_or(other)),
