@@ -10,6 +10,7 @@ mod compare;
 mod lcp;
 mod percussion;
 mod run;
+mod show;
 mod sweep;
 mod validate;
 
@@ -42,6 +43,10 @@ pub enum Command {
     /// Check case files and print what they contain; reports every bad file
     /// and exits non-zero if there is one.
     Validate(validate::Args),
+    /// Draw a case before running it: its floes (those of [[field]] tables
+    /// included), obstacles, the wind, the current and the floes' initial
+    /// velocities as arrows, a scale bar; writes <case name>.png (or -o).
+    Show(show::Args),
     /// Run one case with one formulation; writes trajectory.csv, energy.csv,
     /// summary.json, floes.json and fractures.csv (and percussion.json when
     /// a lattice run broke a floe).
@@ -91,6 +96,7 @@ impl Command {
     pub fn run(self) -> ExitCode {
         let outcome = match self {
             Command::Validate(a) => validate::run(a),
+            Command::Show(a) => show::run(a),
             Command::Run(a) => run::run(a),
             Command::Compare(a) => compare::run(a),
             Command::Check(a) => check::run(a),

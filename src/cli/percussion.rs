@@ -7,6 +7,7 @@ use floebench::fracture::chain::Stop;
 use floebench::fracture::chain::{BarSpec, BondRule, Chain, ChainOptions, Material};
 use floebench::fracture::lattice::rectangle::FaceStrike;
 use floebench::fracture::lattice::LatticeSpec;
+use floebench::model::limits::fracture::POISSON_MAX;
 use floebench::model::DEFAULT_ICE_DENSITY;
 use floebench::report::format::fmt_num;
 use std::path::PathBuf;
@@ -75,9 +76,10 @@ pub struct Args2d {
     #[arg(long, default_value_t = 8.95e9)]
     young: f64,
     /// Poisson ratio (-), in (-1, 1/3]: 1/3 is central springs alone,
-    /// below it torsion springs at the triangle corners (ice: 0.3).
-    #[arg(long, default_value_t = 1.0 / 3.0)]
-    poisson: f64,
+    /// below it torsion springs at the triangle corners (ice: 0.3)
+    /// [default: 1/3].
+    #[arg(long)]
+    poisson: Option<f64>,
     /// Seed of the lattice's nodes.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -186,7 +188,8 @@ pub fn run_2d(args: Args2d) -> Outcome {
         thickness: args.thickness,
         density: args.density,
         young: args.young,
-        poisson: args.poisson,
+        // Exactly 1/3 without --poisson (central springs alone).
+        poisson: args.poisson.unwrap_or(POISSON_MAX),
         seed: args.seed,
         ..LatticeSpec::default()
     };

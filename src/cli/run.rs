@@ -5,7 +5,7 @@ use super::{
 };
 use floebench::formulation::{self, load_case, FormulationOptions};
 use floebench::model::IntegratorKind;
-use floebench::report::format::fmt_num;
+use floebench::report::format::{fmt_num, fmt_timing};
 use floebench::run::{output, EndReason, RunOptions, Runner};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -53,6 +53,11 @@ pub struct Args {
     /// counters; needs `warm_start = true`; the CPU is then no timing).
     #[arg(long)]
     warm_check: bool,
+    /// After the run, also draw its kinetic and dissipated energy and its
+    /// floes at three times into the output folder (kinetic, dissipated,
+    /// snapshots: .png and .svg, as `compare` draws them).
+    #[arg(long)]
+    plot: bool,
     /// No progress bar.
     #[arg(short, long)]
     quiet: bool,
@@ -73,6 +78,7 @@ pub fn run(args: Args) -> Outcome {
         at,
         netcdf,
         warm_check,
+        plot,
         quiet,
     } = args;
     let entry = formulation::entry(&name).map_err(|e| e.to_string())?;
@@ -145,6 +151,15 @@ pub fn run(args: Args) -> Outcome {
     for p in paths {
         println!("wrote {}", p.display());
     }
+    if plot {
+        let figs = floebench::report::figures::draw_run(&scn, &result, &out)
+            .map_err(|e| format!("--plot: {e}"))?;
+        for f in figs {
+            for ext in ["png", "svg"] {
+                println!("wrote {}", out.join(format!("{}.{ext}", f.stem)).display());
+            }
+        }
+    }
     let s = &result.summary;
     println!(
         "{} / {}: reached t = {} s of {} s; CPU {} s (detection {}, solve {}, integration {}{}); energy residual {} J of {} J exchanged",
@@ -152,12 +167,12 @@ pub fn run(args: Args) -> Outcome {
         s.formulation,
         s.t_reached,
         s.duration,
-        fmt_num(s.timing.cpu_total),
-        fmt_num(s.timing.stages.detection),
-        fmt_num(s.timing.stages.solve),
-        fmt_num(s.timing.stages.integration),
+        fmt_timing(s.timing.cpu_total),
+        fmt_timing(s.timing.stages.detection),
+        fmt_timing(s.timing.stages.solve),
+        fmt_timing(s.timing.stages.integration),
         if s.timing.stages.lattice > 0.0 {
-            format!(", lattice impacts {}", fmt_num(s.timing.stages.lattice))
+            format!(", lattice impacts {}", fmt_timing(s.timing.stages.lattice))
         } else {
             String::new()
         },

@@ -51,6 +51,11 @@ use crate::run::{RunResult, TrajectoryRow};
 use optional::{exact_figures, floe_size_figure};
 use std::path::Path;
 
+/// The unit of the divergences in the plots, in words: the median
+/// equal-area floe diameter `d_med` of the page
+/// ([`crate::model::Scenario::median_floe_diameter`]).
+pub const DIAMETER: &str = "median floe diameter d_med";
+
 /// A drawn figure: its alternative text and file stem (without extension).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Figure {
@@ -62,12 +67,13 @@ pub struct Figure {
     pub caption: String,
 }
 
-fn polygon(points: impl IntoIterator<Item = Vec2>) -> Vec<(f64, f64)> {
+/// `points` as `(x, y)` pairs, m.
+pub(super) fn polygon(points: impl IntoIterator<Item = Vec2>) -> Vec<(f64, f64)> {
     points.into_iter().map(|p| (p.x, p.y)).collect()
 }
 
 /// The obstacles of `scn` as polygons.
-fn obstacle_polygons(scn: &Scenario) -> Vec<Vec<(f64, f64)>> {
+pub(super) fn obstacle_polygons(scn: &Scenario) -> Vec<Vec<(f64, f64)>> {
     scn.obstacles
         .iter()
         .map(|o| polygon(o.polygon.iter().copied()))
@@ -100,6 +106,7 @@ fn field_panel(
         floes,
         labels,
         obstacles: obstacles.to_vec(),
+        ..Panel::default()
     }
 }
 
@@ -120,9 +127,8 @@ fn time_stamp(scn: &Scenario, frame: &[TrajectoryRow]) -> String {
 }
 
 /// The energy series `f` of every run, against time.
-fn energy_series(comp: &CaseComparison, f: fn(&crate::run::EnergySample) -> f64) -> Vec<Series> {
-    comp.runs
-        .iter()
+fn energy_series(runs: &[RunResult], f: fn(&crate::run::EnergySample) -> f64) -> Vec<Series> {
+    runs.iter()
         .enumerate()
         .map(|(i, r)| {
             Series::new(
@@ -132,6 +138,13 @@ fn energy_series(comp: &CaseComparison, f: fn(&crate::run::EnergySample) -> f64)
             )
         })
         .collect()
+}
+
+/// The line width (pixels) of the paths of run `i` of `n`: the first
+/// widest, 2 pixels more than the next, the last 2, so that runs drawn
+/// over the same path leave the earlier ones visible as coloured edges.
+fn path_width(i: usize, n: usize) -> u32 {
+    2 + 2 * n.saturating_sub(i + 1) as u32
 }
 
 /// Up to `k` floes that travel furthest (start to end) in `run`.
@@ -159,19 +172,14 @@ fn travelling_floes(run: &RunResult, k: usize) -> Vec<usize> {
     d.into_iter().take(k).map(|(i, _)| i).collect()
 }
 
-/// Draws every figure of `comp` into `dir`.
-pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
-    let scn = &comp.scenario;
-    let name = &scn.name;
-    let mut figs = Vec::new();
-    let mut add = |stem: &str, alt: String, caption: &str| {
-        figs.push(Figure {
-            alt,
-            stem: stem.to_string(),
-            caption: caption.to_string(),
-        })
-    };
-
+/// `kinetic` and `dissipated`: the energies of `runs` (of the case
+/// `name`) against time, into `dir`.
+fn energy_figures(
+    name: &str,
+    runs: &[RunResult],
+    dir: &Path,
+    add: &mut impl FnMut(&str, String, &str),
+) -> Result<(), ReportError> {
     type EnergyOf = fn(&crate::run::EnergySample) -> f64;
     let energies: [(&str, &str, &str, &str, EnergyOf); 2] = [
         (
@@ -196,7 +204,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 title: &format!("{name}: {what}"),
                 x_label: "t (s)",
                 y_label,
-                series: &energy_series(comp, f),
+                series: &energy_series(runs, f),
                 x_scale: Scale::Linear,
                 y_scale: Scale::Linear,
                 marks: &[],
@@ -206,6 +214,87 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         .map_err(plot_err(&stem))?;
         add(file, format!("{what} against time"), caption);
     }
+    Ok(())
+}
+
+/// `snapshots`: the floes of every run of `runs` (columns; of the case
+/// `scn`, with its `obstacles`) at the first, middle and last output of
+/// the first run (rows), into `dir`.
+fn snapshot_figure(
+    scn: &Scenario,
+    runs: &[RunResult],
+    obstacles: &[Vec<(f64, f64)>],
+    dir: &Path,
+    add: &mut impl FnMut(&str, String, &str),
+) -> Result<(), ReportError> {
+    let Some(reference) = runs.first() else {
+        return Ok(());
+    };
+    let name = &scn.name;
+    // Snapshots at the start, the middle and the end of the reference run.
+    let count = frames(reference).count();
+    let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
+    rows.dedup();
+    let mut panels = Vec::new();
+    for &k in &rows {
+        for r in runs {
+            let frame = frames(r).nth(k);
+            let title = match frame {
+                Some(f) => format!("{}, {}", r.summary.formulation, time_stamp(scn, f)),
+                None => format!("{}: not reached", r.summary.formulation),
+            };
+            panels.push(field_panel(r, frame, title, obstacles));
+        }
+    }
+    let stem = dir.join("snapshots");
+    plot::snapshot_grid(
+        &format!("{name}: floes at three times"),
+        rows.len(),
+        runs.len(),
+        &panels,
+        &stem,
+    )
+    .map_err(plot_err(&stem))?;
+    add(
+        "snapshots",
+        "the floes at the start, middle and end".into(),
+        "the floes of every run (columns) at the first, middle and last output of the first run (rows)",
+    );
+    Ok(())
+}
+
+/// Draws the figures of one run `run` of `scn` into `dir` (`floebench run
+/// --plot`): `kinetic`, `dissipated` and `snapshots`, as a comparison of
+/// that run alone draws them.
+pub fn draw_run(scn: &Scenario, run: &RunResult, dir: &Path) -> Result<Vec<Figure>, ReportError> {
+    let mut figs = Vec::new();
+    let mut add = |stem: &str, alt: String, caption: &str| {
+        figs.push(Figure {
+            alt,
+            stem: stem.to_string(),
+            caption: caption.to_string(),
+        })
+    };
+    let runs = std::slice::from_ref(run);
+    energy_figures(&scn.name, runs, dir, &mut add)?;
+    snapshot_figure(scn, runs, &obstacle_polygons(scn), dir, &mut add)?;
+    Ok(figs)
+}
+
+/// Draws every figure of `comp` into `dir`.
+pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportError> {
+    let scn = &comp.scenario;
+    let name = &scn.name;
+    let mut figs = Vec::new();
+    let mut add = |stem: &str, alt: String, caption: &str| {
+        figs.push(Figure {
+            alt,
+            stem: stem.to_string(),
+            caption: caption.to_string(),
+        })
+    };
+
+    energy_figures(name, &comp.runs, dir, &mut add)?;
     super::lattice_energy::figures(comp, dir, &mut add)?;
 
     if let Some(reference) = comp.runs.first() {
@@ -253,7 +342,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 &LineChart {
                     title: &format!("{name}: divergence between runs, from {rname}"),
                     x_label: "t (s)",
-                    y_label: "RMS position difference / median floe diameter d̄ (-)",
+                    y_label: &format!("RMS position difference / {DIAMETER} (-)"),
                     series: &series,
                     x_scale: Scale::Linear,
                     y_scale: Scale::Auto,
@@ -266,7 +355,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 "divergence",
                 format!("divergence between runs, from {rname}"),
                 &format!(
-                    "the RMS over floes of the distance between a floe's positions in two runs, in median floe diameters d̄, against the threshold (black dashes); the dotted curve is {rname} against itself started from positions perturbed by 1e-12 d̄: its growth tells whether the case is chaotic"
+                    "the RMS over floes of the distance between a floe's positions in two runs, in median floe diameters d_med, against the threshold (black dashes); the dotted curve is {rname} against itself started from positions perturbed by 1e-12 d_med: its growth tells whether the case is chaotic"
                 ),
             );
         }
@@ -288,6 +377,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
                 }
                 paths.push(Series {
                     dash: Some(j),
+                    width: path_width(i, comp.runs.len()),
                     ..Series::new("", i, points)
                 });
             }
@@ -295,6 +385,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         for (i, r) in comp.runs.iter().enumerate() {
             paths.push(Series {
                 dash: Some(0),
+                width: path_width(i, comp.runs.len()),
                 ..Series::new(r.summary.formulation.clone(), i, Vec::new())
             });
         }
@@ -319,38 +410,10 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         add(
             "paths",
             format!("paths of floes {chosen:?}"),
-            "the centre-of-mass paths of the floes that travel furthest in the first run: colour is the formulation, the dash pattern the floe (labelled at the end of its path in the first run); a dot marks the start",
+            "the centre-of-mass paths of the floes that travel furthest in the first run: colour is the formulation, the dash pattern the floe (labelled at the end of its path in the first run); a dot marks the start; each run is drawn narrower than the one before it, so that paths that coincide show as nested coloured edges",
         );
 
-        // Snapshots at the start, the middle and the end of the reference run.
-        let count = frames(reference).count();
-        let mut rows: Vec<usize> = vec![0, count / 2, count.saturating_sub(1)];
-        rows.dedup();
-        let mut panels = Vec::new();
-        for &k in &rows {
-            for r in &comp.runs {
-                let frame = frames(r).nth(k);
-                let title = match frame {
-                    Some(f) => format!("{}, {}", r.summary.formulation, time_stamp(scn, f)),
-                    None => format!("{}: not reached", r.summary.formulation),
-                };
-                panels.push(field_panel(r, frame, title, &obstacles));
-            }
-        }
-        let stem = dir.join("snapshots");
-        plot::snapshot_grid(
-            &format!("{name}: floes at three times"),
-            rows.len(),
-            comp.runs.len(),
-            &panels,
-            &stem,
-        )
-        .map_err(plot_err(&stem))?;
-        add(
-            "snapshots",
-            "the floes at the start, middle and end".into(),
-            "the floes of every run (columns) at the first, middle and last output of the first run (rows)",
-        );
+        snapshot_figure(scn, &comp.runs, &obstacles, dir, &mut add)?;
         exact_figures(comp, dir, &mut add)?;
     }
     floe_size_figure(comp, dir, &mut add)?;

@@ -39,12 +39,24 @@ pub fn fmt_sig(v: f64, sig: usize) -> String {
     }
 }
 
+/// Significant digits of a timing measured once (no spread to say how
+/// many its repeats would share): CPU times of one thread vary by a few
+/// per cent from run to run, so two.
+pub const TIMING_DIGITS: usize = 2;
+
+/// A timing measured once, s (or a ratio of such): [`TIMING_DIGITS`]
+/// significant digits, by the rules of [`fmt_num`] (`2.4e-4`, `0.16`,
+/// `12`).
+pub fn fmt_timing(v: f64) -> String {
+    fmt_sig(v, TIMING_DIGITS)
+}
+
 /// Measured figures that share one spread of width `width` (e.g. the
 /// median, range and quartiles of repeated CPU times, or the parts of a
 /// measured total), each printed only to the digits the spread supports:
 /// the last digit printed is at the decade of `width`, the same for all (at
-/// least one significant digit of the largest, at most four; as [`fmt_num`]
-/// when the width is zero or unknown). The notation (fixed or scientific,
+/// least one significant digit of the largest, at most four; as
+/// [`fmt_timing`] when the width is zero or unknown: a single timing). The notation (fixed or scientific,
 /// by the rule of [`fmt_num`]) is that of the largest, for all.
 pub fn fmt_measured(values: &[f64], width: f64) -> Vec<String> {
     let big = values
@@ -53,7 +65,7 @@ pub fn fmt_measured(values: &[f64], width: f64) -> Vec<String> {
         .filter(|v| v.is_finite())
         .fold(0.0, f64::max);
     if !(width > 0.0 && width.is_finite() && big > 0.0) {
-        return values.iter().map(|&v| fmt_num(v)).collect();
+        return values.iter().map(|&v| fmt_timing(v)).collect();
     }
     let top = big.log10().floor() as i32;
     let last = (width.log10().floor() as i32).clamp(top - 3, top);
@@ -115,7 +127,12 @@ mod tests {
         };
         assert_eq!(p(0.04873, 0.0475, 0.0512), "0.049 (0.048-0.051)");
         assert_eq!(p(2.345, 2.2, 2.5), "2.3 (2.2-2.5)");
-        assert_eq!(p(2.345, 2.345, 2.345), "2.345 (2.345-2.345)");
+        // No spread (one run): two significant digits.
+        assert_eq!(p(2.345, 2.345, 2.345), "2.3 (2.3-2.3)");
+        assert_eq!(
+            fmt_measured(&[2.365e-4, 3.582e-5], 0.0),
+            ["2.4e-4", "3.6e-5"]
+        );
         assert_eq!(p(51.3, 12.0, 90.0), "51 (12-90)");
         assert_eq!(p(1.234e-5, 1.2e-5, 1.3e-5), "1.2e-5 (1.2e-5-1.3e-5)");
         assert_eq!(p(9.9e-4, 8.1e-4, 1.02e-3), "0.0010 (0.0008-0.0010)");

@@ -8,6 +8,8 @@
 //! - [`verdict`]: the verdict sentences on a case;
 //! - `tables` (private): the tables of the report page (headline, runs,
 //!   pairs, checks);
+//! - [`case_view`]: the picture of a case before it runs (`floebench
+//!   show`): floes, obstacles, wind, current and velocities, a scale bar;
 //! - [`checks`]: the tables of check outcomes (`floebench check`): plain
 //!   text, Markdown, `checks.csv`;
 //! - [`figures`]: which plots a comparison draws, from its data;
@@ -25,6 +27,7 @@
 //! - [`format`](mod@format): the one rounding rule of the numbers printed for
 //!   people ([`format::fmt_num`]).
 
+pub mod case_view;
 pub mod checks;
 pub mod compare;
 pub mod crack;

@@ -125,7 +125,7 @@ fn fluid(f: &Fluid, velocity_word: &str) -> String {
     )
 }
 
-/// `a m` when all equal, else `a–b m`.
+/// `a m` when all equal (as given), else `a–b m` rounded ([`fmt_num`]).
 fn range(values: impl Iterator<Item = f64>, unit: &str) -> String {
     let v: Vec<f64> = values.collect();
     let (lo, hi) = v
@@ -138,7 +138,8 @@ fn range(values: impl Iterator<Item = f64>, unit: &str) -> String {
     } else if lo == hi {
         format!("{lo} {unit}")
     } else {
-        format!("{lo}–{hi} {unit}")
+        // A range is drawn (a field's floes), not quoted: rounded.
+        format!("{}–{} {unit}", fmt_num(lo), fmt_num(hi))
     }
 }
 

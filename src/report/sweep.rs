@@ -90,7 +90,7 @@ pub fn orders_csv(orders: &[Order]) -> String {
 /// The axis label of an error metric.
 fn metric_label(name: &str, unit: &str) -> String {
     let what = match name {
-        "position" => "max RMS position difference / d_med".to_string(),
+        "position" => format!("max RMS Δx / {}", super::figures::DIAMETER),
         "kinetic_final" => "final kinetic energy error".to_string(),
         "dissipated" => "dissipated energy error".to_string(),
         other => format!("{} error", other.strip_prefix("check:").unwrap_or(other)),
@@ -182,16 +182,25 @@ fn panels(
                 .filter(|y| *y > 0.0)
         };
         let (lo, hi) = (ys().fold(f64::INFINITY, f64::min), ys().fold(0.0, f64::max));
+        let log = hi >= 1.5 * lo;
+        // A zero error has no place on a log axis: the panel says how many
+        // were left out.
+        let zeros = plotted
+            .iter()
+            .flat_map(|l| &l.points)
+            .filter(|p| p.1 == 0.0)
+            .count();
         out.push(MarkedPanel {
-            title: metric.clone(),
+            title: match zeros {
+                0 => metric.clone(),
+                1 if log => format!("{metric} (1 point of error 0 not shown)"),
+                n if log => format!("{metric} ({n} points of error 0 not shown)"),
+                _ => metric.clone(),
+            },
             x_label: x_label.to_string(),
             y_label: metric_label(&metric, &unit),
             x_scale: Scale::Log,
-            y_scale: if hi < 1.5 * lo {
-                Scale::Linear
-            } else {
-                Scale::Log
-            },
+            y_scale: if log { Scale::Log } else { Scale::Linear },
             lines: plotted,
         });
     }

@@ -248,6 +248,7 @@ fn square_at(x: f64) -> Panel {
         floes: vec![vec![(x, 0.0), (x + 1.0, 0.0), (x + 1.0, 1.0), (x, 1.0)]],
         labels: vec!["0".into()],
         obstacles: Vec::new(),
+        ..Default::default()
     }
 }
 
@@ -354,6 +355,7 @@ fn demo_large_field() {
                         .collect(),
                     labels: (0..floes).map(|i| i.to_string()).collect(),
                     obstacles: Vec::new(),
+                    ..Default::default()
                 })
                 .collect(),
         })

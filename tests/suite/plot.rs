@@ -193,6 +193,7 @@ fn plan_views_and_grids_including_degenerate_ones() {
         floes,
         labels: vec!["1".into()],
         obstacles: coast.clone(),
+        ..Default::default()
     };
     let panels = [
         panel("a, t = 0 s", vec![hexagon(50.0, 50.0, 5.0, 0.0)]),
@@ -212,6 +213,7 @@ fn plan_views_and_grids_including_degenerate_ones() {
         floes: vec![vec![(1.0, 1.0); 3]],
         labels: vec!["0".into()],
         obstacles: vec![],
+        ..Default::default()
     }];
     check(
         snapshot_grid("point grid", 1, 1, &point, &d.join("point")).unwrap(),
@@ -386,6 +388,7 @@ fn demo_images() {
                 labels: (0..floes.len()).map(|k| k.to_string()).collect(),
                 floes,
                 obstacles: land.clone(),
+                ..Default::default()
             });
         }
     }
@@ -405,6 +408,7 @@ fn demo_images() {
                 .collect(),
             labels: (0..3000).map(|i| i.to_string()).collect(),
             obstacles: land.clone(),
+            ..Default::default()
         })
         .collect();
     let start = std::time::Instant::now();

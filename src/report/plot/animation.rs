@@ -18,6 +18,7 @@
 //!   ([`crate::fsio::write_atomic`]): an interrupted run leaves no
 //!   partial GIF.
 
+use super::glyphs::Glyphs;
 use super::grid::{shared_bounds, Grid};
 use super::render::{ensure_font, Figure};
 use super::{AnimationFrame, PlotError};
@@ -211,7 +212,7 @@ pub(super) fn write_gif<'a>(
     let draw = |f: &'a AnimationFrame| -> Result<Vec<u8>, PlotError> {
         let mut buf = vec![0u8; 3 * size.0 as usize * size.1 as usize];
         {
-            let root = BitMapBackend::with_buffer(&mut buf, size).into_drawing_area();
+            let root = Glyphs(BitMapBackend::with_buffer(&mut buf, size)).into_drawing_area();
             grid(f).draw(&root)?;
             root.present()?;
         }

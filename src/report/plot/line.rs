@@ -90,7 +90,7 @@ impl Xy<'_> {
         let (xr, yr) = plot.get_pixel_range();
         let mut entries = Vec::new();
         for (k, s) in self.series.iter().enumerate() {
-            let style = color(s.color).stroke_width(2);
+            let style = color(s.color).stroke_width(s.width.max(1));
             // Vary the dash also when the palette wraps around.
             let dash = DASHES[s.dash.unwrap_or(k + s.color / PALETTE.len()) % DASHES.len()];
             if !s.label.is_empty() {
@@ -164,9 +164,20 @@ impl Xy<'_> {
             .style(FontStyle::Bold)
             .color(&BLACK)
             .pos(Pos::new(HPos::Left, VPos::Bottom));
+        // A label that would overlap one already written is left out.
+        let mut written: Vec<Rect> = Vec::new();
         for (text, p) in self.labels {
             if ok(p) {
                 let q = chart.backend_coord(p);
+                let (w, h) = plot.estimate_text_size(text, &label_style)?;
+                let b = (q.0 + 5, q.1 - 5 - h as i32, q.0 + 7 + w as i32, q.1 - 3);
+                if written
+                    .iter()
+                    .any(|o| b.0 < o.2 && o.0 < b.2 && b.1 < o.3 && o.1 < b.3)
+                {
+                    continue;
+                }
+                written.push(b);
                 let at = (q.0 - xr.start + 6, q.1 - yr.start - 4);
                 plot.draw(&Text::new(text.clone(), at, label_style.clone()))?;
                 occupied.push((q.0, q.1 - 20, q.0 + 60, q.1));

@@ -154,21 +154,32 @@ impl Marked<'_> {
             let path: Vec<(i32, i32)> = l.points.iter().filter(ok).map(px).collect();
             plot.draw(&PathElement::new(path, c.stroke_width(2)))?;
         }
-        let mut written: Vec<((i32, i32), &str)> = Vec::new();
+        // The boxes of the labels written: a label that would overlap one
+        // (by its measured width) is left out.
+        let mut written: Vec<(i32, i32, i32, i32)> = Vec::new();
         let text = font(12).into_text_style(&plot);
         for l in &p.lines {
             let c = color(l.color);
             for q in l.points.iter().filter(ok) {
                 let at = px(q);
                 draw_marker(&plot, l.marker, at, c)?;
+                if q.2.is_empty() {
+                    continue;
+                }
                 let pos = (at.0 + MARK + 3, at.1 - MARK - 12);
-                let crowded = written.iter().any(|&(w, t)| {
-                    let (dx, dy) = ((w.0 - pos.0).abs(), (w.1 - pos.1).abs());
-                    dy < 10 && (dx < 8 || (t == q.2 && dx < 30))
-                });
-                if !q.2.is_empty() && !crowded {
+                let (w, h) = plot.estimate_text_size(&q.2, &text)?;
+                let b = (
+                    pos.0 - 1,
+                    pos.1 - 1,
+                    pos.0 + w as i32 + 1,
+                    pos.1 + h as i32 + 1,
+                );
+                let crowded = written
+                    .iter()
+                    .any(|o| b.0 < o.2 && o.0 < b.2 && b.1 < o.3 && o.1 < b.3);
+                if !crowded {
                     plot.draw_text(&q.2, &text, pos)?;
-                    written.push((pos, &q.2));
+                    written.push(b);
                 }
             }
         }

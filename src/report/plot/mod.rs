@@ -8,6 +8,7 @@
 //! - [`plan_view`]: floe paths in the plane at equal aspect ratio, obstacles in grey
 //!   ([`network_view`]: the same without start markers, for a lattice's bonds);
 //! - [`snapshot_grid`]: panels of floe polygons sharing the same bounds;
+//! - [`case_view`]: one such panel, large, with arrows and a scale bar;
 //! - [`animation`]: a looping GIF of snapshot rows, one frame per time,
 //!   every frame with the same bounds and scale;
 //! - [`marked_panels`]: panels of lines through marked, labelled points on
@@ -22,6 +23,7 @@
 //!
 //! This file holds the public inputs and the entry points; the drawing
 //! is behind them, private: `render.rs` (both backends, fonts, files),
+//! `glyphs.rs` (the bitmap backend's text, each glyph at its bearing),
 //! `style.rs` (sizes, colours, title strip, filled polygons), `axis.rs`
 //! (bounds, scales, ticks and their labels, the mesh), `legend.rs`,
 //! `line.rs` (line charts and plan views), `bars.rs` (stacked bars),
@@ -30,6 +32,7 @@
 mod animation;
 mod axis;
 mod bars;
+mod glyphs;
 mod grid;
 mod legend;
 mod line;
@@ -109,6 +112,9 @@ pub struct Series {
     /// Dash pattern (index into the chart's patterns, 0 solid), or `None`
     /// for the pattern of the series' position in the chart.
     pub dash: Option<usize>,
+    /// Line width, pixels (2 by [`Series::new`]): a wider line drawn first
+    /// stays visible around a narrower one drawn over it.
+    pub width: u32,
 }
 
 impl Series {
@@ -119,6 +125,7 @@ impl Series {
             color,
             points,
             dash: None,
+            width: 2,
         }
     }
 }
@@ -188,7 +195,8 @@ pub struct PlanView<'a> {
     /// Obstacle polygons (vertices in metres).
     pub obstacles: &'a [Vec<(f64, f64)>],
     /// Text labels at points (metres), e.g. a floe's number at the end of
-    /// its path.
+    /// its path; a label that would overlap one written before it is left
+    /// out.
     pub labels: &'a [(String, (f64, f64))],
 }
 
@@ -205,6 +213,27 @@ pub struct Panel {
     pub labels: Vec<String>,
     /// Obstacle polygons (vertices in metres).
     pub obstacles: Vec<Vec<(f64, f64)>>,
+    /// Arrows drawn over the floes (e.g. the wind, the current, a floe's
+    /// velocity), each labelled at its tip; none in the snapshots.
+    pub arrows: Vec<Arrow>,
+    /// Whether the panel carries a scale bar (a round length in metres, in
+    /// its lower left corner).
+    pub scale_bar: bool,
+}
+
+/// An arrow of a [`Panel`], in metres: a velocity drawn at a length
+/// proportional to it (the label gives its value).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Arrow {
+    /// Its tail `(x, y)`, m.
+    pub from: (f64, f64),
+    /// Its head `(x, y)`, m.
+    pub to: (f64, f64),
+    /// Index into [`PALETTE`] (modulo its length).
+    pub color: usize,
+    /// Written at its head (empty: none); a label that would overlap a
+    /// label already written is left out.
+    pub label: String,
 }
 
 /// One frame of an [`animation`]: a row of panels at one time.
@@ -253,8 +282,8 @@ pub struct MarkedPanel {
 
 /// Draws `panels`, `cols` per row, under `title` and one legend of every
 /// labelled line, into `<stem>.png` and `<stem>.svg`; returns `[png, svg]`.
-/// A point label is not written where the same label (or any label) is
-/// already written at nearly the same place.
+/// A point label is not written where it would overlap a label already
+/// written.
 pub fn marked_panels(
     title: &str,
     cols: usize,
@@ -376,6 +405,26 @@ pub fn snapshot_grid(
             square: false,
         },
         stem,
+    )
+}
+
+/// Draws `panel` alone, large, under `title` (as a panel of
+/// [`snapshot_grid`], with its arrows and scale bar) into the PNG file
+/// `png` (atomically), and returns it: the picture of a case before it
+/// runs (`floebench show`).
+pub fn case_view(title: &str, panel: &Panel, png: &Path) -> Result<PathBuf, PlotError> {
+    let panels = std::slice::from_ref(panel);
+    render::render_png(
+        &Grid {
+            title,
+            rows: 1,
+            cols: 1,
+            panels,
+            bounds: grid::shared_bounds(panels.iter()),
+            panel_w: grid::VIEW_W,
+            square: false,
+        },
+        png,
     )
 }
 

@@ -2,6 +2,7 @@
 //! implements, the font registration, and the atomic writing of
 //! `<stem>.svg` and `<stem>.png`.
 
+use super::glyphs::Glyphs;
 use super::style::{FONT, SIZE};
 use super::PlotError;
 use crate::fsio::write_atomic;
@@ -63,6 +64,23 @@ pub(super) fn render<F: Figure>(fig: &F, stem: &Path) -> Result<[PathBuf; 2], Pl
     }
     write_atomic(&svg, text.as_bytes()).map_err(io(&svg))?;
 
+    render_png(fig, &png)?;
+    Ok([png, svg])
+}
+
+/// Draws `fig` with the bitmap backend into the PNG file `png`, atomically
+/// (a hidden temporary `.png` next to it, then renamed); returns `png`.
+pub(super) fn render_png<F: Figure>(fig: &F, png: &Path) -> Result<PathBuf, PlotError> {
+    ensure_font()?;
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| PlotError::Io { path, source }
+    };
+    let dir = match png.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    std::fs::create_dir_all(&dir).map_err(io(&dir))?;
     // The bitmap backend encodes by file extension: draw into a hidden
     // temporary `.png` next to the target, then rename.
     static COUNT: AtomicUsize = AtomicUsize::new(0);
@@ -74,14 +92,14 @@ pub(super) fn render<F: Figure>(fig: &F, stem: &Path) -> Result<[PathBuf; 2], Pl
         COUNT.fetch_add(1, Ordering::Relaxed)
     ));
     let drawn = (|| {
-        let root = BitMapBackend::new(&tmp, size).into_drawing_area();
+        let root = Glyphs(BitMapBackend::new(&tmp, fig.size())).into_drawing_area();
         fig.draw(&root)?;
         root.present()?;
         Ok::<(), PlotError>(())
     })();
-    let done = drawn.and_then(|()| std::fs::rename(&tmp, &png).map_err(io(&png)));
+    let done = drawn.and_then(|()| std::fs::rename(&tmp, png).map_err(io(png)));
     if done.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
-    done.map(|()| [png, svg])
+    done.map(|()| png.to_path_buf())
 }

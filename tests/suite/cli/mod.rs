@@ -1,4 +1,4 @@
-//! The command line: `validate`, `run` (outputs, dumps), `lcp`.
+//! The command line: `validate`, `show`, `run` (outputs, dumps, plots), `lcp`.
 //!
 //! This file holds what the submodules share: `cli`, which runs the binary
 //! and returns its status and output. The tests are in the submodules, one
@@ -8,6 +8,7 @@ mod lcp;
 mod refusals;
 mod reports;
 mod run;
+mod show;
 mod signals;
 mod validate;
 
