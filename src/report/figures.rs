@@ -263,21 +263,28 @@ fn snapshot_figure(
     Ok(())
 }
 
-/// Draws the figures of one run `run` of `scn` into `dir` (`floebench run
-/// --plot`): `kinetic`, `dissipated` and `snapshots`, as a comparison of
-/// that run alone draws them.
-pub fn draw_run(scn: &Scenario, run: &RunResult, dir: &Path) -> Result<Vec<Figure>, ReportError> {
-    let mut figs = Vec::new();
-    let mut add = |stem: &str, alt: String, caption: &str| {
+/// The callback the figure functions report each figure drawn to: it
+/// appends the figure (`stem`, `alt` text, `caption`) to `figs`.
+fn collect_into(figs: &mut Vec<Figure>) -> impl FnMut(&str, String, &str) + '_ {
+    move |stem, alt, caption| {
         figs.push(Figure {
             alt,
             stem: stem.to_string(),
             caption: caption.to_string(),
         })
-    };
+    }
+}
+
+/// Draws the figures of one run `run` of `scn` into `dir` (`floebench run
+/// --plot`): `kinetic`, `dissipated` and `snapshots`, as a comparison of
+/// that run alone draws them.
+pub fn draw_run(scn: &Scenario, run: &RunResult, dir: &Path) -> Result<Vec<Figure>, ReportError> {
+    let mut figs = Vec::new();
+    let mut add = collect_into(&mut figs);
     let runs = std::slice::from_ref(run);
     energy_figures(&scn.name, runs, dir, &mut add)?;
     snapshot_figure(scn, runs, &obstacle_polygons(scn), dir, &mut add)?;
+    drop(add);
     Ok(figs)
 }
 
@@ -286,13 +293,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
     let scn = &comp.scenario;
     let name = &scn.name;
     let mut figs = Vec::new();
-    let mut add = |stem: &str, alt: String, caption: &str| {
-        figs.push(Figure {
-            alt,
-            stem: stem.to_string(),
-            caption: caption.to_string(),
-        })
-    };
+    let mut add = collect_into(&mut figs);
 
     energy_figures(name, &comp.runs, dir, &mut add)?;
     super::lattice_energy::figures(comp, dir, &mut add)?;
@@ -489,5 +490,6 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         "CPU time per stage".into(),
         "thread CPU time of each formulation's run of median CPU time, split into contact detection, contact solve and smooth integration (and the impacts resolved in the floes' lattices, where impact = \"lattice\" ran them); \"other\" is the rest of the run's CPU time outside those stages (recording the outputs and the energy ledger, the formulation's bookkeeping between stages, the timer's own cost); above each bar its total and its ratio to the fastest median, to the digits the spread of the repeats supports",
     );
+    drop(add);
     Ok(figs)
 }
