@@ -16,6 +16,7 @@ mod compare;
 mod contact;
 mod crack_energy;
 mod event_driven;
+mod fc2d;
 mod field;
 mod flush_pair;
 mod forcing;
