@@ -3,12 +3,13 @@
 //! hand-written problems in each storage, and malformed files, each refused
 //! with its line and what was expected.
 
-use crate::common::guarded;
 use floebench::model::fc2d::{parse_fc2d, read_fc2d, Fc2dError, Fc2dProblem};
 use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/fc2d").join(name)
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/fc2d")
+        .join(name)
 }
 
 fn text(name: &str) -> String {
@@ -22,7 +23,9 @@ const F667: &str = "fc2d_granularflowonwall_00667_00000.dat";
 /// The numbers of line `l` (1-based) of a text, read by plain splitting.
 fn line_reals(text: &str, l: usize) -> Vec<f64> {
     let line = text.lines().nth(l - 1).expect("line");
-    line.split_whitespace().map(|t| t.parse().expect("a number")).collect()
+    line.split_whitespace()
+        .map(|t| t.parse().expect("a number"))
+        .collect()
 }
 
 /// `q` as written: the last line holding 2 nc numbers.
@@ -32,7 +35,9 @@ fn q_line(text: &str, nc: usize) -> Vec<f64> {
         .filter(|l| l.split_whitespace().count() == 2 * nc)
         .last()
         .expect("a line of 2 nc numbers");
-    line.split_whitespace().map(|t| t.parse().expect("a number")).collect()
+    line.split_whitespace()
+        .map(|t| t.parse().expect("a number"))
+        .collect()
 }
 
 /// Checks a storage-1 file against its text: the sizes, `q`, `mu` and,
@@ -61,8 +66,16 @@ fn check_sparse_block(name: &str, nc: usize, blocks: usize, mu: f64) {
         let i = rowptr.iter().filter(|&&r| r <= k as f64).count() - 1;
         let j = colidx[k] as usize;
         let at = |r: usize, c: usize| d[(2 * i + r) * m + 2 * j + c];
-        assert_eq!([at(0, 0), at(1, 0), at(0, 1), at(1, 1)], [v[0], v[1], v[2], v[3]], "block {k} of {name}");
-        assert_eq!(p.w.block(i, j).map(|b| b[1]), Some(v[2]), "W_NT is [1] of block {k}");
+        assert_eq!(
+            [at(0, 0), at(1, 0), at(0, 1), at(1, 1)],
+            [v[0], v[1], v[2], v[3]],
+            "block {k} of {name}"
+        );
+        assert_eq!(
+            p.w.block(i, j).map(|b| b[1]),
+            Some(v[2]),
+            "W_NT is [1] of block {k}"
+        );
     }
 }
 
@@ -84,10 +97,18 @@ fn fc2d_siconos_00667_csparse() {
     assert!(p.mu.iter().all(|&m| m == 0.5));
     assert_eq!(p.q, q_line(&t, 667));
     let qn = p.q.iter().map(|x| x * x).sum::<f64>().sqrt();
-    assert!(qn > 0.0 && qn < 1e-16, "‖q‖ = {qn:e}: the file's q is nearly zero");
+    assert!(
+        qn > 0.0 && qn < 1e-16,
+        "‖q‖ = {qn:e}: the file's q is nearly zero"
+    );
     // Lines 8 and on: "1334-by-1334, nzmax: 3822 nnz: 3822, …", then
     // "col 0 : locations 0 to 1", "0 : 856.713", "649 : -454.43", "col 1 …".
-    let header: Vec<&str> = t.lines().nth(7).expect("line 8").split_whitespace().collect();
+    let header: Vec<&str> = t
+        .lines()
+        .nth(7)
+        .expect("line 8")
+        .split_whitespace()
+        .collect();
     let nnz: usize = header[4].trim_end_matches(',').parse().expect("nnz");
     let d = p.dense();
     let m = 1334;
@@ -124,18 +145,25 @@ fn fc2d_siconos_w_symmetric_to_rounding() {
 fn dense_apply(p: &Fc2dProblem, r: &[f64]) -> Vec<f64> {
     let m = 2 * p.contacts;
     let d = p.dense();
-    (0..m).map(|i| (0..m).map(|j| d[i * m + j] * r[j]).sum()).collect()
+    (0..m)
+        .map(|i| (0..m).map(|j| d[i * m + j] * r[j]).sum())
+        .collect()
 }
 
 #[test]
 fn fc2d_apply_is_dense_times_r() {
     for name in [F71, F237, F667] {
         let p = read_fc2d(&data(name)).unwrap_or_else(|e| panic!("{e}"));
-        let r: Vec<f64> = (0..2 * p.contacts).map(|k| (k as f64 * 0.7).sin()).collect();
+        let r: Vec<f64> = (0..2 * p.contacts)
+            .map(|k| (k as f64 * 0.7).sin())
+            .collect();
         let (a, b) = (p.apply(&r), dense_apply(&p, &r));
         let scale = b.iter().fold(0.0f64, |s, x| s.max(x.abs()));
         for (k, (x, y)) in a.iter().zip(&b).enumerate() {
-            assert!((x - y).abs() <= 1e-12 * scale, "{name}: (W r)[{k}] = {x} against {y}");
+            assert!(
+                (x - y).abs() <= 1e-12 * scale,
+                "{name}: (W r)[{k}] = {x} against {y}"
+            );
         }
     }
 }
@@ -151,14 +179,12 @@ const W: [[f64; 4]; 4] = [
 const TAIL: &str = "1 -2 3 -4\n0.3 0.6\n";
 
 /// The problem of [`W`] in storage 0: the columns of W, one a line.
-fn dense_text() -> String {
-    format!(
-        "2\n2\n0\n4\n4\n4\t4\n4 2 0.5 0.75\n1 5 0.25 0.125\n0 0 6 7\n0 0 3 8\n{TAIL}"
-    )
+pub fn dense_text() -> String {
+    format!("2\n2\n0\n4\n4\n4\t4\n4 2 0.5 0.75\n1 5 0.25 0.125\n0 0 6 7\n0 0 3 8\n{TAIL}")
 }
 
 /// The problem of [`W`] in storage 1.
-fn sbm_text() -> String {
+pub fn sbm_text() -> String {
     format!(
         "2\n2\n1\n4\n4\n3\n2\n2\n2\t4\t\n2\t4\t\n3\n3\n0\t1\t3\t\n0\t0\t1\t\n\
          0\n4\n2\n1\n5\n1\n0.5\n0.75\n0.25\n0.125\n2\n6\n7\n3\n8\n{TAIL}1\n"
@@ -166,7 +192,7 @@ fn sbm_text() -> String {
 }
 
 /// The problem of [`W`] in storage 2, CSC.
-fn csc_text() -> String {
+pub fn csc_text() -> String {
     format!(
         "2\n2\n2\n4\n4\n2\nCSparse Version 3.1.9, May 4, 2016.  Copyright (c) Timothy A. Davis, 2006-2016\n\
          4-by-4, nzmax: 12 nnz: 12, 1-norm: 15\n\
@@ -179,7 +205,7 @@ fn csc_text() -> String {
 
 /// The problem of [`W`] in storage 2, triplet (entries in any order; one
 /// split in two, summed).
-fn triplet_text() -> String {
+pub fn triplet_text() -> String {
     format!(
         "2\n2\n2\n4\n4\n1\nCSparse Version 3.1.9, May 4, 2016.\ntriplet: 4-by-4, nzmax: 13 nnz: 13\n\
          3 3 : 8\n0 0 : 4\n1 0 : 2\n2 0 : 0.5\n3 0 : 0.75\n0 1 : 1\n1 1 : 5\n2 1 : 0.25\n3 1 : 0.125\n\
@@ -194,7 +220,12 @@ fn parse(text: &str) -> Result<Fc2dProblem, Fc2dError> {
 #[test]
 fn fc2d_every_storage_reads_the_same_problem() {
     let want: Vec<f64> = W.iter().flatten().copied().collect();
-    for (storage, t) in [(0, dense_text()), (1, sbm_text()), (2, csc_text()), (2, triplet_text())] {
+    for (storage, t) in [
+        (0, dense_text()),
+        (1, sbm_text()),
+        (2, csc_text()),
+        (2, triplet_text()),
+    ] {
         let p = parse(&t).unwrap_or_else(|e| panic!("storage {storage}: {e}"));
         assert_eq!(p.storage, storage);
         assert_eq!(p.dense(), want, "W in storage {storage}");

@@ -17,6 +17,7 @@ mod contact;
 mod crack_energy;
 mod event_driven;
 mod fc2d;
+mod fc2d_bad;
 mod field;
 mod flush_pair;
 mod forcing;

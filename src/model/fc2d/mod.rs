@@ -122,7 +122,9 @@ impl BlockSparse {
     pub fn block(&self, i: usize, j: usize) -> Option<&[f64; 4]> {
         let range = self.row_ptr[i]..self.row_ptr[i + 1];
         let cols = &self.col[range.clone()];
-        cols.binary_search(&j).ok().map(|k| &self.blocks[range.start + k])
+        cols.binary_search(&j)
+            .ok()
+            .map(|k| &self.blocks[range.start + k])
     }
 
     /// The number of stored blocks.
@@ -198,9 +200,7 @@ impl Fc2dProblem {
                 let b = &w.blocks[k];
                 largest = b.iter().fold(largest, |m, v| m.max(v.abs()));
                 // (W_ji)ᵀ, zero if absent: [NN, TN, NT, TT] of block (j, i).
-                let t = w
-                    .block(j, i)
-                    .map_or([0.0; 4], |c| [c[0], c[2], c[1], c[3]]);
+                let t = w.block(j, i).map_or([0.0; 4], |c| [c[0], c[2], c[1], c[3]]);
                 for (x, y) in b.iter().zip(t) {
                     diff = diff.max((x - y).abs());
                 }
@@ -234,7 +234,7 @@ impl fmt::Display for Fc2dError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let p = self.path.display();
         match (&self.token, self.line) {
-            (_, 0) => write!(f, "{p}: {}", self.expected),
+            (_, 0) => write!(f, "{p}: expected {}", self.expected),
             (Some(t), l) => write!(f, "{p}:{l}: token \"{t}\": expected {}", self.expected),
             (None, l) => write!(f, "{p}:{l}: end of file: expected {}", self.expected),
         }

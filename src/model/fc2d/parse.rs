@@ -43,7 +43,12 @@ impl<'a> Tokens<'a> {
     }
 
     /// The error at a token already read.
-    pub(super) fn error_at(&self, token: &str, line: usize, expected: impl Into<String>) -> Fc2dError {
+    pub(super) fn error_at(
+        &self,
+        token: &str,
+        line: usize,
+        expected: impl Into<String>,
+    ) -> Fc2dError {
         let token: String = if token.chars().count() > 40 {
             token.chars().take(40).chain("…".chars()).collect()
         } else {
@@ -79,7 +84,10 @@ impl<'a> Tokens<'a> {
 
     /// The next token and its line, not read (`("", last line)` at the end).
     pub(super) fn peek(&self) -> (&'a str, usize) {
-        self.toks.get(self.pos).copied().unwrap_or(("", self.last_line))
+        self.toks
+            .get(self.pos)
+            .copied()
+            .unwrap_or(("", self.last_line))
     }
 
     /// Skips the tokens left on `line`.
@@ -152,7 +160,10 @@ impl<'a> Tokens<'a> {
             Err(self.error_at(
                 t,
                 l,
-                format!("{expected}; the {} tokens left hold at most {room}", self.left()),
+                format!(
+                    "{expected}; the {} tokens left hold at most {room}",
+                    self.left()
+                ),
             ))
         }
     }
@@ -202,7 +213,12 @@ pub fn parse_fc2d(text: &str, path: &Path) -> Result<Fc2dProblem, Fc2dError> {
     let mut tk = Tokens::new(text, path);
     tk.uint_eq(2, "the dimension d = 2")?;
     let (t, l) = tk.peek();
-    let nc = tk.count(3, 3, &[], "the number of contacts nc (2 nc reals of q and nc of mu follow)")?;
+    let nc = tk.count(
+        3,
+        3,
+        &[],
+        "the number of contacts nc (2 nc reals of q and nc of mu follow)",
+    )?;
     if nc == 0 {
         return Err(tk.error_at(t, l, "a number of contacts nc ≥ 1"));
     }
@@ -249,4 +265,3 @@ pub fn parse_fc2d(text: &str, path: &Path) -> Result<Fc2dProblem, Fc2dError> {
         storage,
     })
 }
-

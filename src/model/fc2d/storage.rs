@@ -23,8 +23,14 @@ fn entry(a: usize, b: usize, x: f64) -> (usize, usize, [f64; 4]) {
 /// must follow `W`.
 pub(super) fn dense(tk: &mut Tokens, nc: usize, tail: usize) -> Result<BlockSparse, Fc2dError> {
     let m = 2 * nc;
-    tk.uint_eq(m, &format!("size0 = {m} again (dense storage: size0 size1)"))?;
-    tk.uint_eq(m, &format!("size1 = {m} again (dense storage: size0 size1)"))?;
+    tk.uint_eq(
+        m,
+        &format!("size0 = {m} again (dense storage: size0 size1)"),
+    )?;
+    tk.uint_eq(
+        m,
+        &format!("size1 = {m} again (dense storage: size0 size1)"),
+    )?;
     let room = tk.left().saturating_sub(tail);
     let n = m.checked_mul(m).filter(|&n| n <= room).ok_or_else(|| {
         tk.error_here(format!(
@@ -64,7 +70,10 @@ pub(super) fn sparse_block(
     for name in ["cum0", "cum1"] {
         for i in 0..nc {
             let want = 2 * (i + 1);
-            tk.uint_eq(want, &format!("{name}[{i}] = {want} (2×2 blocks: 2, 4, 6, …)"))?;
+            tk.uint_eq(
+                want,
+                &format!("{name}[{i}] = {want} (2×2 blocks: 2, 4, 6, …)"),
+            )?;
         }
     }
     tk.uint_eq(nc + 1, &format!("filled1 = nc + 1 = {}", nc + 1))?;
@@ -78,7 +87,10 @@ pub(super) fn sparse_block(
         let what = if i == nc {
             format!("rowptr[{nc}] = nbblocks = {nb}")
         } else {
-            format!("rowptr[{i}] between rowptr[{}] = {prev} and nbblocks = {nb}", i - 1)
+            format!(
+                "rowptr[{i}] between rowptr[{}] = {prev} and nbblocks = {nb}",
+                i - 1
+            )
         };
         let v = tk.uint(&what)?;
         if v < prev || v > nb || (i == nc && v != nb) {
@@ -156,7 +168,11 @@ pub(super) fn csparse(tk: &mut Tokens, nc: usize, tail: usize) -> Result<BlockSp
         tk.uint_eq(p, &format!("the first location {p} of column {j}"))?;
         tk.word("to", "\"to\" (col j : locations a to b)")?;
         let (t, l) = tk.peek();
-        let what = format!("the last location of column {j}: from {} to nnz − 1 = {}", p as i64 - 1, nnz as i64 - 1);
+        let what = format!(
+            "the last location of column {j}: from {} to nnz − 1 = {}",
+            p as i64 - 1,
+            nnz as i64 - 1
+        );
         let last = tk.uint(&what)?;
         if last + 1 < p || last >= nnz {
             return Err(tk.error_at(t, l, what));
