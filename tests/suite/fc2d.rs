@@ -32,8 +32,7 @@ fn line_reals(text: &str, l: usize) -> Vec<f64> {
 fn q_line(text: &str, nc: usize) -> Vec<f64> {
     let line = text
         .lines()
-        .filter(|l| l.split_whitespace().count() == 2 * nc)
-        .last()
+        .rfind(|l| l.split_whitespace().count() == 2 * nc)
         .expect("a line of 2 nc numbers");
     line.split_whitespace()
         .map(|t| t.parse().expect("a number"))

@@ -162,6 +162,9 @@ fn fc2d_bad_dense_and_csparse_refused() {
         let what = format!("line {l} \"{new}\"");
         defects.extend(refused(&what, &with_line(text, l, new), l, want).err());
     }
+    // Repeated triplet entries whose sum overflows: refused at q.
+    let big = with_line(&with_line(&t, 19, "3 2 : 1e308"), 20, "3 2 : 1e308");
+    defects.extend(refused("sum overflows", &big, 22, "repeats sum to finite reals").err());
     // An entry of 3 tokens (":" missing): nnz no longer fits the tokens.
     let fewer = with_line(&t, 9, "3 3 8");
     defects.extend(

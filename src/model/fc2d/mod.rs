@@ -28,7 +28,8 @@
 //!   contact pair), `filled1 filled2` (`nc + 1` and `nbblocks`), the block-row
 //!   pointers `rowptr[filled1]` and block column indices `colidx[filled2]`
 //!   (CSR on blocks), then for each block `k` in order: `k` and the 2×2 block
-//!   in column-major order (`W_NN W_TN W_NT W_TT`);
+//!   in column-major order (`W_NN W_TN W_NT W_TT`); a block repeated in a
+//!   row is summed;
 //! - storage 2, CSparse's text print (`cs_print`): `origin` (1 triplet, 2 CSC;
 //!   3, CSR, is refused: no file to check it on), the line
 //!   `CSparse Version …`, then for CSC the line

@@ -18,6 +18,23 @@ fn entry(a: usize, b: usize, x: f64) -> (usize, usize, [f64; 4]) {
     (i, j, blk)
 }
 
+/// `W` built from `triples`, refused (at the next token) if summing
+/// repeated entries overflowed.
+fn build(
+    tk: &Tokens,
+    nc: usize,
+    triples: Vec<(usize, usize, [f64; 4])>,
+) -> Result<BlockSparse, Fc2dError> {
+    let w = BlockSparse::from_triples(nc, triples);
+    if w.blocks.iter().flatten().all(|x| x.is_finite()) {
+        Ok(w)
+    } else {
+        Err(tk.error_here(
+            "entries of W whose repeats sum to finite reals (W ended before this token)",
+        ))
+    }
+}
+
 /// Storage 0: `size0 size1` again, then `(2 nc)²` reals, column-major.
 /// Blocks that are exactly zero are not stored. `tail`: the tokens that
 /// must follow `W`.
@@ -49,7 +66,7 @@ pub(super) fn dense(tk: &mut Tokens, nc: usize, tail: usize) -> Result<BlockSpar
             }
         }
     }
-    Ok(BlockSparse::from_triples(nc, triples))
+    build(tk, nc, triples)
 }
 
 /// Storage 1: Siconos' sparse block matrix (`SBM_write_in_file`), of 2×2
@@ -110,7 +127,7 @@ pub(super) fn sparse_block(
             triples.push((i, j, [b[0], b[2], b[1], b[3]]));
         }
     }
-    Ok(BlockSparse::from_triples(nc, triples))
+    build(tk, nc, triples)
 }
 
 /// Storage 2: CSparse's text print (`cs_print`) of a CSC (origin 2) or
@@ -155,7 +172,7 @@ pub(super) fn csparse(tk: &mut Tokens, nc: usize, tail: usize) -> Result<BlockSp
             tk.word(":", "\":\" (i j : x)")?;
             triples.push(entry(a, b, tk.real("a finite real (an entry of W)")?));
         }
-        return Ok(BlockSparse::from_triples(nc, triples));
+        return build(tk, nc, triples);
     }
     tk.word("1-norm:", "\"1-norm:\"")?;
     tk.real("the 1-norm, a finite real")?;
@@ -187,5 +204,5 @@ pub(super) fn csparse(tk: &mut Tokens, nc: usize, tail: usize) -> Result<BlockSp
     if p != nnz {
         return Err(tk.error_here(format!("nnz = {nnz} entries; the columns hold {p}")));
     }
-    Ok(BlockSparse::from_triples(nc, triples))
+    build(tk, nc, triples)
 }
