@@ -56,6 +56,7 @@
 
 mod parse;
 mod storage;
+mod tokens;
 
 use std::fmt;
 use std::path::{Path, PathBuf};

@@ -1,7 +1,7 @@
 //! The three storages of `W` in a problem file: dense (0), sparse block (1),
 //! CSparse's text print (2), each read into a [`BlockSparse`].
 
-use super::parse::{parse_uint, Tokens};
+use super::tokens::{parse_uint, Tokens};
 use super::{BlockSparse, Fc2dError};
 
 /// The place of entry `(a, b)` of `W` (scalar row and column): its block
