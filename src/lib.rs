@@ -18,7 +18,8 @@
 //!    phase, the seeded generator, atomic file writes, the stop request polled
 //!    inside long solves, the reporting vocabulary, LCPs and their solvers);
 //! 1. model: pure data (floes, cases, fields, forcing, limits, material
-//!    constants) and its input readers (case files, CF NetCDF forcing);
+//!    constants) and its input readers (case files, CF NetCDF forcing,
+//!    Siconos' 2D frictional contact problem files);
 //! 2. contact: detection and the contact problems;
 //! 3. state: the dynamic state, kinematics and the energy ledger;
 //! 4. physics: the force law and the smooth integrator;
@@ -35,7 +36,8 @@
 //!     reports.
 //!
 //! - [`model`]: the case file (and its CF NetCDF forcing), validated into a [`model::Scenario`] (floes,
-//!   obstacles, environment, contact law, settings);
+//!   obstacles, environment, contact law, settings); [`model::fc2d`] reads Siconos' 2D
+//!   frictional contact problems;
 //! - [`geometry`]: convex polygons, mass properties (the one vector type, [`geometry::Vec2`]),
 //!   the sweep-and-prune broad phase;
 //! - [`fsio`]: atomic file writes (temporary file, then rename), the probe of an output folder;

@@ -6,10 +6,12 @@
 //! integrator and of each formulation. Loading and validation of case files
 //! live in [`case`], the documented bounds of every number in [`limits`]; the
 //! seeded random floe field in [`field`]; the gridded forcing read from CF
-//! NetCDF files in [`netcdf`]. The model imports only the foundations
+//! NetCDF files in [`netcdf`]; Siconos' 2D frictional contact problem files
+//! in [`fc2d`]. The model imports only the foundations
 //! ([`crate::geometry`], [`crate::rng`], [`crate::fsio`]).
 
 pub mod case;
+pub mod fc2d;
 pub mod field;
 pub mod forcing;
 pub mod fracture;

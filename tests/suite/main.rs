@@ -16,6 +16,8 @@ mod compare;
 mod contact;
 mod crack_energy;
 mod event_driven;
+mod fc2d;
+mod fc2d_bad;
 mod field;
 mod flush_pair;
 mod forcing;
