@@ -278,7 +278,7 @@ impl GroupSolver {
             // NSGS solves Coulomb's law itself; APGD the cone relaxation, whose
             // natural map (without De Saxcé's term) is its stopping residual.
             let own = match method {
-                Method::Apgd => prob.residual(&a.p, false),
+                Method::Apgd => prob.residual_at(&a.p, &a.dv, false),
                 _ => o.residual,
             };
             self.accuracy.solver(own, o.converged);
@@ -349,12 +349,15 @@ impl GroupSolver {
         // A solve cut short by a stop request (counted by the direct
         // solver) is no measure of its accuracy: the run discards the step.
         if !crate::stop::requested() {
-            let res = prob.residual(&p, true);
+            let dv = prob.velocity_changes(&p);
+            let res = prob.residual_at(&p, &dv, true);
             self.accuracy.direct(res, self.direct.work() - work);
             match self.direct.last_answer() {
                 LastAnswer::Lcp { residual, met } => self.accuracy.solver(residual, met),
                 // clarabel's answer on the problem it solved: the relaxation.
-                LastAnswer::Cone { met } => self.accuracy.solver(prob.residual(&p, false), met),
+                LastAnswer::Cone { met } => {
+                    self.accuracy.solver(prob.residual_at(&p, &dv, false), met)
+                }
                 LastAnswer::None => {}
             }
         }

@@ -3,24 +3,9 @@
 //! report page), with numbers rounded by [`super::format::fmt_num`], and
 //! `checks.csv`, with every number at full precision.
 
-use super::format::fmt_num;
+use super::format::{fmt_apart, fmt_num};
 use crate::analysis::check::{claimed_failures, verdict, CheckOutcome};
 use std::fmt::Write as _;
-
-/// `a` and `b` rounded by [`fmt_num`], or, where that prints them alike
-/// though they differ, in scientific notation with the fewest digits (up to
-/// 17) that tell them apart: a printed verdict must agree with the numbers
-/// printed beside it (measured `1.000` against a tolerance `1.000`).
-pub fn fmt_apart(a: f64, b: f64) -> (String, String) {
-    let (fa, fb) = (fmt_num(a), fmt_num(b));
-    if fa != fb || a == b || !a.is_finite() || !b.is_finite() {
-        return (fa, fb);
-    }
-    (4..=17)
-        .map(|d| (format!("{a:.d$e}"), format!("{b:.d$e}")))
-        .find(|(x, y)| x != y)
-        .unwrap_or((format!("{a:e}"), format!("{b:e}")))
-}
 
 /// The cells of one outcome, in the order of [`TABLE_HEADER`]: the measured
 /// value printed apart from the value it is judged against (the tolerance,

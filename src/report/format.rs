@@ -51,6 +51,21 @@ pub fn fmt_timing(v: f64) -> String {
     fmt_sig(v, TIMING_DIGITS)
 }
 
+/// `a` and `b` rounded by [`fmt_num`], or, where that prints them alike
+/// though they differ, in scientific notation with the fewest digits (up to
+/// 17) that tell them apart: a printed verdict must agree with the numbers
+/// printed beside it (measured `1.000` against a tolerance `1.000`).
+pub fn fmt_apart(a: f64, b: f64) -> (String, String) {
+    let (fa, fb) = (fmt_num(a), fmt_num(b));
+    if fa != fb || a == b || !a.is_finite() || !b.is_finite() {
+        return (fa, fb);
+    }
+    (4..=17)
+        .map(|d| (format!("{a:.d$e}"), format!("{b:.d$e}")))
+        .find(|(x, y)| x != y)
+        .unwrap_or((format!("{a:e}"), format!("{b:e}")))
+}
+
 /// Measured figures that share one spread of width `width` (e.g. the
 /// median, range and quartiles of repeated CPU times, or the parts of a
 /// measured total), each printed only to the digits the spread supports:

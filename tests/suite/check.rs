@@ -458,7 +458,7 @@ fn reasons_explain_failing_rows_only() {
 /// that tell them apart (issue 55: `1.000` against `1.000`, FAIL).
 #[test]
 fn a_failing_value_is_printed_apart_from_its_tolerance() {
-    use floebench::report::checks::fmt_apart;
+    use floebench::report::format::fmt_apart;
     let (m, t) = fmt_apart(1.000_000_012_9, 1.000_000_001);
     assert_ne!(m, t);
     assert!(

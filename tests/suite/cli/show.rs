@@ -1,7 +1,7 @@
 //! `floebench show` (the picture of a case before it runs) and
 //! `run --plot` (a run's figures).
 
-use crate::common::{bad_case, case_path, floebench, tempdir};
+use crate::common::{bad_case, case_path, floebench, stdout_of_success, tempdir};
 
 /// The bytes every PNG file starts with.
 const PNG_SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
@@ -15,36 +15,26 @@ fn is_png(path: &std::path::Path) -> bool {
 fn show_draws_a_bundled_case_with_a_field_and_its_default_name() {
     let dir = tempdir();
     // The default name: <case name>.png in the current folder.
-    let out = floebench()
-        .current_dir(dir.path())
-        .arg("show")
-        .arg(case_path("narrow_channel"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let stdout = stdout_of_success(
+        floebench()
+            .current_dir(dir.path())
+            .arg("show")
+            .arg(case_path("narrow_channel")),
     );
     let png = dir.path().join("narrow_channel.png");
     assert!(is_png(&png), "no PNG at {}", png.display());
-    assert!(String::from_utf8_lossy(&out.stdout).contains("wrote narrow_channel.png"));
+    assert!(stdout.contains("wrote narrow_channel.png"));
     // Only the PNG (no SVG, no temporary file left).
     let files: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert_eq!(files.len(), 1, "{files:?}");
     // -o names it; a vortex current (arrows on a grid) draws too.
     let named = dir.path().join("sub").join("v.png");
-    let out = floebench()
-        .arg("show")
-        .arg(case_path("vortex_field"))
-        .arg("-o")
-        .arg(&named)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    stdout_of_success(
+        floebench()
+            .arg("show")
+            .arg(case_path("vortex_field"))
+            .arg("-o")
+            .arg(&named),
     );
     assert!(is_png(&named));
 }
@@ -81,17 +71,12 @@ fn show_refuses_a_bad_case_as_validate_does_and_writes_nothing() {
 #[test]
 fn run_plot_draws_the_energies_and_snapshots_into_the_run_folder() {
     let dir = tempdir();
-    let out = floebench()
-        .arg("run")
-        .arg(case_path("head_on"))
-        .args(["-f", "moreau", "--plot", "-q", "-o"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    stdout_of_success(
+        floebench()
+            .arg("run")
+            .arg(case_path("head_on"))
+            .args(["-f", "moreau", "--plot", "-q", "-o"])
+            .arg(dir.path()),
     );
     for stem in ["kinetic", "dissipated", "snapshots"] {
         assert!(
@@ -105,13 +90,12 @@ fn run_plot_draws_the_energies_and_snapshots_into_the_run_folder() {
     }
     // Without --plot, no figure.
     let plain = tempdir();
-    let out = floebench()
-        .arg("run")
-        .arg(case_path("head_on"))
-        .args(["-f", "moreau", "-q", "-o"])
-        .arg(plain.path())
-        .output()
-        .unwrap();
-    assert!(out.status.success());
+    stdout_of_success(
+        floebench()
+            .arg("run")
+            .arg(case_path("head_on"))
+            .args(["-f", "moreau", "-q", "-o"])
+            .arg(plain.path()),
+    );
     assert!(!plain.path().join("snapshots.png").exists());
 }
