@@ -277,6 +277,54 @@ pub struct ContactLaw {
     pub friction: f64,
     /// Contact distance, m; 0 lets each formulation choose its own.
     pub distance: f64,
+    /// The ice's crushing law (`[contact] crushing`); `None` (the default):
+    /// rigid contacts that carry any force (docs/physics.md §10).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crushing: Option<Crushing>,
+}
+
+/// The compressive failure of ice at a contact (`[contact] crushing`,
+/// docs/physics.md §10): the normal force a contact carries is bounded by
+/// `p(A)·A`, `A = h × w` (m²) the crushed face's area, `h` the thinner
+/// floe's thickness and `w` the contact's width (m). Coasts do not crush;
+/// the ice crushes against them.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "law")]
+pub enum Crushing {
+    /// A constant crushing pressure `σ_c` (Pa): `F_max = σ_c h w`.
+    Strength {
+        /// `σ_c`, Pa (sea ice: 0.5–5 MPa).
+        strength: f64,
+    },
+    /// The pressure–area law `p = P0 A^ex` (Hopkins 1992; ISO 19906):
+    /// `F_max = P0 A^(1+ex)`.
+    PressureArea {
+        /// `P0`, Pa at `A` = 1 m².
+        p0: f64,
+        /// `ex` in [−1, 0].
+        exponent: f64,
+    },
+}
+
+impl Crushing {
+    /// The largest normal force (N) of a crushed face of thickness `h` (m)
+    /// and width `w` (m); 0 for a face without area (a corner), except for
+    /// `ex = −1`, whose force `P0` does not depend on the area.
+    pub fn max_force(&self, h: f64, w: f64) -> f64 {
+        let area = (h * w).max(0.0);
+        match *self {
+            Crushing::Strength { strength } => strength * area,
+            Crushing::PressureArea { p0, exponent } => p0 * area.powf(1.0 + exponent),
+        }
+    }
+
+    /// The pressure (Pa) on a face of area `area` (m²).
+    pub fn pressure(&self, area: f64) -> f64 {
+        match *self {
+            Crushing::Strength { strength } => strength,
+            Crushing::PressureArea { p0, exponent } => p0 * area.powf(exponent),
+        }
+    }
 }
 
 /// Which smooth integrator advances the floes between impacts.

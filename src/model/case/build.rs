@@ -8,15 +8,17 @@
 use super::environment::{check_grid_times, environment};
 use super::fields::{fields, floe_total, validate_field};
 use super::overlap::check_overlaps;
-use super::spec::{CaseFile, CaseHeader, ContactSpec, FloeSpec, IntegratorSpec, ObstacleSpec};
+use super::spec::{
+    CaseFile, CaseHeader, ContactSpec, CrushingSpec, FloeSpec, IntegratorSpec, ObstacleSpec,
+};
 use super::warnings::find_warnings;
 use super::{vec2, CaseError, Ctx};
 use crate::geometry::{area_properties, check_simple_ccw, radius_about, Vec2};
 use crate::model::limits::{self, check_count};
 use crate::model::settings::{SettingsTable, TableSpec};
 use crate::model::{
-    CaseSource, ContactLaw, Floe, FloeHistory, FloeOrigin, FractureSettings, IntegratorKind,
-    IntegratorSettings, Obstacle, Scenario,
+    CaseSource, ContactLaw, Crushing, Floe, FloeHistory, FloeOrigin, FractureSettings,
+    IntegratorKind, IntegratorSettings, Obstacle, Scenario,
 };
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -184,11 +186,41 @@ fn contact(ctx: &Ctx, spec: Spanned<ContactSpec>) -> Result<ContactLaw, CaseErro
         let name = format!("[contact] {}", limit.key);
         ctx.at(&cspan, limit.key, limit.check(&name, v))?;
     }
+    let crushing = match c.crushing {
+        None => None,
+        Some(k) => Some(ctx.at(&cspan, "crushing", crushing(k))?),
+    };
     Ok(ContactLaw {
         restitution: c.restitution,
         friction: c.friction,
         distance: c.distance,
+        crushing,
     })
+}
+
+/// `[contact] crushing`: one law, each number within its limit.
+fn crushing(k: CrushingSpec) -> Result<Crushing, String> {
+    let name = |l: &limits::Limit| format!("[contact] {}", l.key);
+    match (k.strength, k.p0, k.exponent) {
+        (Some(s), None, None) => Ok(Crushing::Strength {
+            strength: limits::CRUSHING_STRENGTH.check(&name(&limits::CRUSHING_STRENGTH), s)?,
+        }),
+        (None, Some(p0), Some(ex)) => Ok(Crushing::PressureArea {
+            p0: limits::CRUSHING_P0.check(&name(&limits::CRUSHING_P0), p0)?,
+            exponent: limits::CRUSHING_EXPONENT.check(&name(&limits::CRUSHING_EXPONENT), ex)?,
+        }),
+        (Some(_), Some(_), _) | (Some(_), _, Some(_)) => Err(
+            "[contact] crushing: give either `strength` (Pa) or `p0` and `exponent`, not both"
+                .to_string(),
+        ),
+        (None, Some(_), None) => {
+            Err("[contact] crushing: `p0` needs `exponent` (in [-1, 0])".to_string())
+        }
+        (None, None, Some(_)) => Err("[contact] crushing: `exponent` needs `p0` (Pa)".to_string()),
+        (None, None, None) => {
+            Err("[contact] crushing: give `strength` (Pa) or `p0` (Pa) and `exponent`".to_string())
+        }
+    }
 }
 
 /// `[[floe]]`: the listed floes, with the span of each table.

@@ -218,6 +218,20 @@ pub(super) struct ContactSpec {
     pub(super) friction: f64,
     #[serde(default)]
     pub(super) distance: f64,
+    #[serde(default)]
+    pub(super) crushing: Option<CrushingSpec>,
+}
+
+/// `[contact] crushing = { strength }` or `{ p0, exponent }`.
+#[derive(Deserialize)]
+#[serde(
+    deny_unknown_fields,
+    expecting = "crushing = { strength = Pa } or { p0 = Pa, exponent = ex }"
+)]
+pub(super) struct CrushingSpec {
+    pub(super) strength: Option<f64>,
+    pub(super) p0: Option<f64>,
+    pub(super) exponent: Option<f64>,
 }
 
 #[derive(Deserialize)]

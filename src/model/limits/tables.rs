@@ -179,6 +179,38 @@ pub const CONTACT_DISTANCE: Limit = Limit::range(
     "a contact distance is a small fraction of a floe (0 lets the formulation choose)",
 );
 
+/// `[contact] crushing = { strength }`, Pa.
+pub const CRUSHING_STRENGTH: Limit = Limit::range(
+    "crushing.strength",
+    "[contact]",
+    0.0,
+    1e9,
+    "Pa",
+    "sea ice crushes at 0.5-5 MPa (Timco & Weeks 2010); 1 GPa is past any ice",
+)
+.exclusive_min();
+
+/// `[contact] crushing = { p0, exponent }`: `P0`, Pa at an area of 1 m².
+pub const CRUSHING_P0: Limit = Limit::range(
+    "crushing.p0",
+    "[contact]",
+    0.0,
+    1e9,
+    "Pa",
+    "P0 of the pressure-area curves is 1-10 MPa at 1 m^2 (ISO 19906, Hopkins 1992)",
+)
+.exclusive_min();
+
+/// `[contact] crushing = { p0, exponent }`: the exponent of `p = P0 A^ex`.
+pub const CRUSHING_EXPONENT: Limit = Limit::range(
+    "crushing.exponent",
+    "[contact]",
+    -1.0,
+    0.0,
+    "",
+    "pressure falls with area (ex <= 0) but force does not (ex >= -1); measured ex is about -0.5",
+);
+
 /// Every coordinate of a polygon and of a field's region, m.
 pub const COORDINATE: Limit = Limit::magnitude(
     "polygon, region",
