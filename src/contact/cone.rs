@@ -215,32 +215,51 @@ pub fn solve_cone(p: &NormalTangentProblem, opts: &ConeOptions) -> ConeSolution 
     }
     let pm = CscMatrix::new(nv, nv, colptr, rowval, nzval);
     let q: Vec<f64> = (0..nv).map(|r| d[r] * p.b[r]).collect();
-    // Constraints.
-    let (a, bc, cones) = if friction {
+    // Constraints, column by column: (row, value) entries.
+    let mut entries: Vec<Vec<(usize, f64)>> = vec![Vec::new(); nv];
+    let (mut rows, mut bc, mut cones) = if friction {
         // Rows (2j, 2j+1) = (μ λ_j, β_j) ∈ SOC(2).
-        let mut colptr = Vec::with_capacity(nv + 1);
-        let mut rowval = Vec::with_capacity(nv);
-        let mut nzval = Vec::with_capacity(nv);
-        colptr.push(0);
-        for c in 0..nv {
+        for (c, e) in entries.iter_mut().enumerate() {
             if c < m {
-                rowval.push(2 * c);
-                nzval.push(-p.mu);
+                e.push((2 * c, -p.mu));
             } else {
-                rowval.push(2 * (c - m) + 1);
-                nzval.push(-1.0);
+                e.push((2 * (c - m) + 1, -1.0));
             }
-            colptr.push(rowval.len());
         }
-        let a = CscMatrix::new(2 * m, nv, colptr, rowval, nzval);
         let cones: Vec<SupportedConeT<f64>> = (0..m)
             .map(|_| SupportedConeT::SecondOrderConeT(2))
             .collect();
-        (a, vec![0.0; 2 * m], cones)
+        (2 * m, vec![0.0; 2 * m], cones)
     } else {
-        let a = CscMatrix::new(m, m, (0..=m).collect(), (0..m).collect(), vec![-1.0; m]);
-        (a, vec![0.0; m], vec![SupportedConeT::NonnegativeConeT(m)])
+        for (c, e) in entries.iter_mut().enumerate() {
+            e.push((c, -1.0));
+        }
+        (m, vec![0.0; m], vec![SupportedConeT::NonnegativeConeT(m)])
     };
+    // The crushing bounds `λ_j ≤ b_j` (docs/physics.md §10): rows
+    // `d_j x_j + s = b_j`, `s ≥ 0`.
+    let bounded: Vec<usize> = (0..m)
+        .filter(|&j| p.bounds.get(j).is_some_and(|b| b.is_finite()))
+        .collect();
+    for &j in &bounded {
+        entries[j].push((rows, d[j]));
+        bc.push(p.bounds[j].max(0.0));
+        rows += 1;
+    }
+    if !bounded.is_empty() {
+        cones.push(SupportedConeT::NonnegativeConeT(bounded.len()));
+    }
+    let mut colptr = Vec::with_capacity(nv + 1);
+    let (mut rowval, mut nzval) = (Vec::new(), Vec::new());
+    colptr.push(0);
+    for e in &entries {
+        for &(r, v) in e {
+            rowval.push(r);
+            nzval.push(v);
+        }
+        colptr.push(rowval.len());
+    }
+    let a = CscMatrix::new(rows, nv, colptr, rowval, nzval);
     let settings = DefaultSettings::<f64> {
         verbose: false,
         max_iter: opts.max_iter,
@@ -274,7 +293,11 @@ pub fn solve_cone(p: &NormalTangentProblem, opts: &ConeOptions) -> ConeSolution 
             gs[r * nv + c] = d[r] * p.g[r * dim + c] * d[c];
         }
     }
-    let polished = polish(&gs, &q, &sol.x, m, p.mu, friction);
+    // The polish knows no bound: a bounded problem keeps clarabel's point.
+    let polished = match bounded.is_empty() {
+        true => polish(&gs, &q, &sol.x, m, p.mu, friction),
+        false => None,
+    };
     if status == ConeStatus::Failed {
         // An interior point stopped early (iteration cap, slow progress) is
         // kept only if it polishes into a consistent KKT point.
@@ -301,6 +324,10 @@ pub fn solve_cone(p: &NormalTangentProblem, opts: &ConeOptions) -> ConeSolution 
         if lambda[j] < 0.0 {
             excess = excess.max(-lambda[j]);
             lambda[j] = 0.0;
+        }
+        if let Some(&b) = p.bounds.get(j).filter(|b| lambda[j] > **b) {
+            excess = excess.max(lambda[j] - b);
+            lambda[j] = b;
         }
         let bound = p.mu * lambda[j];
         if beta[j].abs() > bound {

@@ -41,6 +41,7 @@
 //! relaxation, solved in [`cone`].
 
 pub mod cone;
+pub mod crush;
 mod load;
 mod narrow;
 pub mod problem;

@@ -154,6 +154,38 @@ pub struct GroupData<'a> {
     pub w_free: &'a [Gen],
     /// Offset `c` of every contact, m/s.
     pub offsets: &'a [f64],
+    /// The crushing bound of every contact's normal impulse, N·s
+    /// ([`crate::contact::crush::normal_bounds`]); empty: rigid contacts.
+    pub bounds: &'a [f64],
+}
+
+impl GroupData<'_> {
+    /// The bounds of the group's contacts, in its order; empty when the
+    /// contacts are rigid.
+    fn group_bounds(&self) -> Vec<f64> {
+        if self.bounds.is_empty() {
+            return Vec::new();
+        }
+        self.group
+            .contacts
+            .iter()
+            .map(|&k| self.bounds[k])
+            .collect()
+    }
+
+    /// The group's LCP with `layout`, bounded by the crushing bounds.
+    fn assemble(&self, layout: Friction) -> ContactLcp {
+        ContactLcp::assemble(
+            self.scn,
+            self.centres,
+            self.contacts,
+            self.group,
+            self.w_free,
+            self.offsets,
+            layout,
+        )
+        .with_normal_bounds(&self.group_bounds())
+    }
 }
 
 impl GroupSolver {
@@ -212,15 +244,7 @@ impl GroupSolver {
         // The NSGS problem itself: one friction pair per point (merged
         // friction would change the problem, and its answers are not
         // per-point Coulomb).
-        let lcp = ContactLcp::assemble(
-            d.scn,
-            d.centres,
-            d.contacts,
-            d.group,
-            d.w_free,
-            d.offsets,
-            Friction::PerPoint,
-        );
+        let lcp = d.assemble(Friction::PerPoint);
         let guess = lcp.guess_from(&a.normal(), &a.tangential());
         let work = self.direct.work();
         let Some(z) = self.direct.polish(&lcp, &guess, t) else {
@@ -331,9 +355,7 @@ impl GroupSolver {
             return self.iterative_answer(prob, a, t, Method::Nsgs);
         }
         let layout = self.direct.friction_layout(impact);
-        let lcp = ContactLcp::assemble(
-            d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets, layout,
-        );
+        let lcp = d.assemble(layout);
         let work = self.direct.work();
         let z = if impact {
             self.direct.solve_lcp(&lcp, t)

@@ -285,6 +285,7 @@ impl ContactLcp {
             keys: group.contacts.iter().map(|&k| contacts[k].key()).collect(),
             fgroup,
             friction_groups: nf,
+            bounds: Vec::new(),
         }
     }
 }

@@ -75,9 +75,11 @@
 //! dense references; `pattern.rs` the pattern of the assembled matrix,
 //! its compressed columns and the reuse of large matrices' buffers;
 //! `normal_tangent.rs` the problem in contact coordinates
-//! ([`NormalTangentProblem`]) of the cone programs.
+//! ([`NormalTangentProblem`]) of the cone programs; `bounds.rs` the
+//! crushing bound of the normal impulses, as bound rows of the LCP.
 
 mod assemble;
+mod bounds;
 mod delassus;
 mod normal_tangent;
 mod pattern;
@@ -188,6 +190,10 @@ pub struct ContactLcp {
     /// Number of friction groups `G` (`m` when nothing is merged, 0
     /// without friction); `n = m + 3G`.
     pub friction_groups: usize,
+    /// The crushing bound of each contact's normal impulse (N·s, in LCP
+    /// order; `+∞` rigid), empty when none is finite: then the LCP has no
+    /// bound rows (`bounds.rs`).
+    bounds: Vec<f64>,
 }
 
 impl ContactLcp {
@@ -411,6 +417,8 @@ impl ContactLcp {
             keys: self.keys.clone(),
             fgroup: Vec::new(),
             friction_groups: 0,
+            bounds: Vec::new(),
         }
+        .with_normal_bounds(&self.bounds)
     }
 }

@@ -24,6 +24,9 @@ pub struct NormalTangentProblem {
     pub b: Vec<f64>,
     /// Scale of the rounding of `b` ([`ContactLcp::v_scale`]), m/s.
     pub v_scale: f64,
+    /// The crushing bound of each normal impulse `λ_j ≤ bounds[j]` (N·s,
+    /// `+∞` rigid); empty: none (docs/physics.md §10).
+    pub bounds: Vec<f64>,
 }
 
 impl NormalTangentProblem {
@@ -75,6 +78,7 @@ impl ContactLcp {
             g,
             b: idx.iter().map(|&i| self.lcp.q[i]).collect(),
             v_scale: self.v_scale,
+            bounds: self.normal_bounds().to_vec(),
         }
     }
 

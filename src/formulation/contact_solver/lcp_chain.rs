@@ -24,7 +24,11 @@ impl ContactSolver {
         let k = bucket_of(lcp.lcp().n);
         let started = self.timer.begin(k);
         let blocks = match (guess, self.predict_from) {
-            (None, Some(from)) if lcp.lcp().n >= from => Blocks::new(lcp.lcp().n, lcp.blocks()),
+            // A bounded LCP (crushing) is solved cold: its bound rows are
+            // no block of the predictor's, nor of the warm start's history.
+            (None, Some(from)) if lcp.lcp().n >= from && !lcp.bounded() => {
+                Blocks::new(lcp.lcp().n, lcp.blocks())
+            }
             _ => None,
         };
         let (sol, prediction) = match (guess, &blocks) {
@@ -133,7 +137,11 @@ impl ContactSolver {
 
     /// [`ContactSolver::solve_lcp`] with the warm-start history of `usage`.
     pub(super) fn solve_lcp_for(&mut self, lcp: &ContactLcp, t: f64, usage: Use) -> Vec<f64> {
-        let cache = self.warm.as_mut().map(|c| &mut c[usage as usize]);
+        let cache = self
+            .warm
+            .as_mut()
+            .filter(|_| !lcp.bounded())
+            .map(|c| &mut c[usage as usize]);
         let guess = cache.and_then(|c| {
             c.at(t);
             c.guess(lcp)
@@ -158,7 +166,7 @@ impl ContactSolver {
             met: sol.status.is_solved(),
         };
         if sol.status.is_solved() {
-            if let Some(c) = self.warm.as_mut() {
+            if let Some(c) = self.warm.as_mut().filter(|_| !lcp.bounded()) {
                 c[usage as usize].store(lcp, &sol.z);
             }
             return sol.z;
@@ -174,7 +182,7 @@ impl ContactSolver {
                     met: false,
                 };
                 let mut z = vec![0.0; lcp.lcp().n];
-                z[..lcp.m].copy_from_slice(&sol2.z);
+                z[..lcp.m].copy_from_slice(&sol2.z[..lcp.m]);
                 return z;
             }
         }

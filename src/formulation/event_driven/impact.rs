@@ -89,6 +89,7 @@ impl EventDriven {
                         group: &g,
                         w_free: &w,
                         offsets: &zeros,
+                        bounds: &[],
                     };
                     let ans = self.solver.solve_impact(&data, sys.t);
                     let dv = &ans.dv;

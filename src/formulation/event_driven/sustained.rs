@@ -175,6 +175,7 @@ impl EventDriven {
                 group: g,
                 w_free: &w_free,
                 offsets: &offsets,
+                bounds: &[],
             };
             let ans = self.solver.solve(&data, t, h);
             let (l, b) = (&ans.normal, &ans.tangential);

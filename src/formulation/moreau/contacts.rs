@@ -87,6 +87,9 @@ impl Moreau {
             self.counters.add(&OPEN_CONTACTS, open as u64);
         }
         let centres = sys.centres();
+        // The crushing bound of each contact's impulse over the step
+        // (docs/physics.md §10; empty: rigid contacts).
+        let bounds = crate::contact::crush::normal_bounds(scn, active, h);
         let gs = groups(active, n);
         self.counters.add(&ACTIVE_CONTACTS, active.len() as u64);
         self.counters.max(&ACTIVE_CONTACTS_MAX, active.len() as f64);
@@ -101,6 +104,7 @@ impl Moreau {
                 group: g,
                 w_free,
                 offsets: &offsets,
+                bounds: &bounds,
             };
             // An impact of one pair may be resolved in the lattices
             // (`impact = "lattice"`, [`lattice`]).
@@ -152,7 +156,21 @@ impl Moreau {
             }
             let impulses = match rigid {
                 Ok(impulses) => {
-                    sys.ledger.dissipated += before - after;
+                    // The work of the contacts at their crushing bound,
+                    // booked apart (docs/physics.md §10).
+                    let crushed = match bounds.is_empty() {
+                        true => 0.0,
+                        false => self.crushing(
+                            scn,
+                            &centres,
+                            (w_free, &w_new),
+                            g,
+                            active,
+                            (&impulses.0, &bounds),
+                        ),
+                    };
+                    sys.ledger.dissipated += before - after - crushed;
+                    sys.ledger.dissipated += crushed;
                     Some(impulses)
                 }
                 // The stage queued the impact's cracks itself.
@@ -198,6 +216,38 @@ impl Moreau {
             }
         }
         w_new
+    }
+}
+
+impl Moreau {
+    /// The work of the contacts of group `g` whose normal impulse reached
+    /// its crushing bound (`impulses`: the group's normal impulses, N·s,
+    /// and every contact's bound), J: `−λ_j ū_N,j`, `ū_N` the mean of the
+    /// relative normal velocities before (`w.0`, the free velocities) and
+    /// after (`w.1`) the step's impulses, so that the group's kinetic
+    /// energy change `Σ p_j·ū_j` splits exactly into this and the rest
+    /// (docs/physics.md §10). The pairs crushing are kept for the crush
+    /// stage.
+    fn crushing(
+        &mut self,
+        scn: &Scenario,
+        centres: &[Vec2],
+        w: (&[Gen], &[Gen]),
+        g: &ContactGroup,
+        active: &[Contact],
+        (normal, bounds): (&[f64], &[f64]),
+    ) -> f64 {
+        let mut work = 0.0;
+        for (&k, &l) in g.contacts.iter().zip(normal) {
+            if !crate::contact::crush::at_bound(l, bounds[k]) {
+                continue;
+            }
+            let c = &active[k];
+            let u = |w: &[Gen]| crate::contact::crush::normal_velocity(scn, centres, w, c);
+            work -= l * 0.5 * (u(w.0) + u(w.1));
+            self.crushing_pairs.push((c.a, c.b));
+        }
+        work
     }
 }
 

@@ -53,7 +53,7 @@ use super::{
     advance_on_grid, check_output_grid, Context, Entry, FixedGrid, FixedStep, Formulation,
     FormulationError, FormulationOptions, NotClaimed,
 };
-use crate::contact::problem::{groups, Gen};
+use crate::contact::problem::{groups, ContactGroup, Gen};
 use crate::contact::{loads_of, BroadPhase, Contact};
 use crate::contact::{ContactKey, CLIPPED_EDGE_PAIRS};
 use crate::geometry::Vec2;
@@ -168,6 +168,9 @@ pub struct Moreau {
     /// The pairs of bodies of the last step's active contacts, sorted (kept
     /// only when the topology stage resolves impacts, [`lattice`]).
     active_pairs: Vec<(usize, usize)>,
+    /// The body pairs whose contacts reached their crushing bound in the
+    /// step, for the crush stage (docs/physics.md §10).
+    crushing_pairs: Vec<(usize, usize)>,
     /// The projection's depth, m (`None`: positions not projected,
     /// [`projection`]).
     projection: Option<f64>,
@@ -243,6 +246,7 @@ impl Moreau {
             open_contacts: s.open_contacts,
             grid: FixedGrid::new(s.step),
             active_pairs: Vec::new(),
+            crushing_pairs: Vec::new(),
             projection: s.projection_depth(scn),
         })
     }

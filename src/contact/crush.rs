@@ -1,0 +1,89 @@
+//! The crushing bound of each contact's normal impulse (docs/physics.md
+//! §10): with `[contact] crushing`, the normal force of a body pair is at
+//! most `F_max = p(A)·A` ([`crate::model::Crushing::max_force`]), `A = h w`
+//! the crushed face's area, so the normal impulse of each of its points
+//! over a step (or an interval) of `dt` is at most `F_max dt / k`.
+//!
+//! - `h` (m): the thinner floe's thickness (a floe against an obstacle: the
+//!   floe's; coasts do not crush, the ice crushes against them);
+//! - `w` (m): the width of the pair's contact, the extent of its `k` points
+//!   along the pair's tangent: a flush edge pair's common length, 0 for a
+//!   corner (a lone point). A corner therefore carries no force until it
+//!   has crushed into a face (the crush stage cuts the overlap, and the cut
+//!   is flush with the other body), and the face's force then grows with
+//!   its width: the closed forms of a corner rammed into a coast.
+//! - the pair's bound is shared equally among its `k` points: one box per
+//!   point, which is what every solver takes (a box in NSGS and APGD, a
+//!   bound row in Lemke's LCP, a linear constraint in the cone program).
+//!
+//! Without `crushing` there are no bounds (an empty list): every contact
+//! is rigid, as before.
+
+use super::problem::Gen;
+use super::Contact;
+use crate::geometry::Vec2;
+use crate::model::Scenario;
+use std::collections::BTreeMap;
+
+/// The normal impulse bound (N·s) of every contact of `contacts` over a
+/// duration `dt` (s), in the same order; empty when the case has no
+/// crushing law (see the module doc).
+pub fn normal_bounds(scn: &Scenario, contacts: &[Contact], dt: f64) -> Vec<f64> {
+    let Some(law) = scn.contact.crushing else {
+        return Vec::new();
+    };
+    let n = scn.floes.len();
+    // Per body pair: the extent of its points along the tangent, and their
+    // number.
+    let mut pairs: BTreeMap<(usize, usize), (f64, f64, usize)> = BTreeMap::new();
+    for c in contacts {
+        let s = c.geom.point.dot(&c.geom.tangent);
+        let e = pairs
+            .entry((c.a, c.b))
+            .or_insert((f64::INFINITY, f64::NEG_INFINITY, 0));
+        e.0 = e.0.min(s);
+        e.1 = e.1.max(s);
+        e.2 += 1;
+    }
+    contacts
+        .iter()
+        .map(|c| {
+            let (lo, hi, k) = pairs[&(c.a, c.b)];
+            let thickness = |i: usize| {
+                if i < n {
+                    scn.floes[i].thickness
+                } else {
+                    f64::INFINITY
+                }
+            };
+            let h = thickness(c.a).min(thickness(c.b));
+            let width = if k > 1 { hi - lo } else { 0.0 };
+            law.max_force(h, width) * dt / k as f64
+        })
+        .collect()
+}
+
+/// Whether a normal impulse `lambda` (N·s) is at its bound `bound`: within
+/// a relative [`AT_BOUND`] of it (a solver's answer on the bound, rounded).
+pub fn at_bound(lambda: f64, bound: f64) -> bool {
+    bound.is_finite() && lambda >= bound * (1.0 - AT_BOUND)
+}
+
+/// Relative distance to its bound within which a normal impulse is at it
+/// ([`at_bound`]): the iterative solvers' answers reach the bound to their
+/// tolerance (1e-6 by default), the pivoting ones to rounding.
+pub const AT_BOUND: f64 = 1e-6;
+
+/// The relative normal velocity (m/s, positive separating) of contact `c`
+/// for the generalised velocities `w` of every floe (`centres` their
+/// centres of mass, m); obstacles are at rest.
+pub fn normal_velocity(scn: &Scenario, centres: &[Vec2], w: &[Gen], c: &Contact) -> f64 {
+    let at = |i: usize| {
+        if i >= scn.floes.len() {
+            return Vec2::zeros();
+        }
+        let r = c.geom.point - centres[i];
+        Vec2::new(w[i][0] - w[i][2] * r.y, w[i][1] + w[i][2] * r.x)
+    };
+    (at(c.b) - at(c.a)).dot(&c.geom.normal)
+}
