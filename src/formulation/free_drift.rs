@@ -33,6 +33,7 @@ pub const ENTRY: Entry = Entry {
     dumps_lcps: false,
     supports_fracture: true,
     lattice_impacts: true,
+    supports_crushing: true,
     not_claimed: &[],
 };
 

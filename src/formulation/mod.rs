@@ -414,6 +414,10 @@ pub struct Entry {
     /// resolves them in the floes' lattices (docs/physics.md §9.10); one
     /// that does not is not run on such a case (a run of it is refused).
     pub lattice_impacts: bool,
+    /// Whether it bounds contact forces by the ice's crushing law
+    /// (`[contact] crushing`, docs/physics.md §10); one that does not is
+    /// not run on such a case (a run of it is refused).
+    pub supports_crushing: bool,
     /// The checks it does not claim; every other check that applies is
     /// claimed.
     pub not_claimed: &'static [NotClaimed],
@@ -426,6 +430,7 @@ impl Entry {
         (self.resolves_contacts || scn.contact_free())
             && (self.supports_fracture || !scn.fracture.enabled())
             && (self.lattice_impacts || !scn.fracture.lattice_impacts())
+            && (self.supports_crushing || scn.contact.crushing.is_none())
     }
 
     /// The reason the formulation does not claim `check` on `case`, or
@@ -504,6 +509,13 @@ pub fn build(name: &str, scn: &Scenario, opts: &FormulationOptions) -> Result<In
             "{name} has no impact event to resolve in the lattices, and case `{}` asks for it ([fracture] impact = \"lattice\", docs/physics.md §9.10); formulations that do: {}",
             scn.name,
             names_where(|e| e.lattice_impacts)
+        )).to_string());
+    }
+    if scn.contact.crushing.is_some() && !entry.supports_crushing {
+        return Err(scn.source.key_error("contact.crushing", format!(
+            "{name} cannot bound a contact force by the ice's crushing law, and case `{}` asks for it ([contact] crushing, docs/physics.md §10); formulations that do: {}",
+            scn.name,
+            names_where(|e| e.supports_crushing)
         )).to_string());
     }
     Ok(Instance {

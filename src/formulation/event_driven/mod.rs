@@ -80,6 +80,7 @@ pub const ENTRY: Entry = Entry {
     dumps_lcps: true,
     supports_fracture: true,
     lattice_impacts: true,
+    supports_crushing: false,
     not_claimed: &[
         NotClaimed {
             check: "cradle_physical",

@@ -94,6 +94,7 @@ pub const ENTRY: Entry = Entry {
     dumps_lcps: true,
     supports_fracture: true,
     lattice_impacts: true,
+    supports_crushing: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",
@@ -116,6 +117,7 @@ pub const CONE_ENTRY: Entry = Entry {
     dumps_lcps: false,
     supports_fracture: true,
     lattice_impacts: true,
+    supports_crushing: true,
     not_claimed: &[
         NotClaimed {
             check: "penetration",

@@ -66,6 +66,7 @@ pub const ENTRY: Entry = Entry {
     dumps_lcps: false,
     supports_fracture: true,
     lattice_impacts: false,
+    supports_crushing: false,
     not_claimed: &[
         NotClaimed {
             check: "ram_critical_speed",

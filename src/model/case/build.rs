@@ -41,6 +41,7 @@ pub(super) fn build(
     for (which, fluid) in [("air", &environment.air), ("water", &environment.water)] {
         check_grid_times(ctx, &env_span, which, fluid, header.duration)?;
     }
+    let crushing_line = ctx.key_line(&case.contact.span(), "crushing");
     let contact = contact(ctx, case.contact)?;
     let (mut floes, floe_spans) = floes(ctx, case.floe)?;
     let (obstacles, obstacle_spans) = obstacles(ctx, case.obstacle)?;
@@ -59,7 +60,7 @@ pub(super) fn build(
         .map(|f| ctx.line_of(f.span().start))
         .collect();
     fields(ctx, case.field, &mut floes, &obstacles)?;
-    let key_lines = case
+    let mut key_lines: BTreeMap<String, usize> = case
         .fracture
         .as_ref()
         .map(|t| {
@@ -72,6 +73,9 @@ pub(super) fn build(
                 .collect()
         })
         .unwrap_or_default();
+    if let Some(l) = crushing_line {
+        key_lines.insert("contact.crushing".into(), l);
+    }
     let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
     let integrator = integrator(ctx, case.integrator, header.duration)?;
     let fracture = fracture_table(ctx, case.fracture, &floes)?;
