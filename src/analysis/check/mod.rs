@@ -218,6 +218,19 @@ pub const FRACTURE_CONSERVATION_TOLERANCE: f64 = 1e-12;
 /// instead of the pair's) moves it at order one.
 pub const RAM_CRITICAL_SPEED_TOLERANCE: f64 = 1e-6;
 
+/// `crush_volume`, relative to the closed form `½ M V² / σ_c`
+/// (docs/physics.md §10.4): all the normal kinetic energy is crushed ice;
+/// the cuts remove it step by step, and the force lags the cut by one step
+/// (O(h) of the crushing time).
+pub const CRUSH_VOLUME_TOLERANCE: f64 = 0.02;
+
+/// `crush_peak_force` and `crush_duration`, relative to their closed forms
+/// (docs/physics.md §10.4): the force is measured as the mean of each
+/// output interval, `M Δv / Δt` (the crushed mass, 1e-3 of the floe's in
+/// the bundled cases, is neglected), which samples the peak to
+/// `(ω Δt)²/24`.
+pub const CRUSH_FORCE_TOLERANCE: f64 = 0.05;
+
 /// The reason formulation `formulation` does not claim `check` on `case`
 /// (its registry entry's [`formulation::NotClaimed`] list), or `None` when
 /// it claims it; an unknown formulation claims nothing.

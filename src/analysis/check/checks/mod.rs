@@ -7,8 +7,10 @@
 //! of the whole run (momentum, impact energy, energy conservation, Coulomb,
 //! penetration, the energy ledger); `motion.rs` the checks against exact
 //! motions (symmetry, head-on, Saint-Venant's bars, bouncing, sliding,
-//! cradle, cannon, free drift, inertial oscillation); `fracture.rs` the checks of fracture.
+//! cradle, cannon, free drift, inertial oscillation); `fracture.rs` the checks of fracture;
+//! `crushing.rs` the closed forms of crushing ice.
 
+mod crushing;
 mod fracture;
 mod motion;
 
@@ -118,6 +120,7 @@ pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     }
     fracture_conservation(&mut r);
     ram_critical_speed(&mut r);
+    crushing::crushing(&mut r);
     lattice_spin(&mut r);
     ledger(&mut r);
     r.out
