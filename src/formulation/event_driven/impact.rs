@@ -26,6 +26,12 @@ impl EventDriven {
         slow: Option<f64>,
         cx: &mut Context<'_>,
     ) -> bool {
+        // With crushing, a rigid impact would need an unbounded force:
+        // every approach is a crushing phase, resolved by the sustained
+        // contacts at their bounded force (docs/physics.md §10.2).
+        if scn.contact.crushing.is_some() {
+            return false;
+        }
         let n = scn.floes.len();
         let approaching: Vec<bool> = contacts
             .iter()

@@ -152,6 +152,9 @@ struct Sustained {
     /// The impulses of the sustained solves over the trial step, as loads
     /// of the stress criterion (empty unless `[fracture] model = "stress"`).
     loads: Vec<Load>,
+    /// The body pairs at their crushing bound over the trial step, and the
+    /// work of their forces over it, J (none without crushing).
+    crushing: (Vec<(usize, usize)>, f64),
 }
 
 /// The first event of a trial step: its time from the step start (s) and

@@ -78,6 +78,17 @@ impl EventDriven {
         if !contacts.is_empty() {
             bound = bound.min(self.horizon);
         }
+        // A crushing phase crushes at most the penetration tolerance per
+        // step: the step resolves the phase, whose overlap is cut at the
+        // next safe point (docs/physics.md §10.2).
+        if scn.contact.crushing.is_some() {
+            for c in &contacts {
+                let u = normal_velocity(scn, &sys.bodies, c);
+                if u < 0.0 {
+                    bound = bound.min(self.pen_tol / -u);
+                }
+            }
+        }
         // A closed contact still approaching, slower than the impact
         // threshold, is stopped by the sustained force over the step and
         // closes |u| h / 2: beyond a tenth of the tolerance, it is stopped at

@@ -28,6 +28,7 @@ impl EventDriven {
             stick: None,
             slide_stop: None,
             loads: Vec::new(),
+            crushing: (Vec::new(), 0.0),
         };
         if contacts.is_empty() {
             return Ok(out);
@@ -46,7 +47,9 @@ impl EventDriven {
                 target.push(None);
                 continue;
             }
-            let mut ask = if c.geom.gap < 0.0 {
+            // A crushing pair's overlap is crushed ice, cut at the next
+            // safe point, not a penetration to undo.
+            let mut ask = if c.geom.gap < 0.0 && scn.contact.crushing.is_none() {
                 -c.geom.gap / nominal.max(h)
             } else {
                 0.0
@@ -166,6 +169,8 @@ impl EventDriven {
         let mut beta = vec![0.0; closed.len()];
         let mut g_t = vec![0.0; closed.len()];
         let mut end_bodies = free_bodies;
+        // The crushing bounds of the step's impulses (docs/physics.md §10).
+        let bounds = crate::contact::crush::normal_bounds(scn, &closed, h);
         let solve_start = cx.clock.start(Stage::Solve);
         for g in &gs {
             let data = GroupData {
@@ -175,7 +180,7 @@ impl EventDriven {
                 group: g,
                 w_free: &w_free,
                 offsets: &offsets,
-                bounds: &[],
+                bounds: &bounds,
             };
             let ans = self.solver.solve(&data, t, h);
             let (l, b) = (&ans.normal, &ans.tangential);
@@ -202,6 +207,9 @@ impl EventDriven {
             self.counters.add(&SUSTAINED_SOLVES, 1);
         }
         cx.clock.stop(Stage::Solve, solve_start);
+        if !bounds.is_empty() {
+            out.crushing = crushing_work(scn, sys, &closed, (&lambda, &bounds), &end_bodies);
+        }
         if mu > 0.0 {
             (out.stick, out.slide_stop) =
                 self.stick_times(scn, sys, &closed, &lambda, &beta, &g_t, &end_bodies, h);
@@ -301,4 +309,35 @@ impl EventDriven {
         }
         (stuck, sliding)
     }
+}
+
+/// The contacts of `closed` whose normal impulse over the step reached its
+/// crushing bound (`lambda`, `bounds`: N·s per contact), as body pairs, and
+/// the work (J) of their forces over the step: `−λ_j ū_N,j`, `ū_N` the
+/// mean of the relative normal velocities at the step's start (`sys`) and
+/// end (`end`), exact for the constant wrenches of the step when the
+/// environment forces do not change the velocities (their change is
+/// second order in the step); it is a share of the contact work the
+/// integration books, moved from `dissipated` to `crushing`
+/// (docs/physics.md §10.2).
+fn crushing_work(
+    scn: &Scenario,
+    sys: &System,
+    closed: &[Contact],
+    (lambda, bounds): (&[f64], &[f64]),
+    end: &[BodyState],
+) -> (Vec<(usize, usize)>, f64) {
+    let mut pairs = Vec::new();
+    let mut work = 0.0;
+    for (k, c) in closed.iter().enumerate() {
+        if !crate::contact::crush::at_bound(lambda[k], bounds[k]) {
+            continue;
+        }
+        let u = 0.5 * (normal_velocity(scn, &sys.bodies, c) + normal_velocity(scn, end, c));
+        work -= lambda[k] * u;
+        if !pairs.contains(&(c.a, c.b)) {
+            pairs.push((c.a, c.b));
+        }
+    }
+    (pairs, work)
 }
