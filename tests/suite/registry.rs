@@ -68,6 +68,7 @@ const ENTRY: Entry = Entry {
     dumps_lcps: true,
     supports_fracture: false,
     lattice_impacts: false,
+    supports_crushing: false,
     not_claimed: &[NotClaimed {
         check: "sliding_stop",
         case: None,
