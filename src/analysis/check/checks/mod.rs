@@ -254,7 +254,9 @@ fn coulomb(r: &mut Rows) {
 
 fn penetration(r: &mut Rows) {
     let scn = r.scn;
-    if scn.floes.len() < 2 && scn.obstacles.is_empty() {
+    // With crushing, an overlap is crushed ice (cut at the next safe
+    // point, docs/physics.md §10.1), not a penetration of rigid bodies.
+    if (scn.floes.len() < 2 && scn.obstacles.is_empty()) || scn.contact.crushing.is_some() {
         return;
     }
     let sampled = sampled_penetration(scn, r.run);
