@@ -67,11 +67,28 @@ pub struct Ledger {
     /// (`impact = "lattice"`, docs/physics.md §9.10; zero otherwise), J.
     /// Not in `dissipated`.
     pub dashpot: f64,
+    /// The work of the crushing forces and the kinetic energy of the
+    /// crushed ice (`[contact] crushing`, docs/physics.md §10; zero
+    /// otherwise), J. Not in `dissipated`.
+    pub crushing: f64,
+}
+
+/// The cases whose `metrics.csv` has a ledger field (it is zero in the
+/// others).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shown {
+    /// Every case.
+    Always,
+    /// Cases whose floes can break (`[fracture]`), with their other
+    /// fracture figures.
+    Fracture,
+    /// Cases whose ice crushes (`[contact] crushing`).
+    Crushing,
 }
 
 /// How an exchange of the [`Ledger`] enters the energy balance
-/// `E − E(0) − W_ext + D + F + L = 0` (`L` the lattices' vibration and
-/// dashpot energies, docs/physics.md §9.10).
+/// `E − E(0) − W_ext + D + F + L + C = 0` (`L` the lattices' vibration and
+/// dashpot energies, docs/physics.md §9.10; `C` the crushing, §10).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Exchange {
     /// Work of an external force on the floes, in `W_ext`.
@@ -94,9 +111,8 @@ pub struct LedgerField {
     pub description: &'static str,
     /// How it enters the energy balance.
     pub exchange: Exchange,
-    /// Whether `metrics.csv` has it only for cases whose floes can break,
-    /// with their other fracture figures (it is zero otherwise).
-    pub fracture_only: bool,
+    /// Which cases' `metrics.csv` has it.
+    pub shown: Shown,
     /// Its value in a ledger.
     pub get: fn(&Ledger) -> f64,
 }
@@ -111,7 +127,7 @@ impl Ledger {
             unit: "J",
             description: "work of the air drag",
             exchange: Exchange::External,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.work_air,
         },
         LedgerField {
@@ -120,7 +136,7 @@ impl Ledger {
             unit: "J",
             description: "work of the water drag",
             exchange: Exchange::External,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.work_water,
         },
         LedgerField {
@@ -129,7 +145,7 @@ impl Ledger {
             unit: "J",
             description: "work of the Coriolis force",
             exchange: Exchange::External,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.work_coriolis,
         },
         LedgerField {
@@ -138,7 +154,7 @@ impl Ledger {
             unit: "J",
             description: "dissipated energy",
             exchange: Exchange::Removed,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.dissipated,
         },
         LedgerField {
@@ -147,7 +163,7 @@ impl Ledger {
             unit: "J",
             description: "fracture energy",
             exchange: Exchange::Removed,
-            fracture_only: true,
+            shown: Shown::Fracture,
             get: |l| l.fracture,
         },
         LedgerField {
@@ -156,7 +172,7 @@ impl Ledger {
             unit: "J",
             description: "energy left in the lattices' vibration",
             exchange: Exchange::Removed,
-            fracture_only: true,
+            shown: Shown::Fracture,
             get: |l| l.vibration,
         },
         LedgerField {
@@ -165,8 +181,19 @@ impl Ledger {
             unit: "J",
             description: "energy taken by the lattices' dashpots",
             exchange: Exchange::Removed,
-            fracture_only: true,
+            shown: Shown::Fracture,
             get: |l| l.dashpot,
+        },
+        // Last, so that the residuals of the cases without crushing (a
+        // zero added last) stay bit-identical.
+        LedgerField {
+            name: "crushing",
+            metric: "crushing_energy",
+            unit: "J",
+            description: "work of the crushing forces and kinetic energy of the crushed ice",
+            exchange: Exchange::Removed,
+            shown: Shown::Crushing,
+            get: |l| l.crushing,
         },
     ];
 

@@ -25,12 +25,14 @@
 
 pub mod chain;
 pub mod crack;
+pub mod crush;
 pub mod impact;
 pub mod lattice;
 pub mod split;
 pub mod stage;
 pub mod stress;
 pub mod strike;
+pub mod topology;
 
 pub use crate::contact::{loads_of, Load};
 use crate::geometry::{rotate, Vec2};
@@ -161,8 +163,8 @@ pub struct Decision {
 pub struct Fracturer {
     history: BTreeMap<usize, stress::Window>,
     fractures: u64,
-    /// The lattice model's lattices, by floe id (a floe's shape never
-    /// changes, so its lattice is built once).
+    /// The lattice model's lattices, by floe id (built once per shape: a
+    /// floe the crush stage cuts is forgotten, [`Fracturer::forget_shape`]).
     lattices: BTreeMap<usize, lattice::Lattice>,
     /// Why the lattice of a floe (by id) cannot be built: the build is
     /// deterministic, so it is tried once per floe, not at each impact.
@@ -179,6 +181,14 @@ impl Fracturer {
     /// The fractures made so far.
     pub fn count(&self) -> u64 {
         self.fractures
+    }
+
+    /// Forgets what it kept of the shape of floe `id` (its lattice, or
+    /// why it could not be built): the crush stage changed its outline
+    /// (docs/physics.md §10), so its lattice is built again when needed.
+    pub fn forget_shape(&mut self, id: usize) {
+        self.lattices.remove(&id);
+        self.unbuildable.remove(&id);
     }
 
     /// The percussions the lattice model ran so far.

@@ -25,7 +25,8 @@ use std::time::Instant;
 /// The stages of a step, after rapier's pipeline: detect, solve, integrate;
 /// and the impacts resolved in the floes' lattices (`[fracture] impact =
 /// "lattice"`, docs/physics.md §9.10), charged apart from the solve that
-/// calls them.
+/// calls them; and the crush stage's cuts (`[contact] crushing`,
+/// docs/physics.md §10).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stage {
     /// Contact detection: broad and narrow phase, event location.
@@ -37,6 +38,8 @@ pub enum Stage {
     /// Impacts resolved in the pair's lattices (nested in a solve region:
     /// its time is taken out of the solve's, [`StageClock::stop`]).
     Lattice,
+    /// The crush stage's cuts of the crushed ice (at a safe point).
+    Crushing,
 }
 
 /// The CPU time of the calling thread, s (a system call: read it rarely).
@@ -88,12 +91,14 @@ pub struct StageTimes {
     /// Impacts resolved in the lattices, s (zero without `impact =
     /// "lattice"`).
     pub lattice: f64,
+    /// The crush stage's cuts, s (zero without `[contact] crushing`).
+    pub crushing: f64,
 }
 
 impl StageTimes {
     /// The sum of the stages, s.
     pub fn total(&self) -> f64 {
-        self.detection + self.solve + self.integration + self.lattice
+        self.detection + self.solve + self.integration + self.lattice + self.crushing
     }
 
     fn slot(&mut self, stage: Stage) -> &mut f64 {
@@ -102,6 +107,7 @@ impl StageTimes {
             Stage::Solve => &mut self.solve,
             Stage::Integration => &mut self.integration,
             Stage::Lattice => &mut self.lattice,
+            Stage::Crushing => &mut self.crushing,
         }
     }
 }
@@ -334,7 +340,7 @@ impl Default for StageClock {
     fn default() -> Self {
         StageClock {
             times: StageTimes::default(),
-            sampler: Sampler::new(5),
+            sampler: Sampler::new(6),
             reads: 1,
             born: Instant::now(),
             charged: 0.0,
@@ -348,6 +354,7 @@ fn index(stage: Stage) -> usize {
         Stage::Solve => 1,
         Stage::Integration => 2,
         Stage::Lattice => 4,
+        Stage::Crushing => 5,
     }
 }
 
@@ -450,6 +457,7 @@ impl StageClock {
             solve: self.times.solve * f,
             integration: self.times.integration * f,
             lattice: self.times.lattice * f,
+            crushing: self.times.crushing * f,
         }
     }
 

@@ -20,8 +20,9 @@ pub mod output;
 pub mod repeat;
 
 use crate::formulation::{Context, Formulation, FormulationError, Interrupt};
+use crate::fracture::crush::Deposit;
 use crate::fracture::impact::{LATTICE_IMPACTS, LATTICE_NODE_STEPS};
-use crate::fracture::stage::FractureStage;
+use crate::fracture::topology::RunTopology;
 use crate::model::fracture::{FloeRecord, FractureRecord, PercussionRecord};
 use crate::model::Scenario;
 use crate::record::{
@@ -232,8 +233,13 @@ pub struct RunSummary {
     pub energy: EnergyTotals,
     /// The settings the formulation ran with, defaults resolved.
     pub settings: Settings,
-    /// The formulation's counters.
+    /// The formulation's counters (and the topology stage's: the lattice
+    /// impacts', the crush stage's volumes and cuts).
     pub counters: Counters,
+    /// What the crushed ice left on the coasts (runs with `[contact]
+    /// crushing`; absent otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crushing: Option<CrushingSummary>,
     /// The LCP solves by size (formulations that solve LCPs), seconds as
     /// CPU time (split like the stages).
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -244,6 +250,14 @@ pub struct RunSummary {
     /// `events_located`, `impacts` and `lcp_solves`, divided by the time
     /// reached in hours ([`per_simulated_hour`]); empty at t = 0.
     pub per_simulated_hour: std::collections::BTreeMap<String, f64>,
+}
+
+/// What the crush stage left on the obstacles over a run (docs/physics.md
+/// §10); its volumes and cuts are counters.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CrushingSummary {
+    /// The ice deposited on each obstacle, in the case's order.
+    pub deposits: Vec<Deposit>,
 }
 
 /// The stepping counters of `counters` per simulated hour over `t` s (see
@@ -344,8 +358,9 @@ impl Runner {
         let wall0 = Instant::now();
         let cpu0 = thread_cpu_seconds();
         let mut clock = StageClock::new();
-        // The run's topology stage: fracture, once for every formulation.
-        let mut topology = FractureStage::new(scn);
+        // The run's topology stage: fracture and crushing, once for every
+        // formulation.
+        let mut topology = RunTopology::new(scn);
         let stop = &self.options.interrupt;
         // The solvers of this thread poll the run's handle inside a step.
         let _current = crate::stop::current(stop);
@@ -466,26 +481,37 @@ impl Runner {
             settings: form.settings(),
             per_simulated_hour: per_simulated_hour(&counters, sys.t),
             counters,
+            crushing: topology.crush.enabled().then(|| CrushingSummary {
+                deposits: topology.crush.deposits().to_vec(),
+            }),
             lcp_profile,
         };
+        let floes = floe_records(scn, &sys, topology.crush.enabled());
         RunResult {
             trajectory,
             energy,
             summary,
             final_state: sys,
             contacts: form.take_contact_log(),
-            floes: floe_records(scn),
+            floes,
             fractures: scn.history.fractures.clone(),
             percussion: scn.history.percussion.clone(),
         }
     }
 }
 
-/// Every floe of a run's scenario at its end: those that ended and those
-/// alive, by id.
-fn floe_records(scn: &Scenario) -> Vec<FloeRecord> {
+/// Every floe of a run's scenario at its end (state `sys`): those that
+/// ended and those alive, by id; with crushing (`world`), the alive ones
+/// with their world outline at the end.
+fn floe_records(scn: &Scenario, sys: &System, world: bool) -> Vec<FloeRecord> {
     let mut out: Vec<FloeRecord> = scn.history.ended.clone();
-    out.extend(scn.floes.iter().map(|f| FloeRecord::of(f, None)));
+    out.extend(scn.floes.iter().zip(&sys.bodies).map(|(f, b)| {
+        let record = FloeRecord::of(f, None);
+        match world {
+            true => record.at(&b.position, b.angle),
+            false => record,
+        }
+    }));
     out.sort_by_key(|r| r.id);
     out
 }
