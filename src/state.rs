@@ -491,12 +491,13 @@ mod tests {
             fracture: 5.0,
             vibration: 6.0,
             dashpot: 7.0,
+            crushing: 8.0,
         };
         let mut read: Vec<f64> = l.values().map(|(_, v)| v).collect();
         read.sort_by(f64::total_cmp);
         let every: Vec<f64> = (1..=Ledger::FIELDS.len()).map(|k| k as f64).collect();
         assert_eq!(read, every);
-        assert_eq!(Ledger::FIELDS.len(), 7, "a field added to the literal");
+        assert_eq!(Ledger::FIELDS.len(), 8, "a field added to the literal");
         for (i, a) in Ledger::FIELDS.iter().enumerate() {
             for b in &Ledger::FIELDS[i + 1..] {
                 assert!(a.name != b.name && a.metric != b.metric, "{}", a.name);
@@ -516,6 +517,7 @@ mod tests {
             fracture: 0.2,
             vibration: 0.0,
             dashpot: 0.0,
+            crushing: 0.0,
         };
         let ext = l.work_air + l.work_water + l.work_coriolis;
         assert_eq!(l.external_work().to_bits(), ext.to_bits());
@@ -536,7 +538,7 @@ mod tests {
         let json = serde_json::to_string(&l).unwrap();
         assert_eq!(
             json,
-            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0,"vibration":0.0,"dashpot":0.0}"#
+            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0,"vibration":0.0,"dashpot":0.0,"crushing":0.0}"#
         );
     }
 }
