@@ -15,6 +15,7 @@ mod cohesive;
 mod compare;
 mod contact;
 mod crack_energy;
+mod crushing_geometry;
 mod event_driven;
 mod fc2d;
 mod fc2d_bad;
