@@ -140,6 +140,9 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     if t.stages.lattice > 0.0 {
         push("cpu_lattice", t.stages.lattice, "s");
     }
+    if s.crushing.is_some() {
+        push("cpu_crushing", t.stages.crushing, "s");
+    }
     if let Some(c) = &t.lattice_cost {
         push("cpu_lattice_per_impact", c.per_impact, "s");
         push("cpu_lattice_per_node_step", c.per_node_step, "s");

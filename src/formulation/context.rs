@@ -2,8 +2,9 @@
 //! the stage clock, the run's topology stage and the interrupt handle.
 //!
 //! **Topology belongs to the run.** A change of the floe set (a fracture)
-//! is decided and carried out by the run's topology stage (the fracture
-//! stage, [`crate::fracture::stage::FractureStage`], owned by the
+//! or of the floes' outlines (crushing) is decided and carried out by the
+//! run's topology stage (the fracture stage and the crush stage,
+//! [`crate::fracture::topology::RunTopology`], owned by the
 //! [`crate::run::Runner`]), once for every formulation. A formulation only
 //! *reports* what its contact solves did, through the narrow interface
 //! [`Topology`]:
@@ -233,9 +234,10 @@ pub trait Topology {
     /// scenario's floes, its history and the state's bodies together),
     /// charging the stages it has to `clock` (the crush stage's cuts to
     /// [`Stage::Crushing`]). Returns the floe ids before the change, in
-    /// index order, whenever a change was pending (even if every cut of it
-    /// was refused: the formulation rebuilds all the same), `None` when
-    /// nothing was.
+    /// index order, when the floes may have changed: the fracture stage
+    /// whenever a fracture was pending (even if every cut of it was
+    /// refused: the formulation rebuilds all the same), the crush stage
+    /// when it changed a floe (docs/physics.md §10.5); `None` otherwise.
     fn apply(
         &mut self,
         scn: &mut Scenario,

@@ -3,8 +3,9 @@
 //! the cut rule, and the one function that changes a run's floe set
 //! ([`apply_split`]).
 //!
-//! Fracture is the run's topology stage ([`stage::FractureStage`], owned by
-//! the [`crate::run::Runner`]): formulations report each contact solve's
+//! Fracture is a stage of the run's topology ([`stage::FractureStage`],
+//! with the crush stage [`crush::CrushStage`] in [`topology::RunTopology`],
+//! owned by the [`crate::run::Runner`]): formulations report each contact solve's
 //! impulses to it as [`Load`]s ([`loads_of`]); its [`Fracturer`] decides
 //! which floes break and where, and at the formulation's next safe point
 //! [`apply_split`] replaces each by its pieces in the scenario, the state
@@ -12,7 +13,10 @@
 //! `model = "none"`) nothing here runs. The lattice model (`strike`) keeps
 //! the crack of its largest percussion in the history ([`crack`]). With
 //! `impact = "lattice"` the stage also resolves impacts of one pair in
-//! the floes' lattices ([`impact`], docs/physics.md §9.10).
+//! the floes' lattices ([`impact`], docs/physics.md §9.10). Ice that
+//! crushes at contacts (`[contact] crushing`) is cut from the floes by
+//! [`crush`] (docs/physics.md §10), which changes outlines, not the floe
+//! set.
 //!
 //! To add a fracture rule: its name in [`FractureModel`] and the case
 //! keys it reads with their limits (`src/model/fracture.rs`,
