@@ -238,7 +238,8 @@ impl CrushStage {
             return false;
         };
         let (lo, hi) = ov.extent();
-        if !(hi - lo > DEPTH_TOLERANCE * fa.radius.max(radius_b)) {
+        let depth = hi - lo;
+        if depth.is_nan() || depth <= DEPTH_TOLERANCE * fa.radius.max(radius_b) {
             self.below += 1;
             return false;
         }
