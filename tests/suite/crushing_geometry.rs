@@ -399,3 +399,44 @@ fn a_case_without_crushing_runs_as_with_the_fixed_topology() {
         assert_eq!(run.trajectory, rows, "{name} by {form}");
     }
 }
+
+/// A run with crushing reports the crush stage: its counters (zeros when
+/// nothing was reported), one deposit per obstacle, the floes' world
+/// outlines at the end in `floes.json`, and the `crushing_energy` metric;
+/// a run without it has none of them.
+#[test]
+fn a_run_with_crushing_reports_the_stage() {
+    let text = |crushing: bool| case(DIAMOND, COAST, crushing);
+    let run = crate::common::run(&text(true), "moreau");
+    let s = &run.summary;
+    let deposits = &s.crushing.as_ref().expect("crushing summary").deposits;
+    assert_eq!(deposits.len(), 1);
+    assert_eq!(deposits[0].mass_kg, 0.0);
+    for name in [
+        "crushed_volume_m3",
+        "ridged_volume_m3",
+        "deposited_volume_m3",
+        "crush_cuts",
+        "crush_cuts_refused",
+    ] {
+        assert_eq!(s.counters.by_name(name).unwrap(), Some(0.0), "{name}");
+    }
+    let world = run.floes[0].world_polygon.as_ref().expect("world outline");
+    let last = run.trajectory.last().unwrap();
+    let expected = {
+        let mut out = Vec::new();
+        run.floes[0].world_polygon(&Vec2::new(last.x, last.y), last.theta, &mut out);
+        out
+    };
+    for (w, e) in world.iter().zip(&expected) {
+        assert_eq!([e.x, e.y], *w);
+    }
+    let metrics = floebench::analysis::metrics::run_metrics(&run);
+    assert!(metrics.iter().any(|m| m.metric == "crushing_energy"));
+
+    let plain = crate::common::run(&text(false), "moreau");
+    assert!(plain.summary.crushing.is_none() && plain.floes[0].world_polygon.is_none());
+    assert!(plain.summary.counters.by_name("crush_cuts").is_err());
+    let metrics = floebench::analysis::metrics::run_metrics(&plain);
+    assert!(!metrics.iter().any(|m| m.metric.contains("crush")));
+}

@@ -318,7 +318,6 @@ impl Topology for CrushStage {
         if !self.enabled {
             return;
         }
-        let n = scn.floes.len();
         for &(a, b) in pairs {
             let Some(fa) = scn.floes.get(a) else { continue };
             let key = match scn.body(b) {
@@ -330,7 +329,6 @@ impl Topology for CrushStage {
                 Body::Obstacle(k) if k < scn.obstacles.len() => (fa.id, Other::Obstacle(k)),
                 Body::Obstacle(_) => continue,
             };
-            debug_assert!(a < n);
             self.pending.insert(key);
         }
     }
