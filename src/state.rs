@@ -67,11 +67,28 @@ pub struct Ledger {
     /// (`impact = "lattice"`, docs/physics.md §9.10; zero otherwise), J.
     /// Not in `dissipated`.
     pub dashpot: f64,
+    /// The work of the crushing forces and the kinetic energy of the
+    /// crushed ice (`[contact] crushing`, docs/physics.md §10; zero
+    /// otherwise), J. Not in `dissipated`.
+    pub crushing: f64,
+}
+
+/// The cases whose `metrics.csv` has a ledger field (it is zero in the
+/// others).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Shown {
+    /// Every case.
+    Always,
+    /// Cases whose floes can break (`[fracture]`), with their other
+    /// fracture figures.
+    Fracture,
+    /// Cases whose ice crushes (`[contact] crushing`).
+    Crushing,
 }
 
 /// How an exchange of the [`Ledger`] enters the energy balance
-/// `E − E(0) − W_ext + D + F + L = 0` (`L` the lattices' vibration and
-/// dashpot energies, docs/physics.md §9.10).
+/// `E − E(0) − W_ext + D + F + L + C = 0` (`L` the lattices' vibration and
+/// dashpot energies, docs/physics.md §9.10; `C` the crushing, §10).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Exchange {
     /// Work of an external force on the floes, in `W_ext`.
@@ -94,9 +111,8 @@ pub struct LedgerField {
     pub description: &'static str,
     /// How it enters the energy balance.
     pub exchange: Exchange,
-    /// Whether `metrics.csv` has it only for cases whose floes can break,
-    /// with their other fracture figures (it is zero otherwise).
-    pub fracture_only: bool,
+    /// Which cases' `metrics.csv` has it.
+    pub shown: Shown,
     /// Its value in a ledger.
     pub get: fn(&Ledger) -> f64,
 }
@@ -111,7 +127,7 @@ impl Ledger {
             unit: "J",
             description: "work of the air drag",
             exchange: Exchange::External,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.work_air,
         },
         LedgerField {
@@ -120,7 +136,7 @@ impl Ledger {
             unit: "J",
             description: "work of the water drag",
             exchange: Exchange::External,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.work_water,
         },
         LedgerField {
@@ -129,7 +145,7 @@ impl Ledger {
             unit: "J",
             description: "work of the Coriolis force",
             exchange: Exchange::External,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.work_coriolis,
         },
         LedgerField {
@@ -138,7 +154,7 @@ impl Ledger {
             unit: "J",
             description: "dissipated energy",
             exchange: Exchange::Removed,
-            fracture_only: false,
+            shown: Shown::Always,
             get: |l| l.dissipated,
         },
         LedgerField {
@@ -147,7 +163,7 @@ impl Ledger {
             unit: "J",
             description: "fracture energy",
             exchange: Exchange::Removed,
-            fracture_only: true,
+            shown: Shown::Fracture,
             get: |l| l.fracture,
         },
         LedgerField {
@@ -156,7 +172,7 @@ impl Ledger {
             unit: "J",
             description: "energy left in the lattices' vibration",
             exchange: Exchange::Removed,
-            fracture_only: true,
+            shown: Shown::Fracture,
             get: |l| l.vibration,
         },
         LedgerField {
@@ -165,8 +181,19 @@ impl Ledger {
             unit: "J",
             description: "energy taken by the lattices' dashpots",
             exchange: Exchange::Removed,
-            fracture_only: true,
+            shown: Shown::Fracture,
             get: |l| l.dashpot,
+        },
+        // Last, so that the residuals of the cases without crushing (a
+        // zero added last) stay bit-identical.
+        LedgerField {
+            name: "crushing",
+            metric: "crushing_energy",
+            unit: "J",
+            description: "work of the crushing forces and kinetic energy of the crushed ice",
+            exchange: Exchange::Removed,
+            shown: Shown::Crushing,
+            get: |l| l.crushing,
         },
     ];
 
@@ -464,12 +491,13 @@ mod tests {
             fracture: 5.0,
             vibration: 6.0,
             dashpot: 7.0,
+            crushing: 8.0,
         };
         let mut read: Vec<f64> = l.values().map(|(_, v)| v).collect();
         read.sort_by(f64::total_cmp);
         let every: Vec<f64> = (1..=Ledger::FIELDS.len()).map(|k| k as f64).collect();
         assert_eq!(read, every);
-        assert_eq!(Ledger::FIELDS.len(), 7, "a field added to the literal");
+        assert_eq!(Ledger::FIELDS.len(), 8, "a field added to the literal");
         for (i, a) in Ledger::FIELDS.iter().enumerate() {
             for b in &Ledger::FIELDS[i + 1..] {
                 assert!(a.name != b.name && a.metric != b.metric, "{}", a.name);
@@ -489,6 +517,7 @@ mod tests {
             fracture: 0.2,
             vibration: 0.0,
             dashpot: 0.0,
+            crushing: 0.0,
         };
         let ext = l.work_air + l.work_water + l.work_coriolis;
         assert_eq!(l.external_work().to_bits(), ext.to_bits());
@@ -509,7 +538,7 @@ mod tests {
         let json = serde_json::to_string(&l).unwrap();
         assert_eq!(
             json,
-            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0,"vibration":0.0,"dashpot":0.0}"#
+            r#"{"work_air":1.5,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":-0.0,"vibration":0.0,"dashpot":0.0,"crushing":0.0}"#
         );
     }
 }

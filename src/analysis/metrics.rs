@@ -10,6 +10,7 @@ use super::divergence::PairDivergence;
 use crate::record::spread::Spread;
 use crate::record::SettingValue;
 use crate::run::{EndReason, RunResult, RunSummary};
+use crate::state::Shown;
 use serde::Serialize;
 
 /// One figure, in long format.
@@ -77,8 +78,9 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     );
     push("kinetic_initial", e.initial_kinetic, "J");
     push("kinetic_final", e.final_kinetic, "J");
-    // The ledger's fields, but those of fracture cases only (below).
-    for (f, v) in e.ledger.values().filter(|(f, _)| !f.fracture_only) {
+    // The ledger's fields, but those of fracture or crushing cases only
+    // (below).
+    for (f, v) in e.ledger.values().filter(|(f, _)| f.shown == Shown::Always) {
         push(f.metric, v, f.unit);
     }
     push("residual_final", e.residual, "J");
@@ -97,7 +99,11 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
         // many floes, the energy spent, and the smallest floe at the end.
         push("fractures", s.fractures as f64, "count");
         push("floes_final", s.floes_at_end as f64, "count");
-        for (f, v) in e.ledger.values().filter(|(f, _)| f.fracture_only) {
+        for (f, v) in e
+            .ledger
+            .values()
+            .filter(|(f, _)| f.shown == Shown::Fracture)
+        {
             push(f.metric, v, f.unit);
         }
         push("fracture_kinetic_gain", e.fracture_kinetic_gain, "J");
@@ -105,6 +111,17 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
         let smallest = alive.map(|f| f.area).fold(f64::INFINITY, f64::min);
         if smallest.is_finite() {
             push("floe_area_min_final", smallest, "m^2");
+        }
+    }
+    if s.crushing.is_some() {
+        // Crushing cases only (docs/physics.md §10); its volumes and cuts
+        // are counters, below.
+        for (f, v) in e
+            .ledger
+            .values()
+            .filter(|(f, _)| f.shown == Shown::Crushing)
+        {
+            push(f.metric, v, f.unit);
         }
     }
     push("cpu_total", t.cpu_total, "s");
@@ -122,6 +139,9 @@ pub fn run_metrics(run: &RunResult) -> Vec<MetricRow> {
     push("cpu_integration", t.stages.integration, "s");
     if t.stages.lattice > 0.0 {
         push("cpu_lattice", t.stages.lattice, "s");
+    }
+    if s.crushing.is_some() {
+        push("cpu_crushing", t.stages.crushing, "s");
     }
     if let Some(c) = &t.lattice_cost {
         push("cpu_lattice_per_impact", c.per_impact, "s");

@@ -2,8 +2,9 @@
 //! the stage clock, the run's topology stage and the interrupt handle.
 //!
 //! **Topology belongs to the run.** A change of the floe set (a fracture)
-//! is decided and carried out by the run's topology stage (the fracture
-//! stage, [`crate::fracture::stage::FractureStage`], owned by the
+//! or of the floes' outlines (crushing) is decided and carried out by the
+//! run's topology stage (the fracture stage and the crush stage,
+//! [`crate::fracture::topology::RunTopology`], owned by the
 //! [`crate::run::Runner`]), once for every formulation. A formulation only
 //! *reports* what its contact solves did, through the narrow interface
 //! [`Topology`]:
@@ -13,6 +14,10 @@
 //!   kinetic energy the solve removed;
 //! - [`Topology::sustained`]: the impulses that sustained contact forces
 //!   delivered over a step (an event-driven scheme's smooth step);
+//! - [`Topology::crushed`]: the pairs of bodies whose normal impulse
+//!   reached its crushing bound in a contact solve (`[contact] crushing`,
+//!   docs/physics.md §10): the crush stage cuts their overlap at the next
+//!   safe point;
 //!
 //! and, before applying its rigid impact law to a group of contacts, asks
 //! [`Topology::impact`] (through [`Context::impact`], which charges it to
@@ -204,6 +209,17 @@ pub trait Topology {
         None
     }
 
+    /// The pairs of bodies `(a, b)` whose normal impulse reached its
+    /// crushing bound in a contact solve on the floes of `sys`
+    /// (`[contact] crushing`, docs/physics.md §10): `a` is a floe, `b` a
+    /// floe or, from `scn.floes.len()` on, an obstacle (body ids,
+    /// [`Scenario::body`]). The stage cuts their overlap at the next safe
+    /// point ([`Topology::pending`]). The default ignores them (a run
+    /// without crushing).
+    fn crushed(&mut self, scn: &Scenario, sys: &System, pairs: &[(usize, usize)]) {
+        let _ = (scn, sys, pairs);
+    }
+
     /// Its own counters, added to the formulation's in `summary.json`
     /// (the default: none).
     fn counters(&self) -> Counters {
@@ -215,11 +231,19 @@ pub trait Topology {
     fn pending(&self) -> bool;
 
     /// Carries out the pending change on `scn` and `sys` at `sys.t` (the
-    /// scenario's floes, its history and the state's bodies together).
-    /// Returns the floe ids before the change, in index order, whenever
-    /// a change was pending (even if every cut of it was refused: the
-    /// formulation rebuilds all the same), `None` when nothing was.
-    fn apply(&mut self, scn: &mut Scenario, sys: &mut System) -> Option<Vec<usize>>;
+    /// scenario's floes, its history and the state's bodies together),
+    /// charging the stages it has to `clock` (the crush stage's cuts to
+    /// [`Stage::Crushing`]). Returns the floe ids before the change, in
+    /// index order, when the floes may have changed: the fracture stage
+    /// whenever a fracture was pending (even if every cut of it was
+    /// refused: the formulation rebuilds all the same), the crush stage
+    /// when it changed a floe (docs/physics.md §10.8); `None` otherwise.
+    fn apply(
+        &mut self,
+        scn: &mut Scenario,
+        sys: &mut System,
+        clock: &mut StageClock,
+    ) -> Option<Vec<usize>>;
 }
 
 /// A topology stage that never changes the floe set (a run without
@@ -240,7 +264,12 @@ impl Topology for FixedTopology {
         false
     }
 
-    fn apply(&mut self, _: &mut Scenario, _: &mut System) -> Option<Vec<usize>> {
+    fn apply(
+        &mut self,
+        _: &mut Scenario,
+        _: &mut System,
+        _: &mut StageClock,
+    ) -> Option<Vec<usize>> {
         None
     }
 }
@@ -297,13 +326,24 @@ impl<'a> Context<'a> {
         answer
     }
 
+    /// Reports to the topology stage the pairs of bodies whose normal
+    /// impulse reached its crushing bound in a contact solve on the floes
+    /// of `sys` ([`Topology::crushed`]; body ids, `a` a floe): every
+    /// formulation reports through here, after each contact solve of a
+    /// case with `[contact] crushing`.
+    pub fn crushed(&mut self, scn: &Scenario, sys: &System, pairs: &[(usize, usize)]) {
+        if !pairs.is_empty() {
+            self.topology.crushed(scn, sys, pairs);
+        }
+    }
+
     /// At a safe point of the formulation's scheme: the topology stage's
     /// pending change, carried out on `scn` and `sys` (see
     /// [`Topology::apply`]); the floe ids before it when a change was
     /// pending, for [`super::Formulation::floes_changed`].
     pub fn change_floes(&mut self, scn: &mut Scenario, sys: &mut System) -> Option<Vec<usize>> {
         if self.topology.pending() {
-            self.topology.apply(scn, sys)
+            self.topology.apply(scn, sys, self.clock)
         } else {
             None
         }

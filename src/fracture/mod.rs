@@ -3,8 +3,9 @@
 //! the cut rule, and the one function that changes a run's floe set
 //! ([`apply_split`]).
 //!
-//! Fracture is the run's topology stage ([`stage::FractureStage`], owned by
-//! the [`crate::run::Runner`]): formulations report each contact solve's
+//! Fracture is a stage of the run's topology ([`stage::FractureStage`],
+//! with the crush stage [`crush::CrushStage`] in [`topology::RunTopology`],
+//! owned by the [`crate::run::Runner`]): formulations report each contact solve's
 //! impulses to it as [`Load`]s ([`loads_of`]); its [`Fracturer`] decides
 //! which floes break and where, and at the formulation's next safe point
 //! [`apply_split`] replaces each by its pieces in the scenario, the state
@@ -12,7 +13,10 @@
 //! `model = "none"`) nothing here runs. The lattice model (`strike`) keeps
 //! the crack of its largest percussion in the history ([`crack`]). With
 //! `impact = "lattice"` the stage also resolves impacts of one pair in
-//! the floes' lattices ([`impact`], docs/physics.md §9.10).
+//! the floes' lattices ([`impact`], docs/physics.md §9.10). Ice that
+//! crushes at contacts (`[contact] crushing`) is cut from the floes by
+//! [`crush`] (docs/physics.md §10), which changes outlines, not the floe
+//! set.
 //!
 //! To add a fracture rule: its name in [`FractureModel`] and the case
 //! keys it reads with their limits (`src/model/fracture.rs`,
@@ -25,12 +29,14 @@
 
 pub mod chain;
 pub mod crack;
+pub mod crush;
 pub mod impact;
 pub mod lattice;
 pub mod split;
 pub mod stage;
 pub mod stress;
 pub mod strike;
+pub mod topology;
 
 pub use crate::contact::{loads_of, Load};
 use crate::geometry::{rotate, Vec2};
@@ -161,8 +167,8 @@ pub struct Decision {
 pub struct Fracturer {
     history: BTreeMap<usize, stress::Window>,
     fractures: u64,
-    /// The lattice model's lattices, by floe id (a floe's shape never
-    /// changes, so its lattice is built once).
+    /// The lattice model's lattices, by floe id (built once per shape: a
+    /// floe the crush stage cuts is forgotten, [`Fracturer::forget_shape`]).
     lattices: BTreeMap<usize, lattice::Lattice>,
     /// Why the lattice of a floe (by id) cannot be built: the build is
     /// deterministic, so it is tried once per floe, not at each impact.
@@ -179,6 +185,14 @@ impl Fracturer {
     /// The fractures made so far.
     pub fn count(&self) -> u64 {
         self.fractures
+    }
+
+    /// Forgets what it kept of the shape of floe `id` (its lattice, or
+    /// why it could not be built): the crush stage changed its outline
+    /// (docs/physics.md §10), so its lattice is built again when needed.
+    pub fn forget_shape(&mut self, id: usize) {
+        self.lattices.remove(&id);
+        self.unbuildable.remove(&id);
     }
 
     /// The percussions the lattice model ran so far.

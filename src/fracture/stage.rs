@@ -20,7 +20,7 @@ use super::{Decision, Fracturer, Load};
 use crate::formulation::context::{ImpactAnswer, ImpactQuery, Reads, Topology};
 use crate::model::fracture::FractureModel;
 use crate::model::Scenario;
-use crate::record::Counters;
+use crate::record::{Counters, StageClock};
 use crate::state::System;
 
 /// Where the crack energies of a pending decision come from.
@@ -66,6 +66,15 @@ impl FractureStage {
     /// The criterion's state (fractures made, percussions run).
     pub fn fracturer(&self) -> &Fracturer {
         &self.fracturer
+    }
+
+    /// The floes of ids `ids` changed outline (the crush stage cut them,
+    /// docs/physics.md §10): what the criterion kept of their shapes is
+    /// forgotten.
+    pub fn reshaped(&mut self, ids: &[usize]) {
+        for &id in ids {
+            self.fracturer.forget_shape(id);
+        }
     }
 
     fn decide(
@@ -155,7 +164,12 @@ impl Topology for FractureStage {
         !self.pending.is_empty()
     }
 
-    fn apply(&mut self, scn: &mut Scenario, sys: &mut System) -> Option<Vec<usize>> {
+    fn apply(
+        &mut self,
+        scn: &mut Scenario,
+        sys: &mut System,
+        _: &mut StageClock,
+    ) -> Option<Vec<usize>> {
         if self.pending.is_empty() {
             return None;
         }

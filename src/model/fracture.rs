@@ -337,6 +337,12 @@ pub struct FloeRecord {
     /// Outline in its body frame (centre of mass at the origin, at angle 0
     /// of its trajectory), counter-clockwise, m.
     pub polygon: Vec<[f64; 2]>,
+    /// Its outline in the world at the end of the run, counter-clockwise,
+    /// m: written for the floes alive at the end of a run with `[contact]
+    /// crushing` (whose outlines change, docs/physics.md §10), absent
+    /// otherwise.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub world_polygon: Option<Vec<[f64; 2]>>,
 }
 
 impl FloeRecord {
@@ -353,6 +359,18 @@ impl FloeRecord {
             inertia: floe.inertia,
             thickness: floe.thickness,
             polygon: floe.shape.iter().map(|p| [p.x, p.y]).collect(),
+            world_polygon: None,
+        }
+    }
+
+    /// The record with its world outline at centre of mass `g` (m) and
+    /// angle `theta` (rad) of its trajectory.
+    pub fn at(self, g: &crate::geometry::Vec2, theta: f64) -> FloeRecord {
+        let mut out = Vec::with_capacity(self.polygon.len());
+        self.world_polygon(g, theta, &mut out);
+        FloeRecord {
+            world_polygon: Some(out.iter().map(|p| [p.x, p.y]).collect()),
+            ..self
         }
     }
 }

@@ -18,26 +18,9 @@
 //!   process ([`monotonic_read_cost`]), gives the timer's own overhead,
 //!   reported beside the CPU time ([`StageClock::overhead`]).
 
-use serde::Serialize;
+pub use super::stage::{Stage, StageTimes};
 use std::sync::OnceLock;
 use std::time::Instant;
-
-/// The stages of a step, after rapier's pipeline: detect, solve, integrate;
-/// and the impacts resolved in the floes' lattices (`[fracture] impact =
-/// "lattice"`, docs/physics.md §9.10), charged apart from the solve that
-/// calls them.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Stage {
-    /// Contact detection: broad and narrow phase, event location.
-    Detection,
-    /// Contact problems: assembly and solution (LCP, cone program, …).
-    Solve,
-    /// Smooth integration of the environment forces.
-    Integration,
-    /// Impacts resolved in the pair's lattices (nested in a solve region:
-    /// its time is taken out of the solve's, [`StageClock::stop`]).
-    Lattice,
-}
 
 /// The CPU time of the calling thread, s (a system call: read it rarely).
 pub fn thread_cpu_seconds() -> f64 {
@@ -73,37 +56,6 @@ pub fn monotonic_read_cost() -> f64 {
         std::hint::black_box(last);
         ((thread_cpu_seconds() - c0) / f64::from(READS)).max(0.0)
     })
-}
-
-/// Seconds spent in each stage (CPU time once split, monotonic time while
-/// the clock runs).
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize)]
-pub struct StageTimes {
-    /// Contact detection, s.
-    pub detection: f64,
-    /// Contact solve, s.
-    pub solve: f64,
-    /// Smooth integration, s.
-    pub integration: f64,
-    /// Impacts resolved in the lattices, s (zero without `impact =
-    /// "lattice"`).
-    pub lattice: f64,
-}
-
-impl StageTimes {
-    /// The sum of the stages, s.
-    pub fn total(&self) -> f64 {
-        self.detection + self.solve + self.integration + self.lattice
-    }
-
-    fn slot(&mut self, stage: Stage) -> &mut f64 {
-        match stage {
-            Stage::Detection => &mut self.detection,
-            Stage::Solve => &mut self.solve,
-            Stage::Integration => &mut self.integration,
-            Stage::Lattice => &mut self.lattice,
-        }
-    }
 }
 
 /// Regions whose mean monotonic time is at least this many clock-read costs
@@ -334,7 +286,7 @@ impl Default for StageClock {
     fn default() -> Self {
         StageClock {
             times: StageTimes::default(),
-            sampler: Sampler::new(5),
+            sampler: Sampler::new(6),
             reads: 1,
             born: Instant::now(),
             charged: 0.0,
@@ -348,6 +300,7 @@ fn index(stage: Stage) -> usize {
         Stage::Solve => 1,
         Stage::Integration => 2,
         Stage::Lattice => 4,
+        Stage::Crushing => 5,
     }
 }
 
@@ -450,6 +403,7 @@ impl StageClock {
             solve: self.times.solve * f,
             integration: self.times.integration * f,
             lattice: self.times.lattice * f,
+            crushing: self.times.crushing * f,
         }
     }
 

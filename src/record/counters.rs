@@ -35,6 +35,9 @@ pub enum Unit {
     /// Hertz.
     #[serde(rename = "Hz")]
     Hertz,
+    /// Cubic metres.
+    #[serde(rename = "m^3")]
+    CubicMetre,
     /// A pure number (a ratio, a relative residual, θ).
     #[serde(rename = "-")]
     Dimensionless,
@@ -50,6 +53,7 @@ impl Unit {
             Unit::MetrePerSecond => "m/s",
             Unit::Joule => "J",
             Unit::Hertz => "Hz",
+            Unit::CubicMetre => "m^3",
             Unit::Dimensionless => "-",
         }
     }

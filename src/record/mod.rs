@@ -6,7 +6,8 @@
 //!   reported apart from the counters;
 //! - [`log`]: the bounded log of contact impulses and contact events
 //!   ([`ContactLog`], [`ImpulseRecord`], [`ContactEvent`]);
-//! - [`clock`]: CPU time per stage ([`StageClock`]);
+//! - [`clock`]: CPU time per stage ([`StageClock`]) of the stages of
+//!   [`stage`] ([`Stage`], [`StageTimes`]);
 //! - [`profile`]: LCP solves by size ([`SolveProfile`]);
 //! - [`accuracy`]: the residual and work of every contact solve ([`accuracy::Accuracy`]);
 //! - [`spread`]: median and spread of repeated measurements (CPU times, [`spread::Spread`]).
@@ -17,6 +18,7 @@ pub mod counters;
 pub mod log;
 pub mod profile;
 pub mod spread;
+pub mod stage;
 
 pub use clock::{thread_cpu_seconds, Stage, StageClock, StageTimes};
 pub use counters::{

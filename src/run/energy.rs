@@ -157,7 +157,7 @@ mod tests {
         let names: Vec<&str> = Column::all().map(Column::name).collect();
         assert_eq!(
             names.join(","),
-            "kinetic,work_air,work_water,work_coriolis,dissipated,fracture,vibration,dashpot,residual"
+            "kinetic,work_air,work_water,work_coriolis,dissipated,fracture,vibration,dashpot,crushing,residual"
         );
     }
 
@@ -169,7 +169,7 @@ mod tests {
         let json = serde_json::to_string(&s).unwrap();
         assert_eq!(
             json,
-            r#"{"t":2.0,"kinetic":3.0,"work_air":0.0,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":0.0,"vibration":0.0,"dashpot":0.0,"residual":0.0}"#
+            r#"{"t":2.0,"kinetic":3.0,"work_air":0.0,"work_water":0.0,"work_coriolis":0.0,"dissipated":0.0,"fracture":0.0,"vibration":0.0,"dashpot":0.0,"crushing":0.0,"residual":0.0}"#
         );
     }
 }

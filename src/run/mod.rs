@@ -8,7 +8,8 @@
 //! residual `E(t) − E(0) − W_ext + D + F + L`, which is zero for an exact
 //! integration ([`energy`]).
 //!
-//! [`energy`] holds the ledger's samples and totals; [`output`] writes a
+//! [`energy`] holds the ledger's samples and totals; [`summary`] what
+//! `summary.json` says; [`output`] writes a
 //! run's files ([`netcdf_out`] its `trajectory.nc`); [`batch`] runs several formulations on several cases on a
 //! pool of threads; [`repeat`] merges the repeats of a run.
 
@@ -18,19 +19,18 @@ pub mod interrupt;
 pub mod netcdf_out;
 pub mod output;
 pub mod repeat;
+pub mod summary;
 
 use crate::formulation::{Context, Formulation, FormulationError, Interrupt};
-use crate::fracture::impact::{LATTICE_IMPACTS, LATTICE_NODE_STEPS};
-use crate::fracture::stage::FractureStage;
+use crate::fracture::topology::RunTopology;
 use crate::model::fracture::{FloeRecord, FractureRecord, PercussionRecord};
 use crate::model::Scenario;
-use crate::record::{
-    thread_cpu_seconds, ContactLog, Counters, Settings, SolveProfile, StageClock, StageTimes,
-};
+use crate::record::{thread_cpu_seconds, ContactLog, StageClock};
 use crate::state::System;
 pub use energy::{EnergySample, EnergyTotals};
 use serde::Serialize;
 use std::time::{Duration, Instant};
+pub use summary::{per_simulated_hour, CrushingSummary, LatticeCost, RunSummary, Timing};
 
 /// One row of the trajectory: the state of one floe at one time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -147,125 +147,6 @@ fn first_non_finite(
         .map(|(c, _)| (0, c.description().to_string()))
 }
 
-/// CPU and wall time of a run.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
-pub struct Timing {
-    /// CPU time of the run's thread (stepping and recording, not output
-    /// files), s: read from the thread CPU clock at the start and the end.
-    pub cpu_total: f64,
-    /// CPU time per stage, s: `cpu_total` split in the proportions of the
-    /// stages' monotonic times ([`crate::record::clock`]).
-    pub stages: StageTimes,
-    /// CPU time outside the named stages (recording, bookkeeping), s.
-    pub cpu_other: f64,
-    /// Wall-clock time, s.
-    pub wall: f64,
-    /// Monotonic clock reads of the stage clock.
-    pub clock_reads: u64,
-    /// Estimated CPU time of those reads, s (reads × the measured cost of
-    /// one read): the timer's own cost, included in `cpu_total`.
-    pub timer_overhead: f64,
-    /// The lattice stage's cost per impact and per node-step (runs whose
-    /// impacts the lattices resolved, `impact = "lattice"`; absent
-    /// otherwise).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lattice_cost: Option<LatticeCost>,
-}
-
-/// The CPU cost of the impacts resolved in the lattices (docs/physics.md
-/// §9.10): the lattice stage's CPU time over the counters
-/// `lattice_impacts` and `lattice_impact_node_steps`.
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize)]
-pub struct LatticeCost {
-    /// CPU time per impact resolved in the lattices, s.
-    pub per_impact: f64,
-    /// CPU time per node-step of their integration (one velocity Verlet
-    /// step of one node), s.
-    pub per_node_step: f64,
-}
-
-impl LatticeCost {
-    /// The cost of `cpu` (s, the lattice stage's) over the run's
-    /// `counters`; `None` without an impact resolved in the lattices.
-    pub fn of(cpu: f64, counters: &Counters) -> Option<LatticeCost> {
-        let count = |c| counters.value(c).ok().flatten().unwrap_or(0.0);
-        let impacts = count(&LATTICE_IMPACTS);
-        let node_steps = count(&LATTICE_NODE_STEPS);
-        (impacts > 0.0 && node_steps > 0.0).then(|| LatticeCost {
-            per_impact: cpu / impacts,
-            per_node_step: cpu / node_steps,
-        })
-    }
-}
-
-/// Everything `summary.json` says about a run.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct RunSummary {
-    /// Case name.
-    pub case: String,
-    /// Formulation name.
-    pub formulation: String,
-    /// Number of floes at the start.
-    pub floes: usize,
-    /// The case's fracture criterion (`energy`, `stress`), absent without
-    /// fracture.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub fracture_model: Option<&'static str>,
-    /// Number of fractures (0 without a `[fracture]` table).
-    pub fractures: usize,
-    /// Number of floes at the end.
-    pub floes_at_end: usize,
-    /// Number of obstacles.
-    pub obstacles: usize,
-    /// Requested duration, s.
-    pub duration: f64,
-    /// The earlier run this one starts from (`run --from`), if any.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub restart: Option<crate::model::Restart>,
-    /// Time reached, s.
-    pub t_reached: f64,
-    /// How the run ended.
-    pub end: EndReason,
-    /// Timing.
-    pub timing: Timing,
-    /// Energy totals.
-    pub energy: EnergyTotals,
-    /// The settings the formulation ran with, defaults resolved.
-    pub settings: Settings,
-    /// The formulation's counters.
-    pub counters: Counters,
-    /// The LCP solves by size (formulations that solve LCPs), seconds as
-    /// CPU time (split like the stages).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub lcp_profile: Option<SolveProfile>,
-    /// The stepping counters per simulated hour (1/h): every counter whose
-    /// name starts with `steps` (steps taken, rejected, cut by each kind of
-    /// event), `integrator_steps`, `integrator_rejected_steps`,
-    /// `events_located`, `impacts` and `lcp_solves`, divided by the time
-    /// reached in hours ([`per_simulated_hour`]); empty at t = 0.
-    pub per_simulated_hour: std::collections::BTreeMap<String, f64>,
-}
-
-/// The stepping counters of `counters` per simulated hour over `t` s (see
-/// [`RunSummary::per_simulated_hour`]).
-pub fn per_simulated_hour(counters: &Counters, t: f64) -> std::collections::BTreeMap<String, f64> {
-    const ALSO: [&str; 5] = [
-        "integrator_steps",
-        "integrator_rejected_steps",
-        "events_located",
-        "impacts",
-        "lcp_solves",
-    ];
-    if t.is_nan() || t <= 0.0 {
-        return Default::default();
-    }
-    counters
-        .iter()
-        .filter(|(c, _)| c.name.starts_with("steps") || ALSO.contains(&c.name))
-        .map(|(c, v)| (c.name.to_string(), v * 3600.0 / t))
-        .collect()
-}
-
 /// The recorded result of a run.
 #[derive(Debug, Clone)]
 pub struct RunResult {
@@ -344,8 +225,9 @@ impl Runner {
         let wall0 = Instant::now();
         let cpu0 = thread_cpu_seconds();
         let mut clock = StageClock::new();
-        // The run's topology stage: fracture, once for every formulation.
-        let mut topology = FractureStage::new(scn);
+        // The run's topology stage: fracture and crushing, once for every
+        // formulation.
+        let mut topology = RunTopology::new(scn);
         let stop = &self.options.interrupt;
         // The solvers of this thread poll the run's handle inside a step.
         let _current = crate::stop::current(stop);
@@ -466,26 +348,37 @@ impl Runner {
             settings: form.settings(),
             per_simulated_hour: per_simulated_hour(&counters, sys.t),
             counters,
+            crushing: topology.crush.enabled().then(|| CrushingSummary {
+                deposits: topology.crush.deposits().to_vec(),
+            }),
             lcp_profile,
         };
+        let floes = floe_records(scn, &sys, topology.crush.enabled());
         RunResult {
             trajectory,
             energy,
             summary,
             final_state: sys,
             contacts: form.take_contact_log(),
-            floes: floe_records(scn),
+            floes,
             fractures: scn.history.fractures.clone(),
             percussion: scn.history.percussion.clone(),
         }
     }
 }
 
-/// Every floe of a run's scenario at its end: those that ended and those
-/// alive, by id.
-fn floe_records(scn: &Scenario) -> Vec<FloeRecord> {
+/// Every floe of a run's scenario at its end (state `sys`): those that
+/// ended and those alive, by id; with crushing (`world`), the alive ones
+/// with their world outline at the end.
+fn floe_records(scn: &Scenario, sys: &System, world: bool) -> Vec<FloeRecord> {
     let mut out: Vec<FloeRecord> = scn.history.ended.clone();
-    out.extend(scn.floes.iter().map(|f| FloeRecord::of(f, None)));
+    out.extend(scn.floes.iter().zip(&sys.bodies).map(|(f, b)| {
+        let record = FloeRecord::of(f, None);
+        match world {
+            true => record.at(&b.position, b.angle),
+            false => record,
+        }
+    }));
     out.sort_by_key(|r| r.id);
     out
 }

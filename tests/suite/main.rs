@@ -16,6 +16,7 @@ mod compare;
 mod contact;
 mod crack_energy;
 mod crushing;
+mod crushing_geometry;
 mod event_driven;
 mod fc2d;
 mod fc2d_bad;

@@ -83,7 +83,7 @@ pub fn ram_critical_speed_of(g: f64, h: f64, l: f64, e: f64, m: f64) -> f64 {
 /// The closed form of a floe of mass `m` (kg) ramming a straight coast at
 /// `v` (m/s) with a corner of interior angle `phi` (rad), the ice crushing
 /// at a constant `sigma` (Pa) over its thickness `h` (m), all the normal
-/// kinetic energy crushed (docs/physics.md §10.4): the crushed face at
+/// kinetic energy crushed (docs/physics.md §10.3): the crushed face at
 /// depth `δ` is `2 δ tan(φ/2)` wide, so the force is `k δ` with
 /// `k = 2 σ h tan(φ/2)` (a linear spring that only compresses): crushed
 /// volume `½ m v² / σ`, peak force `v √(m k)`, duration `(π/2) √(m/k)`.
@@ -98,7 +98,7 @@ pub fn corner_crush(m: f64, v: f64, sigma: f64, h: f64, phi: f64) -> (f64, f64, 
 
 /// The closed form of a floe of mass `m` (kg) meeting a straight coast at
 /// `v` (m/s) with a flat face of width `w` (m), the ice crushing at `sigma`
-/// (Pa) over its thickness `h` (m) (docs/physics.md §10.4): a constant force
+/// (Pa) over its thickness `h` (m) (docs/physics.md §10.3): a constant force
 /// `F = σ h w`, crushed volume `½ m v² / σ` (depth `m v² / (2 F)`),
 /// duration `m v / F`.
 pub fn flat_crush(m: f64, v: f64, sigma: f64, h: f64, w: f64) -> (f64, f64, f64) {

@@ -25,7 +25,7 @@
 //! | `fracture_conservation` | the run broke a floe | the largest relative change a split made to area, mass, linear and angular momentum, kinetic energy | [`FRACTURE_CONSERVATION_TOLERANCE`] |
 //! | `ram_critical_speed` | `[fracture] model = "energy"`, one floe moving without spin toward an obstacle it meets face-on (two contact rays), no forcing, the configuration symmetric about the line of motion, faster than the closed-form critical speed `v_c` | `v0 sqrt(threshold / measure)` of the run's first fracture | [`RAM_CRITICAL_SPEED_TOLERANCE`] × `v_c` |
 //! | `lattice_spin_prestress` | `[fracture] model = "lattice"` | the largest centrifugal pre-strain `(3 + ν)/8 ρ (ω R)² / E` of a floe at its last output before a percussion that broke it, over its bonds' breaking strain | [`crate::fracture::strike::SPIN_PRESTRESS_LIMIT`] |
-//! | `crush_volume`, `crush_peak_force` (a corner) or `crush_force` (a face), `crush_duration` | `crushing = { strength }`, `e = 0`, one floe without spin toward an obstacle, no forcing, symmetric about the line of motion (docs/physics.md §10.4) | crushed volume; largest mean force of an output interval; time from the first contact to the stop | [`CRUSH_VOLUME_TOLERANCE`], [`CRUSH_FORCE_TOLERANCE`] (relative) |
+//! | `crush_volume`, `crush_peak_force` (a corner) or `crush_force` (a face), `crush_duration` | `crushing = { strength }`, `e = 0`, one floe without spin toward an obstacle, no forcing, symmetric about the line of motion (docs/physics.md §10.3) | crushed volume; largest mean force of an output interval; time from the first contact to the stop | [`CRUSH_VOLUME_TOLERANCE`], [`CRUSH_FORCE_TOLERANCE`] (relative) |
 //! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
 //!
 //! Whether a formulation *claims* a check is decided by one table,
@@ -220,13 +220,13 @@ pub const FRACTURE_CONSERVATION_TOLERANCE: f64 = 1e-12;
 pub const RAM_CRITICAL_SPEED_TOLERANCE: f64 = 1e-6;
 
 /// `crush_volume`, relative to the closed form `½ M V² / σ_c`
-/// (docs/physics.md §10.4): all the normal kinetic energy is crushed ice;
+/// (docs/physics.md §10.3): all the normal kinetic energy is crushed ice;
 /// the cuts remove it step by step, and the force lags the cut by one step
 /// (O(h) of the crushing time).
 pub const CRUSH_VOLUME_TOLERANCE: f64 = 0.02;
 
 /// `crush_peak_force` and `crush_duration`, relative to their closed forms
-/// (docs/physics.md §10.4): the force is measured as the mean of each
+/// (docs/physics.md §10.3): the force is measured as the mean of each
 /// output interval, `M Δv / Δt` (the crushed mass, 1e-3 of the floe's in
 /// the bundled cases, is neglected), which samples the peak to
 /// `(ω Δt)²/24`.

@@ -80,7 +80,7 @@ pub const ENTRY: Entry = Entry {
     dumps_lcps: true,
     supports_fracture: true,
     lattice_impacts: true,
-    supports_crushing: false,
+    supports_crushing: true,
     not_claimed: &[
         NotClaimed {
             check: "cradle_physical",
@@ -99,6 +99,9 @@ enum Cut {
     Return,
     /// At the accumulation time of a contact.
     Accumulation,
+    /// Where a crushing phase ends: the pair stops approaching
+    /// (docs/physics.md §10.2).
+    CrushStop,
 }
 
 impl Cut {
@@ -107,6 +110,7 @@ impl Cut {
             Cut::Apex => &STEPS_CUT_FOR_FLIGHT,
             Cut::Return => &STEPS_CUT_AT_RETURN,
             Cut::Accumulation => &STEPS_CUT_AT_ACCUMULATION,
+            Cut::CrushStop => &STEPS_CUT_AT_CRUSH_STOP,
         }
     }
 }

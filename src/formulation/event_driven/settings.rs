@@ -144,6 +144,12 @@ pub const STEPS_CUT_AT_RETURN: Counter = Counter::sum(
     "steps_cut_at_return",
     "trial steps cut at the return of a flight within the contact distance",
 );
+/// Steps cut where a crushing phase ends (kept only by runs that had one,
+/// docs/physics.md §10.2).
+pub const STEPS_CUT_AT_CRUSH_STOP: Counter = Counter::sum(
+    "steps_cut_at_crush_stop",
+    "trial steps cut where a crushing pair stops approaching: its impulse over the step below the bound, at the fraction of the step the bounded force takes to stop it",
+);
 /// Steps cut where a sliding contact sticks.
 pub const STEPS_CUT_FOR_STICK: Counter = Counter::sum(
     "steps_cut_for_stick",

@@ -86,6 +86,12 @@ impl EventDriven {
                 let u = normal_velocity(scn, &sys.bodies, c);
                 if u < 0.0 {
                     bound = bound.min(self.pen_tol / -u);
+                    // A pair not yet touching (no crushing force) starts
+                    // its phase when it touches: the step ends there.
+                    let touch = c.geom.gap / -u;
+                    if touch > MIN_CUT_FRACTION * bound {
+                        bound = bound.min(touch);
+                    }
                 }
             }
         }
@@ -158,7 +164,7 @@ impl EventDriven {
                 r?
             };
             let located = matches!(event, Some((s, _)) if s < h);
-            let next = match event {
+            let mut next = match event {
                 Some((s, (i, j))) if s < h => {
                     self.counters.add(&EVENTS_LOCATED, 1);
                     let pair = (i.min(j), i.max(j));
@@ -232,6 +238,18 @@ impl EventDriven {
                     ..*l
                 }));
                 cx.topology.sustained(scn, sys, &loads, t, next.t);
+            }
+            // The pairs at their crushing bound: their work over the part
+            // of the step taken moves from `dissipated` (where the
+            // integration booked the contact work) to `crushing`, and the
+            // stage cuts their overlap at the next step's start
+            // (docs/physics.md §10.2, §10.4).
+            let (crushing, work) = &sustained.crushing;
+            if !crushing.is_empty() {
+                let taken = ((next.t - t) / h).clamp(0.0, 1.0);
+                next.ledger.dissipated -= work * taken;
+                next.ledger.crushing += work * taken;
+                cx.crushed(scn, sys, crushing);
             }
             self.last = Some(StepRecord {
                 start: std::mem::replace(sys, next),

@@ -209,6 +209,20 @@ impl EventDriven {
         cx.clock.stop(Stage::Solve, solve_start);
         if !bounds.is_empty() {
             out.crushing = crushing_work(scn, sys, &closed, (&lambda, &bounds), &end_bodies);
+            // A crushing phase that ends within the step: its pair stopped
+            // approaching with an impulse below the bound, which the bounded
+            // force delivers in the fraction λ/b of the step; the step is
+            // cut there, so that the phase ends at its time.
+            for (k, c) in closed.iter().enumerate() {
+                let (l, b) = (lambda[k], bounds[k]);
+                if b.is_finite()
+                    && l > 0.0
+                    && l < b * (1.0 - crate::contact::crush::AT_BOUND)
+                    && normal_velocity(scn, &sys.bodies, c) < -APPROACH_TOLERANCE
+                {
+                    out.cut = earlier(out.cut, h * l / b, Cut::CrushStop);
+                }
+            }
         }
         if mu > 0.0 {
             (out.stick, out.slide_stop) =

@@ -170,7 +170,7 @@ impl Moreau {
                         ),
                     };
                     sys.ledger.dissipated += before - after - crushed;
-                    sys.ledger.dissipated += crushed;
+                    sys.ledger.crushing += crushed;
                     Some(impulses)
                 }
                 // The stage queued the impact's cracks itself.
@@ -203,6 +203,10 @@ impl Moreau {
         if cx.topology.reads().impacts {
             self.keep_active_pairs(active, &closed);
         }
+        // The pairs at their crushing bound: the stage cuts their overlap
+        // at the next step's start (docs/physics.md §10.4).
+        let crushing = std::mem::take(&mut self.crushing_pairs);
+        cx.crushed(scn, sys, &crushing);
         if any {
             self.counters.add(&STEPS_WITH_IMPULSES, 1);
             if self.records.len() < MAX_RECORDS {

@@ -1,5 +1,5 @@
 //! The checks of crushing ice against its closed forms (docs/physics.md
-//! §10.4; the table of the module doc of [`crate::analysis::check`]): a
+//! §10.3; the table of the module doc of [`crate::analysis::check`]): a
 //! floe rammed into a straight coast with a corner (`crush_volume`,
 //! `crush_peak_force`, `crush_duration`) or a flat face (`crush_volume`,
 //! `crush_force`, `crush_duration`), the ice crushing at a constant
@@ -26,6 +26,9 @@ use crate::analysis::check::structure::{
 use crate::analysis::check::{CRUSH_FORCE_TOLERANCE, CRUSH_VOLUME_TOLERANCE};
 use crate::geometry::Vec2;
 use crate::model::Crushing;
+
+/// The fraction of the approach speed below which a floe has stopped.
+const STOPPED: f64 = 1e-9;
 
 /// The counter of the crushed volume, m³.
 const CRUSHED_VOLUME: &str = "crushed_volume_m3";
@@ -181,9 +184,14 @@ fn force_history(r: &Rows, d: Vec2, m: f64, t_contact: f64) -> (f64, f64) {
             peak = peak.max(m * (v1 - v0).abs() / (t1 - t0));
         }
     }
+    // Stopped: slower than a billionth of the approach (a floe at rest
+    // against the coast keeps a velocity at the rounding of its last
+    // impulse, 1e-77 m/s measured).
+    let v0 = rows.first().map_or(0.0, |r| r.1);
+    let stopped = STOPPED * v0;
     let stop = rows
         .windows(3)
-        .find(|w| w[1].1 > 0.0 && w[2].1 <= 0.0)
+        .find(|w| w[1].1 > stopped && w[2].1 <= stopped)
         .map_or(f64::NAN, |w| {
             let ((tp, vp), (t0, v0), (t1, _)) = (w[0], w[1], w[2]);
             let rate = (vp - v0) / (t0 - tp);
