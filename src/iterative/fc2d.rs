@@ -155,3 +155,87 @@ impl Delassus for Fc2dOperator {
         self.scale
     }
 }
+
+/// The solvers of `floebench fc2d`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fc2dSolver {
+    /// NSGS ([`super::nsgs`]) on Coulomb's law, stopped on the natural-map
+    /// residual.
+    Nsgs,
+    /// APGD ([`super::apgd`]) on the cone relaxation, stopped on the
+    /// relaxation's residual.
+    Apgd,
+    /// Lemke ([`crate::lcp::solve()`]) on the Stewart–Trinkle LCP of `W`
+    /// ([`super::fc2d_lcp`]).
+    Lemke,
+}
+
+impl Fc2dSolver {
+    /// Every solver, in the order of `--solver`'s help.
+    pub const ALL: [Fc2dSolver; 3] = [Fc2dSolver::Nsgs, Fc2dSolver::Apgd, Fc2dSolver::Lemke];
+
+    /// The name on the command line and in the tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fc2dSolver::Nsgs => "nsgs",
+            Fc2dSolver::Apgd => "apgd",
+            Fc2dSolver::Lemke => "lemke",
+        }
+    }
+}
+
+/// What a solve of a file's problem returns.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Fc2dAnswer {
+    /// The reactions `r_j = (r_N, r_T)`, N·s (finite).
+    pub r: Vec<[f64; 2]>,
+    /// Sweeps (NSGS), iterations (APGD) or pivots (Lemke).
+    pub iterations: u64,
+    /// Whether the solver's own stop test was met (NSGS: the residual at
+    /// most the tolerance; APGD: the relaxation's; Lemke: the LCP solved).
+    pub converged: bool,
+}
+
+/// Solves `prob` (its operator `op`) by `solver` from zero reactions, to
+/// `tolerance` (NSGS, APGD) within `max_iterations` sweeps or iterations.
+/// An error only for a problem Lemke does not take
+/// ([`super::fc2d_lcp::MAX_LEMKE_CONTACTS`]).
+pub fn solve_fc2d(
+    prob: &Fc2dProblem,
+    op: &Fc2dOperator,
+    solver: Fc2dSolver,
+    tolerance: f64,
+    max_iterations: u64,
+) -> Result<Fc2dAnswer, String> {
+    let mut r = vec![[0.0; 2]; op.len()];
+    let outcome = match solver {
+        Fc2dSolver::Nsgs => super::nsgs::solve(op, &mut r, tolerance, max_iterations, 1.0).0,
+        Fc2dSolver::Apgd => super::apgd::solve(op, &mut r, tolerance, max_iterations).0,
+        Fc2dSolver::Lemke => {
+            let (r, pivots, solved) = super::fc2d_lcp::solve_lemke(prob)?;
+            return Ok(Fc2dAnswer {
+                r,
+                iterations: pivots as u64,
+                converged: solved,
+            });
+        }
+    };
+    Ok(Fc2dAnswer {
+        r,
+        iterations: outcome.iterations,
+        converged: outcome.converged,
+    })
+}
+
+impl Fc2dOperator {
+    /// The two accuracy measures of the reactions `r`: the natural-map
+    /// residual (Coulomb form, [`super::residual_at`]) and Siconos' error
+    /// ([`Fc2dOperator::siconos_error`]).
+    pub fn measures(&self, r: &[[f64; 2]]) -> (f64, f64) {
+        let s = self.state(r);
+        (
+            super::residual_at(self, r, &s, true),
+            self.siconos_error(r, &s),
+        )
+    }
+}

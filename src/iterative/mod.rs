@@ -47,12 +47,13 @@
 pub mod apgd;
 mod cache;
 mod fc2d;
+pub mod fc2d_lcp;
 pub mod nsgs;
 pub mod operator;
 mod problem;
 
 pub use cache::ContactCache;
-pub use fc2d::Fc2dOperator;
+pub use fc2d::{solve_fc2d, Fc2dAnswer, Fc2dOperator, Fc2dSolver};
 pub use nsgs::{local_coulomb, local_coulomb_boxed, Outcome};
 pub use operator::{project_boxed, residual_at, Delassus};
 pub use problem::{project_cone, SparseContacts, RESIDUAL_FLOOR, ROUNDING_FRACTION};
