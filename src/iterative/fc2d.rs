@@ -115,22 +115,27 @@ impl Delassus for Fc2dOperator {
     /// `W p`, `(N, T)` per contact, m/s.
     type State = Vec<[f64; 2]>;
 
+    #[inline]
     fn len(&self) -> usize {
         self.q.len()
     }
 
+    #[inline]
     fn block(&self, j: usize) -> [f64; 4] {
         self.diag[j]
     }
 
+    #[inline]
     fn mu(&self, j: usize) -> f64 {
         self.mu[j]
     }
 
+    #[inline]
     fn free(&self, j: usize) -> [f64; 2] {
         self.q[j]
     }
 
+    #[inline]
     fn state(&self, p: &[[f64; 2]]) -> Vec<[f64; 2]> {
         let mut s = vec![[0.0; 2]; self.q.len()];
         for (j, pj) in p.iter().enumerate() {
@@ -139,10 +144,12 @@ impl Delassus for Fc2dOperator {
         s
     }
 
+    #[inline]
     fn relative(&self, j: usize, state: &Vec<[f64; 2]>) -> [f64; 2] {
         [self.q[j][0] + state[j][0], self.q[j][1] + state[j][1]]
     }
 
+    #[inline]
     fn apply(&self, j: usize, dp: [f64; 2], state: &mut Vec<[f64; 2]>) {
         for k in self.col_ptr[j]..self.col_ptr[j + 1] {
             let (b, s) = (&self.blocks[k], &mut state[self.row[k]]);
@@ -151,6 +158,7 @@ impl Delassus for Fc2dOperator {
         }
     }
 
+    #[inline]
     fn residual_scale(&self) -> f64 {
         self.scale
     }

@@ -92,6 +92,7 @@ pub fn local_coulomb(w: [f64; 4], r: [f64; 2], mu: f64, friction: bool) -> [f64;
 /// opposes `β`). Unique and found for a positive definite `W` with
 /// `W_NN > μ |W_NT|` (the rigid answer is then unique, so a boxed answer
 /// below the bound would be it).
+#[inline]
 pub fn local_coulomb_boxed(w: [f64; 4], r: [f64; 2], mu: f64, friction: bool, b: f64) -> [f64; 2] {
     let rigid = local_coulomb(w, r, mu, friction);
     if rigid[0] <= b {
@@ -145,9 +146,25 @@ pub const CHANGE_FACTOR: f64 = 10.0;
 /// `‖(W_NN,j |Δp_j|)_j‖₂` (m/s), the relative velocities the sweep's
 /// impulse changes made at their own contacts.
 fn sweep<D: Delassus>(prob: &D, p: &mut [[f64; 2]], v: &mut D::State, relaxation: f64) -> f64 {
+    if prob.bounded() {
+        sweep_with(prob, p, v, relaxation, |j| prob.bound(j))
+    } else {
+        sweep_with(prob, p, v, relaxation, |_| f64::INFINITY)
+    }
+}
+
+/// [`sweep`] with the bounds `bound(j)` (N·s).
+#[inline(always)]
+fn sweep_with<D: Delassus>(
+    prob: &D,
+    p: &mut [[f64; 2]],
+    v: &mut D::State,
+    relaxation: f64,
+    bound: impl Fn(usize) -> f64,
+) -> f64 {
     let mut change = 0.0;
     for (j, pj) in p.iter_mut().enumerate() {
-        let (mu, friction, bound) = (prob.mu(j), prob.friction(j), prob.bound(j));
+        let (mu, friction, bound) = (prob.mu(j), prob.friction(j), bound(j));
         let w = prob.block(j);
         let u = prob.relative(j, v);
         // Velocity without the contact's own impulse: r = u − W p_j.

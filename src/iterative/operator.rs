@@ -67,6 +67,13 @@ pub trait Delassus {
         f64::INFINITY
     }
 
+    /// Whether some contact's normal impulse is bounded (a finite
+    /// [`Delassus::bound`]); `false` lets the solvers skip the boxed law's
+    /// tests (the default: every contact rigid).
+    fn bounded(&self) -> bool {
+        false
+    }
+
     /// The free relative velocity `q_j = (q_N, q_T)`, m/s.
     fn free(&self, j: usize) -> [f64; 2];
 
@@ -91,6 +98,7 @@ pub trait Delassus {
 /// `(b, clamp(β, −μ b, μ b))` (the projection onto an intersection with a
 /// half-plane that the cone's projection leaves lies on the half-plane's
 /// edge).
+#[inline]
 pub fn project_boxed(x: [f64; 2], mu: f64, b: f64) -> [f64; 2] {
     let p = project_cone(x, mu);
     if p[0] <= b {

@@ -289,6 +289,7 @@ impl SparseContacts {
     /// the impulses' own effect, not to the floes' speeds (a row of floes
     /// at 1 m/s whose `q` cancels to 1e-16 m/s keeps a residual of
     /// rounding, not of 1e-16 m/s).
+    #[inline]
     pub fn apply(&self, j: usize, dp: [f64; 2], v: &mut [Gen]) {
         for s in self.rows[j].sides.iter().flatten() {
             let mi = &self.minv[s.floe];
@@ -301,6 +302,7 @@ impl SparseContacts {
 
     /// The relative velocities `u_j = q_j + H_jᵀ dv` of contact `j` for
     /// the floes' velocity changes `dv` (m/s; see [`SparseContacts::apply`]).
+    #[inline]
     pub fn relative(&self, j: usize, dv: &[Gen]) -> [f64; 2] {
         let r = &self.rows[j];
         let mut u = [r.q[0], r.q[1]];
@@ -383,38 +385,52 @@ impl Delassus for SparseContacts {
     /// The floes' velocity changes `M⁻¹ H p`, group order.
     type State = Vec<Gen>;
 
+    #[inline]
     fn len(&self) -> usize {
         self.rows.len()
     }
 
+    #[inline]
     fn block(&self, j: usize) -> [f64; 4] {
         self.rows[j].w
     }
 
+    #[inline]
     fn mu(&self, _j: usize) -> f64 {
         self.mu
     }
 
+    #[inline]
     fn bound(&self, j: usize) -> f64 {
         self.normal_bound(j)
     }
 
+    #[inline]
+    fn bounded(&self) -> bool {
+        self.bounds.iter().any(|b| b.is_finite())
+    }
+
+    #[inline]
     fn free(&self, j: usize) -> [f64; 2] {
         self.rows[j].q
     }
 
+    #[inline]
     fn state(&self, p: &[[f64; 2]]) -> Vec<Gen> {
         self.velocity_changes(p)
     }
 
+    #[inline]
     fn relative(&self, j: usize, state: &Vec<Gen>) -> [f64; 2] {
         SparseContacts::relative(self, j, state)
     }
 
+    #[inline]
     fn apply(&self, j: usize, dp: [f64; 2], state: &mut Vec<Gen>) {
         SparseContacts::apply(self, j, dp, state)
     }
 
+    #[inline]
     fn residual_scale(&self) -> f64 {
         SparseContacts::residual_scale(self)
     }
