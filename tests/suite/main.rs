@@ -18,6 +18,7 @@ mod crack_energy;
 mod event_driven;
 mod fc2d;
 mod fc2d_bad;
+mod fc2d_solve;
 mod field;
 mod flush_pair;
 mod forcing;
