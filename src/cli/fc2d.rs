@@ -59,7 +59,12 @@ pub struct Args {
     solver: SolverArg,
     /// Relative residual at which NSGS and APGD stop, in [1e-14, 0.5]
     /// (Siconos' default, 1e-6).
-    #[arg(long, default_value_t = 1e-6, value_name = "T", allow_negative_numbers = true)]
+    #[arg(
+        long,
+        default_value_t = 1e-6,
+        value_name = "T",
+        allow_negative_numbers = true
+    )]
     tolerance: f64,
     /// Most sweeps (NSGS) or iterations (APGD), in [1, 1e7].
     #[arg(long, default_value_t = DEFAULT_MAX_ITERATIONS, value_name = "N")]
@@ -177,9 +182,10 @@ fn solve_file(path: &Path, solver: Fc2dSolver, args: &Args) -> Result<Row, Strin
     };
     let (residual, siconos_error) = op.measures(&a.r);
     Ok(Row {
-        file: path
-            .file_name()
-            .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned()),
+        file: path.file_name().map_or_else(
+            || path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        ),
         contacts: prob.contacts,
         solver,
         iterations: a.iterations,

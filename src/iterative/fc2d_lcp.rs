@@ -38,7 +38,12 @@ pub fn lcp_of(prob: &Fc2dProblem) -> (Lcp, f64) {
     let g = if g > 0.0 && g.is_finite() { g } else { 1.0 };
     let mut a = vec![0.0; n * n];
     let mut q = vec![0.0; n];
-    let (lam, bp, bm, al) = (|j: usize| j, |j: usize| m + 2 * j, |j: usize| m + 2 * j + 1, |j: usize| 3 * m + j);
+    let (lam, bp, bm, al) = (
+        |j: usize| j,
+        |j: usize| m + 2 * j,
+        |j: usize| m + 2 * j + 1,
+        |j: usize| 3 * m + j,
+    );
     for i in 0..m {
         for k in w.row_ptr[i]..w.row_ptr[i + 1] {
             let (j, b) = (w.col[k], w.blocks[k]);

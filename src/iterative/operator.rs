@@ -124,12 +124,7 @@ pub fn project_boxed(x: [f64; 2], mu: f64, b: f64) -> [f64; 2] {
 /// a solution of the (boxed) Coulomb law, or of the Anitescu–Tasora
 /// relaxation; `F_j` is a velocity (m/s), so the residual is dimensionless.
 /// A non-finite impulse gives `+∞`.
-pub fn residual_at<D: Delassus>(
-    prob: &D,
-    p: &[[f64; 2]],
-    state: &D::State,
-    coulomb: bool,
-) -> f64 {
+pub fn residual_at<D: Delassus>(prob: &D, p: &[[f64; 2]], state: &D::State, coulomb: bool) -> f64 {
     residual_with(prob, p, |j| prob.relative(j, state), coulomb)
 }
 

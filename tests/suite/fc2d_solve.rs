@@ -67,13 +67,7 @@ fn csv_rows(text: &str) -> Vec<Vec<String>> {
 fn fc2d_nsgs_solves_the_bundled_files_to_the_tolerance() {
     let dir = tempdir();
     let csv = dir.path().join("nsgs.csv");
-    let out = stdout_of_success(
-        floebench()
-            .arg("fc2d")
-            .arg(data())
-            .arg("--csv")
-            .arg(&csv),
-    );
+    let out = stdout_of_success(floebench().arg("fc2d").arg(data()).arg("--csv").arg(&csv));
     assert!(out.contains("3 of 3 files solved by nsgs"), "{out}");
     let rows = csv_rows(&std::fs::read_to_string(&csv).unwrap());
     assert_eq!(rows.len(), 3);
@@ -85,7 +79,10 @@ fn fc2d_nsgs_solves_the_bundled_files_to_the_tolerance() {
         let res: f64 = row[4].parse().unwrap();
         let err: f64 = row[5].parse().unwrap();
         let cpu: f64 = row[6].parse().unwrap();
-        assert!(it >= 1 && res <= 1e-6 && err.is_finite() && cpu >= 0.0, "{row:?}");
+        assert!(
+            it >= 1 && res <= 1e-6 && err.is_finite() && cpu >= 0.0,
+            "{row:?}"
+        );
     }
 }
 
@@ -132,7 +129,10 @@ fn fc2d_nsgs_and_apgd_agree_without_friction() {
             })
             .sum::<f64>()
             .sqrt();
-        assert!(diff <= 1e-6 * qn, "{name}: ‖u_nsgs − u_apgd‖ = {diff}, ‖q‖ = {qn}");
+        assert!(
+            diff <= 1e-6 * qn,
+            "{name}: ‖u_nsgs − u_apgd‖ = {diff}, ‖q‖ = {qn}"
+        );
     }
 }
 
@@ -169,7 +169,10 @@ fn fc2d_refuses_a_tolerance_that_is_not_positive_and_finite() {
             .unwrap();
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success(), "--tolerance {t} accepted");
-        assert!(err.contains("--tolerance") && err.lines().count() == 1, "{t}: {err}");
+        assert!(
+            err.contains("--tolerance") && err.lines().count() == 1,
+            "{t}: {err}"
+        );
     }
 }
 
@@ -193,7 +196,10 @@ fn fc2d_reports_a_malformed_file_and_solves_the_others() {
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert_eq!(out.status.code(), Some(1));
     assert!(err.contains("bad.dat:2: token \"8x9\""), "{err}");
-    assert!(stdout.contains("1 of 2 files solved") && stdout.contains(good), "{stdout}");
+    assert!(
+        stdout.contains("1 of 2 files solved") && stdout.contains(good),
+        "{stdout}"
+    );
     let rows = csv_rows(&std::fs::read_to_string(&csv).unwrap());
     assert_eq!(rows.len(), 1);
     assert_eq!(rows[0][0], good);

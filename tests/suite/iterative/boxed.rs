@@ -107,7 +107,10 @@ fn the_boxed_local_solve_is_a_case_of_the_brute_force_enumeration() {
     }
     eprintln!("boxed local solves: {seen:?}");
     for name in ["take-off", "stick", "slide", "bound stick", "bound slide"] {
-        assert!(seen.get(name).copied().unwrap_or(0) > 200, "{name}: {seen:?}");
+        assert!(
+            seen.get(name).copied().unwrap_or(0) > 200,
+            "{name}: {seen:?}"
+        );
     }
 }
 
@@ -210,7 +213,10 @@ fn two_contacts_with_a_bound_take_the_boxed_answer() {
     let (o, _) = nsgs::solve(&prob, &mut p, 1e-12, 1000, 1.0);
     assert!(o.converged, "{o:?}");
     for (a, e) in p.iter().zip(&answer) {
-        assert!((a[0] - e[0]).abs() < 1e-10 && (a[1] - e[1]).abs() < 1e-10, "{p:?}");
+        assert!(
+            (a[0] - e[0]).abs() < 1e-10 && (a[1] - e[1]).abs() < 1e-10,
+            "{p:?}"
+        );
     }
     // APGD solves the cone relaxation: the same answer without friction.
     let mut frictionless = two_contacts(1.0);
@@ -218,7 +224,10 @@ fn two_contacts_with_a_bound_take_the_boxed_answer() {
     let mut p = vec![[0.0; 2]; 2];
     let (o, _) = apgd::solve(&frictionless, &mut p, 1e-10, 5000);
     assert!(o.converged, "{o:?}");
-    assert!((p[0][0] - 1.0).abs() < 1e-8 && (p[1][0] - 1.0).abs() < 1e-8, "{p:?}");
+    assert!(
+        (p[0][0] - 1.0).abs() < 1e-8 && (p[1][0] - 1.0).abs() < 1e-8,
+        "{p:?}"
+    );
 }
 
 #[test]
