@@ -55,8 +55,8 @@ mod problem;
 pub use cache::ContactCache;
 pub use fc2d::{solve_fc2d, Fc2dAnswer, Fc2dOperator, Fc2dSolver};
 pub use nsgs::{local_coulomb, local_coulomb_boxed, Outcome};
-pub use operator::{project_boxed, residual_at, Delassus};
-pub use problem::{project_cone, SparseContacts, RESIDUAL_FLOOR, ROUNDING_FRACTION};
+pub use operator::{project_boxed, project_cone, residual_at, Delassus};
+pub use problem::{SparseContacts, RESIDUAL_FLOOR, ROUNDING_FRACTION};
 
 use crate::contact::problem::Gen;
 use crate::model::limits::Limit;

@@ -19,8 +19,7 @@
 //! with a friction coefficient and a bound of the normal impulse per contact
 //! ([`local_coulomb_boxed`]: the boxed law of crushing ice).
 
-use super::operator::{project_boxed, residual_at, Delassus};
-use super::problem::project_cone;
+use super::operator::{project_boxed, project_cone, residual_at, Delassus};
 
 /// Relative tolerance of the tests of the local enumeration (stick inside
 /// the cone, non-negative normal impulse): rounding of a 2 × 2 solve.

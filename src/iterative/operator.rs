@@ -31,8 +31,6 @@
 //! zero exactly at a solution of this law (at the top edge its normal cone
 //! holds `(−u_N, 0)` with `u_N ≤ 0`).
 
-use super::problem::project_cone;
-
 /// A frictional contact problem `u = W p + q` as the iterative solvers see
 /// it (see the module doc). Contact indices run over `0..len()`.
 pub trait Delassus {
@@ -89,6 +87,19 @@ pub trait Delassus {
 
     /// The residual's normalisation (m/s): `max(‖q‖₂, floor)`.
     fn residual_scale(&self) -> f64;
+}
+
+/// The projection onto the Coulomb cone `K = {(λ, β): |β| ≤ μ λ}`.
+pub fn project_cone(x: [f64; 2], mu: f64) -> [f64; 2] {
+    let (n, t) = (x[0], x[1]);
+    if n >= 0.0 && t.abs() <= mu * n {
+        [n, t]
+    } else if mu * t.abs() <= -n {
+        [0.0, 0.0]
+    } else {
+        let l = (n + mu * t.abs()) / (1.0 + mu * mu);
+        [l, mu * l * t.signum()]
+    }
 }
 
 /// The projection of `x` onto the truncated cone

@@ -98,19 +98,6 @@ fn jac(n: &Vec2, r: &Vec2) -> Gen {
     [n.x, n.y, cross(r, n)]
 }
 
-/// The projection onto the Coulomb cone `K = {(λ, β): |β| ≤ μ λ}`.
-pub fn project_cone(x: [f64; 2], mu: f64) -> [f64; 2] {
-    let (n, t) = (x[0], x[1]);
-    if n >= 0.0 && t.abs() <= mu * n {
-        [n, t]
-    } else if mu * t.abs() <= -n {
-        [0.0, 0.0]
-    } else {
-        let l = (n + mu * t.abs()) / (1.0 + mu * mu);
-        [l, mu * l * t.signum()]
-    }
-}
-
 impl SparseContacts {
     /// The problem of `group` (contacts indexing `contacts`): `centres[i]`
     /// the centre of mass of floe `i` (m), `w_free[i]` its free velocity,
