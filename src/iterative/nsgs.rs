@@ -104,7 +104,8 @@ pub fn local_coulomb_boxed(w: [f64; 4], r: [f64; 2], mu: f64, friction: bool, b:
     // u_T at λ = b, β = 0.
     let u_t0 = w[2] * b + r[1];
     let beta = if w[3] > 0.0 && w[3].is_finite() {
-        (-u_t0 / w[3]).clamp(-t, t)
+        // max/min, not clamp: no panic on a NaN bound.
+        (-u_t0 / w[3]).max(-t).min(t)
     } else if u_t0 > 0.0 {
         -t
     } else if u_t0 < 0.0 {
@@ -143,9 +144,16 @@ pub const CHANGE_FACTOR: f64 = 10.0;
 
 /// One sweep in the group's order, in place; returns the change bound
 /// `‖(W_NN,j |Δp_j|)_j‖₂` (m/s), the relative velocities the sweep's
-/// impulse changes made at their own contacts.
-fn sweep<D: Delassus>(prob: &D, p: &mut [[f64; 2]], v: &mut D::State, relaxation: f64) -> f64 {
-    if prob.bounded() {
+/// impulse changes made at their own contacts. With `bounded` false (no
+/// finite bound, [`Delassus::bounded`]) the bounds are not read.
+fn sweep<D: Delassus>(
+    prob: &D,
+    p: &mut [[f64; 2]],
+    v: &mut D::State,
+    relaxation: f64,
+    bounded: bool,
+) -> f64 {
+    if bounded {
         sweep_with(prob, p, v, relaxation, |j| prob.bound(j))
     } else {
         sweep_with(prob, p, v, relaxation, |_| f64::INFINITY)
@@ -223,6 +231,7 @@ pub fn solve<D: Delassus>(
         *pj = project_boxed(*pj, prob.mu(j), prob.bound(j));
     }
     let mut v = prob.state(p);
+    let bounded = prob.bounded();
     let mut residual = residual_at(prob, p, &v, true);
     let scale = prob.residual_scale();
     let mut iterations = 0;
@@ -234,7 +243,7 @@ pub fn solve<D: Delassus>(
             interrupted = true;
             break;
         }
-        let change = sweep(prob, p, &mut v, relaxation);
+        let change = sweep(prob, p, &mut v, relaxation, bounded);
         iterations += 1;
         since_check += 1;
         let small = change <= trigger;

@@ -66,10 +66,10 @@ pub trait Delassus {
     }
 
     /// Whether some contact's normal impulse is bounded (a finite
-    /// [`Delassus::bound`]); `false` lets the solvers skip the boxed law's
-    /// tests (the default: every contact rigid).
+    /// [`Delassus::bound`]; by default, a scan of the bounds); `false` lets
+    /// the solvers skip the boxed law's tests.
     fn bounded(&self) -> bool {
-        false
+        (0..self.len()).any(|j| self.bound(j).is_finite())
     }
 
     /// The free relative velocity `q_j = (q_N, q_T)`, m/s.
@@ -116,7 +116,8 @@ pub fn project_boxed(x: [f64; 2], mu: f64, b: f64) -> [f64; 2] {
         p
     } else {
         let t = mu * b;
-        [b, x[1].clamp(-t, t)]
+        // max/min, not clamp: no panic on a NaN bound.
+        [b, x[1].max(-t).min(t)]
     }
 }
 
