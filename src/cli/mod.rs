@@ -7,6 +7,7 @@
 
 mod check;
 mod compare;
+mod fc2d;
 mod lcp;
 mod percussion;
 mod run;
@@ -61,6 +62,11 @@ pub enum Command {
     /// Re-solve a dumped LCP (from `run --dump-lcp`) and print its residual;
     /// with `--time`, re-solve and time every dump of a folder.
     Lcp(lcp::Args),
+    /// Solve Siconos' 2D frictional contact problem files (a file, or a
+    /// folder's *.dat) with our NSGS, APGD or Lemke: per file the contacts,
+    /// iterations, our residual, Siconos' error and the thread CPU; exits
+    /// non-zero when a file cannot be read or a solve does not converge.
+    Fc2d(fc2d::Args),
     /// Run a sweep plan (docs/sweep-format.md): every point of cases x
     /// formulations x settings, measured against the reference; writes
     /// points/<id>.json, sweep.csv, orders.csv, plots and index.md/html.
@@ -101,6 +107,7 @@ impl Command {
             Command::Compare(a) => compare::run(a),
             Command::Check(a) => check::run(a),
             Command::Lcp(a) => lcp::run(a),
+            Command::Fc2d(a) => fc2d::run(a),
             Command::Sweep(a) => sweep::run(a),
             Command::Percussion1d(a) => percussion::run_1d(a),
             Command::Percussion2d(a) => percussion::run_2d(a),

@@ -17,10 +17,14 @@
 //! [`Outcome::residual`] is the Coulomb one, as for every solver: on a
 //! sliding contact it measures the relaxation's departure from Coulomb's law
 //! (the contact separates at `μ |u_T|`), not the solve's error.
+//!
+//! The solver runs on any [`Delassus`] operator, with a friction
+//! coefficient and a bound `b_j` of the normal impulse per contact: the
+//! projection is onto the truncated cone ([`project_boxed`]; in the scaled
+//! variables the bound is `b_j / d_j`).
 
 use super::nsgs::Outcome;
-use super::problem::{project_cone, SparseContacts};
-use crate::contact::problem::Gen;
+use super::operator::{project_boxed, residual_at, Delassus};
 
 /// Shrink factor of `L` after each iteration (Mazhar et al. 2015).
 const SHRINK: f64 = 0.9;
@@ -29,8 +33,8 @@ const SHRINK: f64 = 0.9;
 const MAX_DOUBLINGS: u32 = 60;
 
 /// `f(p)`, the velocity changes of `p`, and the gradient `u(p)` per contact.
-fn evaluate(prob: &SparseContacts, p: &[[f64; 2]]) -> (f64, Vec<Gen>, Vec<[f64; 2]>) {
-    let v = prob.velocity_changes(p);
+fn evaluate<D: Delassus>(prob: &D, p: &[[f64; 2]]) -> (f64, D::State, Vec<[f64; 2]>) {
+    let v = prob.state(p);
     let mut f = 0.0;
     let u: Vec<[f64; 2]> = (0..prob.len())
         .map(|j| {
@@ -47,14 +51,13 @@ fn evaluate(prob: &SparseContacts, p: &[[f64; 2]]) -> (f64, Vec<Gen>, Vec<[f64; 
 /// APGD from `p` (warm start or zeros), in place, to the relaxation's
 /// residual `tolerance` or `max_iterations` iterations. Returns the outcome
 /// and the floes' velocity changes of the answer; `p` holds the best iterate.
-pub fn solve(
-    prob: &SparseContacts,
+pub fn solve<D: Delassus>(
+    prob: &D,
     p: &mut [[f64; 2]],
     tolerance: f64,
     max_iterations: u64,
-) -> (Outcome, Vec<Gen>) {
+) -> (Outcome, D::State) {
     let m = prob.len();
-    let mu = prob.mu;
     let d: Vec<f64> = (0..m)
         .map(|j| {
             let w = prob.block(j)[0];
@@ -65,20 +68,22 @@ pub fn solve(
             }
         })
         .collect();
-    let proj = |x: [f64; 2]| project_cone(x, mu);
-    for pj in p.iter_mut() {
+    // The cones of the scaled variables x = p / d: the bound is b / d.
+    let bounds: Vec<f64> = (0..m).map(|j| prob.bound(j) / d[j]).collect();
+    let proj = |j: usize, x: [f64; 2]| project_boxed(x, prob.mu(j), bounds[j]);
+    for (j, pj) in p.iter_mut().enumerate() {
         if !(pj[0].is_finite() && pj[1].is_finite()) {
             *pj = [0.0; 2];
         }
-        *pj = proj(*pj);
+        *pj = project_boxed(*pj, prob.mu(j), prob.bound(j));
     }
     let (mut f_y, v0, mut g_y) = evaluate(prob, p);
     let mut best = p.to_vec();
-    let mut best_res = prob.residual_at(p, &v0, false);
+    let mut best_res = residual_at(prob, p, &v0, false);
     let mut best_v = v0;
     // L from W on the scaled ones vector: ‖D W D e‖ / ‖e‖.
     let ones: Vec<[f64; 2]> = d.iter().map(|&dj| [dj, dj]).collect();
-    let v1 = prob.velocity_changes(&ones);
+    let v1 = prob.state(&ones);
     let mut num = 0.0;
     for (j, dj) in d.iter().enumerate() {
         let u = prob.relative(j, &v1);
@@ -114,7 +119,7 @@ pub fn solve(
                     y[j][0] / dj - t * dj * g_y[j][0],
                     y[j][1] / dj - t * dj * g_y[j][1],
                 ];
-                let c = proj(xn);
+                let c = proj(j, xn);
                 cand[j] = [c[0] * dj, c[1] * dj];
                 let dx = [(cand[j][0] - y[j][0]) / dj, (cand[j][1] - y[j][1]) / dj];
                 lin += dj * (g_y[j][0] * dx[0] + g_y[j][1] * dx[1]);
@@ -129,7 +134,7 @@ pub fn solve(
             l *= 2.0;
         }
         let Some((_, v_c, _)) = eval else { break };
-        let res = prob.residual_at(&cand, &v_c, false);
+        let res = residual_at(prob, &cand, &v_c, false);
         if res < best_res {
             best_res = res;
             best.copy_from_slice(&cand);
@@ -161,7 +166,7 @@ pub fn solve(
     }
     p.copy_from_slice(&best);
     let converged = best_res <= tolerance;
-    let residual = prob.residual_at(p, &best_v, true);
+    let residual = residual_at(prob, p, &best_v, true);
     (
         Outcome {
             iterations,

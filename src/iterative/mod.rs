@@ -2,7 +2,9 @@
 //! nonsmooth Gauss–Seidel on Coulomb's law ([`nsgs`], `solver = "nsgs"`)
 //! and accelerated projected gradient descent on the Anitescu–Tasora cone
 //! relaxation ([`apgd`], `solver = "apgd"`), on the sparse contact problem
-//! of a group ([`SparseContacts`]: no `m × m` matrix is ever formed),
+//! of a group ([`SparseContacts`]: no `m × m` matrix is ever formed) or on
+//! any other problem given by its Delassus operator ([`Delassus`]: a Siconos
+//! file's `W`, [`Fc2dOperator`]),
 //! warm-started from the contact cache ([`ContactCache`]) and stopped on
 //! the natural-map residual ([`SparseContacts::residual`]), the one
 //! accuracy measure that is also computed for the Lemke and clarabel
@@ -44,12 +46,17 @@
 
 pub mod apgd;
 mod cache;
+mod fc2d;
+pub mod fc2d_lcp;
 pub mod nsgs;
+pub mod operator;
 mod problem;
 
 pub use cache::ContactCache;
-pub use nsgs::{local_coulomb, Outcome};
-pub use problem::{project_cone, SparseContacts, RESIDUAL_FLOOR, ROUNDING_FRACTION};
+pub use fc2d::{solve_fc2d, Fc2dAnswer, Fc2dOperator, Fc2dSolver};
+pub use nsgs::{local_coulomb, local_coulomb_boxed, Outcome};
+pub use operator::{project_boxed, project_cone, residual_at, Delassus};
+pub use problem::{SparseContacts, RESIDUAL_FLOOR, ROUNDING_FRACTION};
 
 use crate::contact::problem::Gen;
 use crate::model::limits::Limit;

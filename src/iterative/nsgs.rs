@@ -8,14 +8,18 @@
 //! ([`local_coulomb`]); with `relaxation ω ≠ 1` the new impulse is
 //! `(1 − ω) p_old + ω p_local`, projected back onto the cone. The floes'
 //! velocity changes are updated after each contact, so a sweep costs O(m).
-//! The natural-map residual ([`super::SparseContacts::residual_at`],
+//! The natural-map residual ([`super::operator::residual_at`],
 //! Coulomb form) is evaluated when a sweep's impulse changes are small
 //! enough for it to be at the tolerance, and at least every
 //! [`CHECK_EVERY`] sweeps (see [`solve`]); the sweeps stop when it is at
 //! most the tolerance, or after `max_iterations` sweeps (an unconverged
 //! solve, counted, its answer kept: it is finite).
+//!
+//! The solver runs on any [`Delassus`] operator (floes, or a file's `W`),
+//! with a friction coefficient and a bound of the normal impulse per contact
+//! ([`local_coulomb_boxed`]: the boxed law of crushing ice).
 
-use super::problem::{project_cone, SparseContacts};
+use super::operator::{project_boxed, project_cone, residual_at, Delassus};
 
 /// Relative tolerance of the tests of the local enumeration (stick inside
 /// the cone, non-negative normal impulse): rounding of a 2 × 2 solve.
@@ -74,6 +78,44 @@ pub fn local_coulomb(w: [f64; 4], r: [f64; 2], mu: f64, friction: bool) -> [f64;
     }
 }
 
+/// The exact solution of one contact's problem with its normal impulse
+/// bounded by `b` (N·s; see [`super::operator`]): `0 ≤ λ ≤ b`,
+/// `|β| ≤ μ λ`, `u_N ≥ 0` at `λ = 0`, `u_N = 0` for `0 < λ < b`,
+/// `u_N ≤ 0` at `λ = b` (crushing), Coulomb in the tangent. The cases, in
+/// order: the rigid contact's answer ([`local_coulomb`]: take-off, stick,
+/// slide) when its `λ ≤ b` (it satisfies the boxed law; for `b = +∞`
+/// always, so this is [`local_coulomb`] bit for bit); otherwise `λ = b`
+/// with the tangential stick `β = −(r_T + W_TN b) / W_TT` when
+/// `|β| ≤ μ b`, or the slide `β = ±μ b` on the side of the stick's excess
+/// (`u_T` is increasing in `β`, so the side is the one where the slip
+/// opposes `β`). Unique and found for a positive definite `W` with
+/// `W_NN > μ |W_NT|` (the rigid answer is then unique, so a boxed answer
+/// below the bound would be it).
+#[inline]
+pub fn local_coulomb_boxed(w: [f64; 4], r: [f64; 2], mu: f64, friction: bool, b: f64) -> [f64; 2] {
+    let rigid = local_coulomb(w, r, mu, friction);
+    if rigid[0] <= b {
+        return rigid;
+    }
+    if !friction {
+        return [b, 0.0];
+    }
+    let t = mu * b;
+    // u_T at λ = b, β = 0.
+    let u_t0 = w[2] * b + r[1];
+    let beta = if w[3] > 0.0 && w[3].is_finite() {
+        // max/min, not clamp: no panic on a NaN bound.
+        (-u_t0 / w[3]).max(-t).min(t)
+    } else if u_t0 > 0.0 {
+        -t
+    } else if u_t0 < 0.0 {
+        t
+    } else {
+        0.0
+    };
+    [b, beta]
+}
+
 /// What one iterative solve did.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outcome {
@@ -102,16 +144,34 @@ pub const CHANGE_FACTOR: f64 = 10.0;
 
 /// One sweep in the group's order, in place; returns the change bound
 /// `‖(W_NN,j |Δp_j|)_j‖₂` (m/s), the relative velocities the sweep's
-/// impulse changes made at their own contacts.
-fn sweep(
-    prob: &SparseContacts,
+/// impulse changes made at their own contacts. With `bounded` false (no
+/// finite bound, [`Delassus::bounded`]) the bounds are not read.
+fn sweep<D: Delassus>(
+    prob: &D,
     p: &mut [[f64; 2]],
-    v: &mut [crate::contact::problem::Gen],
+    v: &mut D::State,
     relaxation: f64,
+    bounded: bool,
 ) -> f64 {
-    let (mu, friction) = (prob.mu, prob.friction());
+    if bounded {
+        sweep_with(prob, p, v, relaxation, |j| prob.bound(j))
+    } else {
+        sweep_with(prob, p, v, relaxation, |_| f64::INFINITY)
+    }
+}
+
+/// [`sweep`] with the bounds `bound(j)` (N·s).
+#[inline(always)]
+fn sweep_with<D: Delassus>(
+    prob: &D,
+    p: &mut [[f64; 2]],
+    v: &mut D::State,
+    relaxation: f64,
+    bound: impl Fn(usize) -> f64,
+) -> f64 {
     let mut change = 0.0;
     for (j, pj) in p.iter_mut().enumerate() {
+        let (mu, friction, bound) = (prob.mu(j), prob.friction(j), bound(j));
         let w = prob.block(j);
         let u = prob.relative(j, v);
         // Velocity without the contact's own impulse: r = u − W p_j.
@@ -119,14 +179,15 @@ fn sweep(
             u[0] - w[0] * pj[0] - w[1] * pj[1],
             u[1] - w[2] * pj[0] - w[3] * pj[1],
         ];
-        let mut new = local_coulomb(w, r, mu, friction);
+        let mut new = local_coulomb_boxed(w, r, mu, friction, bound);
         if relaxation != 1.0 {
-            new = project_cone(
+            new = project_boxed(
                 [
                     (1.0 - relaxation) * pj[0] + relaxation * new[0],
                     (1.0 - relaxation) * pj[1] + relaxation * new[1],
                 ],
                 mu,
+                bound,
             );
         }
         let dp = [new[0] - pj[0], new[1] - pj[1]];
@@ -153,25 +214,25 @@ fn sweep(
 /// the last evaluation, or after the last sweep. A solve stops only on a true residual at most
 /// `tolerance`, and the outcome's residual is always the true residual of
 /// the answer returned.
-pub fn solve(
-    prob: &SparseContacts,
+pub fn solve<D: Delassus>(
+    prob: &D,
     p: &mut [[f64; 2]],
     tolerance: f64,
     max_iterations: u64,
     relaxation: f64,
-) -> (Outcome, Vec<crate::contact::problem::Gen>) {
-    let (mu, friction) = (prob.mu, prob.friction());
-    for pj in p.iter_mut() {
+) -> (Outcome, D::State) {
+    for (j, pj) in p.iter_mut().enumerate() {
         if !(pj[0].is_finite() && pj[1].is_finite()) {
             *pj = [0.0, 0.0];
         }
-        if !friction {
+        if !prob.friction(j) {
             pj[1] = 0.0;
         }
-        *pj = project_cone(*pj, mu);
+        *pj = project_boxed(*pj, prob.mu(j), prob.bound(j));
     }
-    let mut v = prob.velocity_changes(p);
-    let mut residual = prob.residual_at(p, &v, true);
+    let mut v = prob.state(p);
+    let bounded = prob.bounded();
+    let mut residual = residual_at(prob, p, &v, true);
     let scale = prob.residual_scale();
     let mut iterations = 0;
     let mut since_check = 0;
@@ -182,12 +243,12 @@ pub fn solve(
             interrupted = true;
             break;
         }
-        let change = sweep(prob, p, &mut v, relaxation);
+        let change = sweep(prob, p, &mut v, relaxation, bounded);
         iterations += 1;
         since_check += 1;
         let small = change <= trigger;
         if small || since_check >= CHECK_EVERY || iterations == max_iterations {
-            residual = prob.residual_at(p, &v, true);
+            residual = residual_at(prob, p, &v, true);
             since_check = 0;
             if small {
                 // Not yet at the tolerance: the next check by the bound

@@ -14,6 +14,7 @@
 // The three components (x, y, θ) of a floe's rows are indexed together.
 #![allow(clippy::needless_range_loop)]
 
+use super::operator::{self, Delassus};
 use crate::contact::problem::{ContactGroup, Gen};
 use crate::contact::{Contact, ContactKey};
 use crate::geometry::{cross, Vec2};
@@ -68,6 +69,9 @@ pub struct SparseContacts {
     rows: Vec<Rows>,
     /// The largest single term of `q`, m/s (see [`RESIDUAL_FLOOR`]).
     v_scale: f64,
+    /// The bound `b_j` of each contact's normal impulse, N·s (empty: every
+    /// contact rigid, `b_j = +∞`; see [`SparseContacts::with_normal_bounds`]).
+    bounds: Vec<f64>,
 }
 
 fn dot(a: &Gen, b: &Gen) -> f64 {
@@ -92,19 +96,6 @@ fn diagonal_block(sides: &[Option<Side>; 2], minv: &[Gen]) -> [f64; 4] {
 
 fn jac(n: &Vec2, r: &Vec2) -> Gen {
     [n.x, n.y, cross(r, n)]
-}
-
-/// The projection onto the Coulomb cone `K = {(λ, β): |β| ≤ μ λ}`.
-pub fn project_cone(x: [f64; 2], mu: f64) -> [f64; 2] {
-    let (n, t) = (x[0], x[1]);
-    if n >= 0.0 && t.abs() <= mu * n {
-        [n, t]
-    } else if mu * t.abs() <= -n {
-        [0.0, 0.0]
-    } else {
-        let l = (n + mu * t.abs()) / (1.0 + mu * mu);
-        [l, mu * l * t.signum()]
-    }
 }
 
 impl SparseContacts {
@@ -176,7 +167,34 @@ impl SparseContacts {
             w_free: w_free_g,
             rows,
             v_scale,
+            bounds: Vec::new(),
         }
+    }
+
+    /// The same problem with a bound `b_j` on each contact's normal impulse
+    /// (N·s, in the group's contact order; `f64::INFINITY`: a rigid contact,
+    /// the default): `0 ≤ λ_j ≤ b_j`, `|β_j| ≤ μ λ_j`, and a contact at its
+    /// bound may keep approaching (the ice crushes; docs/physics.md §3.5,
+    /// [`super::operator`]). A negative or NaN bound is taken as 0 (the
+    /// contact carries no impulse). With every bound infinite the solves
+    /// are bit for bit those without bounds.
+    ///
+    /// # Panics
+    ///
+    /// If `bounds` does not hold one bound per contact (a caller's bug).
+    pub fn with_normal_bounds(mut self, bounds: Vec<f64>) -> SparseContacts {
+        assert_eq!(
+            bounds.len(),
+            self.rows.len(),
+            "with_normal_bounds: one bound per contact"
+        );
+        self.bounds = bounds.into_iter().map(|b| b.max(0.0)).collect();
+        self
+    }
+
+    /// The bound of contact `j`'s normal impulse, N·s (`+∞`: rigid).
+    pub fn normal_bound(&self, j: usize) -> f64 {
+        self.bounds.get(j).copied().unwrap_or(f64::INFINITY)
     }
 
     /// The same problem with the floes' rotations held (their inverse
@@ -258,6 +276,7 @@ impl SparseContacts {
     /// the impulses' own effect, not to the floes' speeds (a row of floes
     /// at 1 m/s whose `q` cancels to 1e-16 m/s keeps a residual of
     /// rounding, not of 1e-16 m/s).
+    #[inline]
     pub fn apply(&self, j: usize, dp: [f64; 2], v: &mut [Gen]) {
         for s in self.rows[j].sides.iter().flatten() {
             let mi = &self.minv[s.floe];
@@ -270,6 +289,7 @@ impl SparseContacts {
 
     /// The relative velocities `u_j = q_j + H_jᵀ dv` of contact `j` for
     /// the floes' velocity changes `dv` (m/s; see [`SparseContacts::apply`]).
+    #[inline]
     pub fn relative(&self, j: usize, dv: &[Gen]) -> [f64; 2] {
         let r = &self.rows[j];
         let mut u = [r.q[0], r.q[1]];
@@ -344,33 +364,61 @@ impl SparseContacts {
     /// [`SparseContacts::residual`] with the velocity changes `v` of `p`
     /// already known.
     pub fn residual_at(&self, p: &[[f64; 2]], v: &[Gen], coulomb: bool) -> f64 {
-        let mu = self.mu;
-        let friction = self.friction();
-        let mut sum = 0.0;
-        for (j, r) in self.rows.iter().enumerate() {
-            let pj = p.get(j).copied().unwrap_or([0.0; 2]);
-            let pj = if friction { pj } else { [pj[0], 0.0] };
-            let u = self.relative(j, v);
-            let rho = if r.w[0] > 0.0 && r.w[0].is_finite() {
-                1.0 / r.w[0]
-            } else {
-                1.0
-            };
-            let u_hat = if friction {
-                [u[0] + if coulomb { mu * u[1].abs() } else { 0.0 }, u[1]]
-            } else {
-                [u[0], 0.0]
-            };
-            let x = [pj[0] - rho * u_hat[0], pj[1] - rho * u_hat[1]];
-            let pr = project_cone(x, mu);
-            let f = [(pj[0] - pr[0]) / rho, (pj[1] - pr[1]) / rho];
-            sum += f[0] * f[0] + f[1] * f[1];
-        }
-        let res = sum.sqrt() / self.residual_scale();
-        if res.is_finite() {
-            res
-        } else {
-            f64::INFINITY
-        }
+        operator::residual_with(self, p, |j| self.relative(j, v), coulomb)
+    }
+}
+
+impl Delassus for SparseContacts {
+    /// The floes' velocity changes `M⁻¹ H p`, group order.
+    type State = Vec<Gen>;
+
+    #[inline]
+    fn len(&self) -> usize {
+        self.rows.len()
+    }
+
+    #[inline]
+    fn block(&self, j: usize) -> [f64; 4] {
+        self.rows[j].w
+    }
+
+    #[inline]
+    fn mu(&self, _j: usize) -> f64 {
+        self.mu
+    }
+
+    #[inline]
+    fn bound(&self, j: usize) -> f64 {
+        self.normal_bound(j)
+    }
+
+    #[inline]
+    fn bounded(&self) -> bool {
+        self.bounds.iter().any(|b| b.is_finite())
+    }
+
+    #[inline]
+    fn free(&self, j: usize) -> [f64; 2] {
+        self.rows[j].q
+    }
+
+    #[inline]
+    fn state(&self, p: &[[f64; 2]]) -> Vec<Gen> {
+        self.velocity_changes(p)
+    }
+
+    #[inline]
+    fn relative(&self, j: usize, state: &Vec<Gen>) -> [f64; 2] {
+        SparseContacts::relative(self, j, state)
+    }
+
+    #[inline]
+    fn apply(&self, j: usize, dp: [f64; 2], state: &mut Vec<Gen>) {
+        SparseContacts::apply(self, j, dp, state)
+    }
+
+    #[inline]
+    fn residual_scale(&self) -> f64 {
+        SparseContacts::residual_scale(self)
     }
 }

@@ -50,28 +50,9 @@ pub const TABLE_HEADER: [&str; 9] = [
 /// The outcomes as an aligned plain-text table, one line each, then a count
 /// of passes, known failures and claimed failures.
 pub fn format_table(rows: &[CheckOutcome]) -> String {
-    let body: Vec<[String; 9]> = rows.iter().map(table_cells).collect();
-    let mut width = TABLE_HEADER.map(str::len);
-    for row in &body {
-        for (w, c) in width.iter_mut().zip(row) {
-            *w = (*w).max(c.chars().count());
-        }
-    }
-    let line = |row: &[String]| -> String {
-        let mut s = String::new();
-        for (k, c) in row.iter().enumerate() {
-            if k + 1 == row.len() {
-                s.push_str(c);
-            } else {
-                s.push_str(&format!("{c:<w$}  ", w = width[k]));
-            }
-        }
-        s.trim_end().to_string() + "\n"
-    };
-    let mut out = line(&TABLE_HEADER.map(String::from));
-    for row in &body {
-        out.push_str(&line(row));
-    }
+    let mut table = vec![TABLE_HEADER.map(String::from).to_vec()];
+    table.extend(rows.iter().map(|o| table_cells(o).to_vec()));
+    let mut out = super::format::aligned_table(&table);
     out.push_str(&totals(rows));
     out.push('\n');
     out

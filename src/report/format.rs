@@ -109,6 +109,33 @@ pub fn fmt_spread(v: f64, lo: f64, hi: f64) -> (String, String, String) {
     (next(), next(), next())
 }
 
+/// `rows` (the header first) as aligned plain text: each column but the last
+/// padded to its widest cell (in characters) and two spaces, each line's
+/// trailing blanks trimmed, one line per row.
+pub fn aligned_table(rows: &[Vec<String>]) -> String {
+    let cols = rows.iter().map(Vec::len).max().unwrap_or(0);
+    let mut width = vec![0usize; cols];
+    for row in rows {
+        for (w, c) in width.iter_mut().zip(row) {
+            *w = (*w).max(c.chars().count());
+        }
+    }
+    let mut out = String::new();
+    for row in rows {
+        let mut s = String::new();
+        for (k, c) in row.iter().enumerate() {
+            if k + 1 == row.len() {
+                s.push_str(c);
+            } else {
+                s.push_str(&format!("{c:<w$}  ", w = width[k]));
+            }
+        }
+        out.push_str(s.trim_end());
+        out.push('\n');
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::{fmt_measured, fmt_num, fmt_spread};

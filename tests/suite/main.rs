@@ -20,6 +20,7 @@ mod crushing_geometry;
 mod event_driven;
 mod fc2d;
 mod fc2d_bad;
+mod fc2d_solve;
 mod field;
 mod flush_pair;
 mod forcing;

@@ -4,8 +4,9 @@
 //! APGD against Lemke on the bundled cases and the closed-form checks, the
 //! contact cache, the counted unconverged solve, the stop test that
 //! evaluates the residual only when a sweep's change bound allows, the
-//! impacts solved by NSGS, the continuation of capped answers that would
-//! create energy, and the settings' refusals.
+//! impacts solved by NSGS, the bounded normal impulse (boxed law), the
+//! continuation of capped answers that would create energy, and the
+//! settings' refusals.
 //!
 //! This file holds what the submodules share: the contact problems of a
 //! case's initial state (dense and sparse), Lemke's answer to one, the
@@ -13,6 +14,7 @@
 //! are in the submodules, one topic each.
 
 mod against_lemke;
+mod boxed;
 mod local_solve;
 mod residual;
 mod runs;
