@@ -82,15 +82,21 @@ pub fn normal_bounds(scn: &Scenario, contacts: &[Contact], dt: f64) -> Vec<f64> 
 /// origin).
 pub const TOUCHING: f64 = 1e-9;
 
-/// Whether a normal impulse `lambda` (N·s) is at its bound `bound`: within
-/// a relative [`AT_BOUND`] of it (a solver's answer on the bound, rounded).
-pub fn at_bound(lambda: f64, bound: f64) -> bool {
-    bound.is_finite() && lambda >= bound * (1.0 - AT_BOUND)
+/// Whether a contact of bound `bound` (N·s) crushes: it is bounded and
+/// still approaches (`u_after` < 0, m/s) after the solve's impulses. A
+/// contact below its bound is stopped (Signorini, `u_N ≥ 0`); one that
+/// approaches is at its bound, so that this reads the law, not the
+/// solver's rounding of the bound: an iterative solver at its tolerance
+/// may leave a small impulse below a small bound (a face just cut, whose
+/// force over a step is 1e-7 of the floe's momentum), and the pair, which
+/// approaches, crushes all the same.
+pub fn crushing(bound: f64, u_after: f64) -> bool {
+    bound.is_finite() && u_after < 0.0
 }
 
-/// Relative distance to its bound within which a normal impulse is at it
-/// ([`at_bound`]): the iterative solvers' answers reach the bound to their
-/// tolerance (1e-6 by default), the pivoting ones to rounding.
+/// Relative distance to its bound within which a normal impulse is at it:
+/// the iterative solvers' answers reach the bound to their tolerance (1e-6
+/// by default), the pivoting ones to rounding.
 pub const AT_BOUND: f64 = 1e-6;
 
 /// The relative normal velocity (m/s, positive separating) of contact `c`

@@ -173,6 +173,22 @@ impl GroupData<'_> {
             .collect()
     }
 
+    /// The group's sparse problem, bounded by the crushing bounds.
+    fn sparse(&self) -> SparseContacts {
+        let prob = SparseContacts::build(
+            self.scn,
+            self.centres,
+            self.contacts,
+            self.group,
+            self.w_free,
+            self.offsets,
+        );
+        match self.bounds.is_empty() {
+            true => prob,
+            false => prob.with_normal_bounds(self.group_bounds()),
+        }
+    }
+
     /// The group's LCP with `layout`, bounded by the crushing bounds.
     fn assemble(&self, layout: Friction) -> ContactLcp {
         ContactLcp::assemble(
@@ -211,8 +227,7 @@ impl GroupSolver {
     /// step `h` (s) by the iterative solver if there is one, else by the
     /// direct one, and records its residual and work.
     pub fn solve(&mut self, d: &GroupData<'_>, t: f64, h: f64) -> GroupAnswer {
-        let prob =
-            SparseContacts::build(d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets);
+        let prob = d.sparse();
         let Some(it) = &mut self.iterative else {
             return self.solve_direct(d, &prob, t, false);
         };
@@ -238,7 +253,12 @@ impl GroupSolver {
         a: Answer,
         t: f64,
     ) -> GroupAnswer {
-        if a.outcome.interrupted || !self.iterative.as_ref().is_some_and(|it| it.options.polish) {
+        // The polish's basis guess knows no bound rows: a bounded problem
+        // keeps the iterative answer.
+        if a.outcome.interrupted
+            || !self.iterative.as_ref().is_some_and(|it| it.options.polish)
+            || !d.bounds.is_empty()
+        {
             return self.iterative_answer(prob, a, t, self.method());
         }
         // The NSGS problem itself: one friction pair per point (merged
@@ -328,8 +348,7 @@ impl GroupSolver {
     /// `solver = "nsgs"`, else by Lemke on the LCP (the direct solvers, and
     /// APGD, whose relaxation is not Coulomb's law).
     pub fn solve_impact(&mut self, d: &GroupData<'_>, t: f64) -> GroupAnswer {
-        let prob =
-            SparseContacts::build(d.scn, d.centres, d.contacts, d.group, d.w_free, d.offsets);
+        let prob = d.sparse();
         match &self.iterative {
             Some(it) if it.solves_impacts() => {
                 let a = it.solve_impact(&prob);

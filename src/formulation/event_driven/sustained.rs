@@ -325,8 +325,9 @@ impl EventDriven {
     }
 }
 
-/// The contacts of `closed` whose normal impulse over the step reached its
-/// crushing bound (`lambda`, `bounds`: N·s per contact), as body pairs, and
+/// The contacts of `closed` that crush over the step
+/// ([`crate::contact::crush::crushing`]; `lambda`, `bounds`: N·s per
+/// contact), as body pairs, and
 /// the work (J) of their forces over the step: `−λ_j ū_N,j`, `ū_N` the
 /// mean of the relative normal velocities at the step's start (`sys`) and
 /// end (`end`), exact for the constant wrenches of the step when the
@@ -344,10 +345,11 @@ fn crushing_work(
     let mut pairs = Vec::new();
     let mut work = 0.0;
     for (k, c) in closed.iter().enumerate() {
-        if !crate::contact::crush::at_bound(lambda[k], bounds[k]) {
+        let after = normal_velocity(scn, end, c);
+        if !crate::contact::crush::crushing(bounds[k], after) {
             continue;
         }
-        let u = 0.5 * (normal_velocity(scn, &sys.bodies, c) + normal_velocity(scn, end, c));
+        let u = 0.5 * (normal_velocity(scn, &sys.bodies, c) + after);
         work -= lambda[k] * u;
         if !pairs.contains(&(c.a, c.b)) {
             pairs.push((c.a, c.b));

@@ -224,9 +224,10 @@ impl Moreau {
 }
 
 impl Moreau {
-    /// The work of the contacts of group `g` whose normal impulse reached
-    /// its crushing bound (`impulses`: the group's normal impulses, N·s,
-    /// and every contact's bound), J: `−λ_j ū_N,j`, `ū_N` the mean of the
+    /// The work of the contacts of group `g` that crush
+    /// ([`crate::contact::crush::crushing`]: bounded, and still approaching
+    /// after the step's impulses; `impulses`: the group's normal impulses,
+    /// N·s, and every contact's bound), J: `−λ_j ū_N,j`, `ū_N` the mean of the
     /// relative normal velocities before (`w.0`, the free velocities) and
     /// after (`w.1`) the step's impulses, so that the group's kinetic
     /// energy change `Σ p_j·ū_j` splits exactly into this and the rest
@@ -243,12 +244,13 @@ impl Moreau {
     ) -> f64 {
         let mut work = 0.0;
         for (&k, &l) in g.contacts.iter().zip(normal) {
-            if !crate::contact::crush::at_bound(l, bounds[k]) {
-                continue;
-            }
             let c = &active[k];
             let u = |w: &[Gen]| crate::contact::crush::normal_velocity(scn, centres, w, c);
-            work -= l * 0.5 * (u(w.0) + u(w.1));
+            let after = u(w.1);
+            if !crate::contact::crush::crushing(bounds[k], after) {
+                continue;
+            }
+            work -= l * 0.5 * (u(w.0) + after);
             self.crushing_pairs.push((c.a, c.b));
         }
         work
