@@ -28,7 +28,7 @@ fn run_writes_the_promised_files_and_lcp_re_solves_a_dump() {
     );
     let energy = std::fs::read_to_string(out.join("energy.csv")).unwrap();
     assert!(energy
-        .starts_with("t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,vibration,dashpot,residual\n"));
+        .starts_with("t,kinetic,work_air,work_water,work_coriolis,dissipated,fracture,vibration,dashpot,crushing,residual\n"));
     let floes: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("floes.json")).unwrap()).unwrap();
     let floes = floes.as_array().unwrap();
