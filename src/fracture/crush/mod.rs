@@ -43,7 +43,7 @@ use transfer::{cut_on_plane, kept_state, reshaped, ridged, Ice};
 
 /// An overlap thinner than this fraction of the floe's radius along the
 /// pair's normal is not cut: 1e-9, the split's own tolerance for a vertex
-/// on the chord ([`crate::fracture::split`]), below which a cut has no
+/// on the chord ([`mod@crate::fracture::split`]), below which a cut has no
 /// area on one side; such an overlap is rounding, not crushed ice.
 pub const DEPTH_TOLERANCE: f64 = 1e-9;
 

@@ -1,7 +1,7 @@
 //! The cut of a crushed floe and the transfer of the crushed ice
 //! (docs/physics.md §10.5–10.6).
 //!
-//! A floe is cut on a plane by the split ([`crate::fracture::split`]):
+//! A floe is cut on a plane by the split ([`mod@crate::fracture::split`]):
 //! both pieces take the floe's rigid velocity field, so the cut alone
 //! conserves mass, momentum and kinetic energy. The kept piece stays the
 //! floe (same id, same angle: its outline in the body frame is the kept
