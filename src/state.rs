@@ -446,6 +446,16 @@ pub fn restart(
     bodies: &[BodyState],
     restart: crate::model::Restart,
 ) -> Result<(), String> {
+    if scn.contact.crushing.is_some() {
+        // trajectory.csv holds the floes' positions, not the outlines the
+        // crushing cut: the case's outlines at the crushed centres would
+        // overlap and lose the crushed ice.
+        return Err(format!(
+            "{}: a case with [contact] crushing cannot start from an earlier run's state: trajectory.csv does not hold the outlines the crushing cut (case `{}`)",
+            restart.file.display(),
+            scn.name
+        ));
+    }
     if bodies.len() != scn.floes.len() {
         return Err(format!(
             "{}: {} floes at t = {} s, but case `{}` has {}",

@@ -118,3 +118,33 @@ fn rapier_refuses_a_crushing_case_and_writes_nothing() {
     assert!(err.contains("rapier cannot bound a contact force"), "{err}");
     assert!(!out.exists());
 }
+
+/// A crushing run cannot restart from an earlier run's positions: the
+/// trajectory holds no cut outlines.
+#[test]
+fn a_crushing_case_refuses_to_start_from_an_earlier_state() {
+    let dir = crate::common::tempdir();
+    let first = dir.path().join("first");
+    let ok = floebench()
+        .args(["run", "-q", "-f", "moreau", "-o"])
+        .arg(&first)
+        .arg(case_path("crushing/flat_coast"))
+        .status()
+        .unwrap();
+    assert!(ok.success());
+    let o = floebench()
+        .args(["run", "-q", "-f", "moreau", "--from"])
+        .arg(first.join("trajectory.csv"))
+        .arg("-o")
+        .arg(dir.path().join("second"))
+        .arg(case_path("crushing/flat_coast"))
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("cannot start from an earlier run's state"),
+        "{err}"
+    );
+    assert!(!dir.path().join("second").exists());
+}
