@@ -2,11 +2,13 @@
 //! each run, for the report's plots ([`crate::report::figures`]): the gap of
 //! the bouncing floe (impact times and rest marked), the distance slid
 //! (stop marked), the speed of a drifting floe against its steady drift
-//! speed, and the inertial circles of the calm. Each comes from the set-up
+//! speed, the inertial circles of the calm, and the crushing force of a
+//! floe rammed into a coast. Each comes from the set-up
 //! its checks recognise ([`super::Bouncing`], [`super::Sliding`],
 //! [`super::Drift`], [`super::Inertial`]), so a curve is drawn exactly when
 //! its checks apply.
 
+use super::ram::{Ram, RamShape};
 use super::setup::{Bouncing, Drift, Inertial, Sliding};
 use crate::geometry::Vec2;
 use crate::model::Scenario;
@@ -94,6 +96,29 @@ pub fn exact_curves(scn: &Scenario, runs: &[RunResult]) -> Vec<ExactCurve> {
                 .iter()
                 .map(|r| of_floe(r, 0, |row| b.gap_of(Vec2::new(row.x, row.y))))
                 .collect(),
+        });
+    }
+    if let Some(ram) = Ram::of(scn) {
+        let (_, _, duration) = ram.exact();
+        let mut ts: Vec<f64> = times(t_end, SAMPLES).collect();
+        ts.extend([ram.t_contact, ram.t_contact + duration]);
+        ts.sort_by(f64::total_cmp);
+        out.push(ExactCurve {
+            stem: "exact_crushing",
+            what: "crushing force against its closed form".into(),
+            x_label: "t (s)".into(),
+            y_label: "crushing force (N)".into(),
+            plan: false,
+            exact_label: match ram.shape {
+                RamShape::Corner(_) => "exact: V sqrt(M k) sin(omega t)".into(),
+                RamShape::Face(_) => "exact: sigma_c h w".into(),
+            },
+            exact: ts.iter().map(|&t| (t, ram.force_at(t))).collect(),
+            marks: vec![
+                (ram.t_contact, "contact".into()),
+                (ram.t_contact + duration, "stop".into()),
+            ],
+            measured: runs.iter().map(|r| ram.interval_forces(r)).collect(),
         });
     }
     if let Some(sl) = Sliding::of(scn) {

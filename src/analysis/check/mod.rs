@@ -47,7 +47,8 @@
 //! wind as gravity), `setup.rs` (the set-ups with a closed-form motion:
 //! bouncing, sliding, drifting, inertial; recognising one is the
 //! applicability rule of its checks), `exact.rs` (the closed forms),
-//! `measure.rs` (measurements on a run shared by several checks),
+//! `measure.rs` (measurements on a run shared by several checks), `ram.rs` (a floe
+//! rammed into a coast whose ice crushes: its set-up, closed forms and measures),
 //! `checks/` (each check) and [`curves`] (the exact curves of the set-ups
 //! beside the runs, for the report's plots). Their public items are
 //! re-exported here. A check against an exact answer carries its scale
@@ -57,6 +58,7 @@ mod checks;
 pub mod curves;
 mod exact;
 mod measure;
+mod ram;
 mod setup;
 mod structure;
 
@@ -64,6 +66,7 @@ pub use exact::{
     head_on_velocities, ram_critical_speed_of, steady_drift_velocity, wind_acceleration,
 };
 pub use measure::{rest_time, sampled_penetration};
+pub use ram::{Ram, RamShape};
 pub use setup::{Bouncing, Drift, Inertial, Sliding};
 pub use structure::{find_symmetry, mirror_pairing, no_forcing, translation_gap, Axis};
 
