@@ -25,7 +25,8 @@
 //! 4. physics: the force law and the smooth integrator;
 //! 5. iterative: the iterative contact solvers;
 //! 6. formulation: the formulations and their registry;
-//! 7. fracture: floes that break;
+//! 7. fracture: floes that break, and the ice that crushes at their contacts
+//!    (the crush stage, `fracture::crush`; the run's topology, fracture then crushing);
 //! 8. run: the runner, the output writers, the batch;
 //! 9. analysis: checks, divergences, metrics;
 //! 10. compare, sweep: the comparison harness, work–precision sweeps;
