@@ -112,3 +112,87 @@ pub fn normal_velocity(scn: &Scenario, centres: &[Vec2], w: &[Gen], c: &Contact)
     };
     (at(c.b) - at(c.a)).dot(&c.geom.normal)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::contact::{ContactGeom, Feature, FeaturePair};
+    use crate::model::{parse_case_with, Crushing};
+    use std::path::Path;
+
+    fn scenario(crushing: &str) -> Scenario {
+        let text = format!(
+            "[case]\nversion = 1\nname = \"t\"\nduration = 1.0\noutput_interval = 1.0\n\
+             [contact]\nrestitution = 0.0\nfriction = 0.0\n{crushing}\n\
+             [[floe]]\npolygon = [[0.0, 0.0], [10.0, 0.0], [10.0, 10.0], [0.0, 10.0]]\nthickness = 2.0\n\
+             [[floe]]\npolygon = [[20.0, 0.0], [30.0, 0.0], [30.0, 10.0], [20.0, 10.0]]\nthickness = 0.5\n"
+        );
+        parse_case_with(&text, Path::new("t.toml"), &[]).unwrap()
+    }
+
+    fn contact(a: usize, b: usize, y: f64, gap: f64) -> Contact {
+        Contact {
+            a,
+            b,
+            geom: ContactGeom {
+                point: Vec2::new(10.0, y),
+                normal: Vec2::new(1.0, 0.0),
+                tangent: Vec2::new(0.0, 1.0),
+                gap,
+                feature: FeaturePair {
+                    a: Feature::Vertex(0),
+                    b: Feature::Vertex(0),
+                },
+            },
+        }
+    }
+
+    /// A flush pair of two points 4 m apart: `σ_c h w dt` shared between
+    /// them, `h` the thinner floe's; a lone point (a corner) carries none;
+    /// a point across a gap carries none.
+    #[test]
+    fn the_bound_is_the_pair_s_width_times_the_thinner_floe_shared_by_its_points() {
+        let scn = scenario("crushing = { strength = 2e6 }");
+        let pair = [contact(0, 1, 3.0, 0.0), contact(0, 1, 7.0, -1e-3)];
+        let b = normal_bounds(&scn, &pair, 0.1);
+        let each = 2e6 * 0.5 * 4.0 * 0.1 / 2.0;
+        assert_eq!(b, vec![each, each]);
+        assert_eq!(normal_bounds(&scn, &pair[..1], 0.1), vec![0.0]);
+        let open = [contact(0, 1, 3.0, 1e-3), contact(0, 1, 7.0, 0.0)];
+        assert_eq!(normal_bounds(&scn, &open, 0.1)[0], 0.0);
+        // Against an obstacle (body 2): the floe's own thickness.
+        let coast = [contact(0, 2, 3.0, 0.0), contact(0, 2, 7.0, 0.0)];
+        let b = normal_bounds(&scn, &coast, 0.1);
+        assert_eq!(b[0], 2e6 * 2.0 * 4.0 * 0.1 / 2.0);
+    }
+
+    #[test]
+    fn the_pressure_area_law_bounds_by_p0_a_to_the_one_plus_ex() {
+        let scn = scenario("crushing = { p0 = 3e6, exponent = -0.5 }");
+        let pair = [contact(0, 1, 3.0, 0.0), contact(0, 1, 7.0, 0.0)];
+        let b = normal_bounds(&scn, &pair, 1.0);
+        let area: f64 = 0.5 * 4.0;
+        assert!(
+            (b[0] - 3e6 * area.sqrt() / 2.0).abs() <= 1e-9 * b[0],
+            "{b:?}"
+        );
+        assert_eq!(
+            Crushing::PressureArea {
+                p0: 3e6,
+                exponent: -1.0
+            }
+            .max_force(1.0, 0.0),
+            3e6,
+            "ex = -1: a force P0 whatever the area"
+        );
+    }
+
+    #[test]
+    fn without_crushing_there_are_no_bounds() {
+        let scn = scenario("");
+        let pair = [contact(0, 1, 3.0, 0.0)];
+        assert!(normal_bounds(&scn, &pair, 1.0).is_empty());
+        assert!(!crushing(f64::INFINITY, -1.0));
+        assert!(crushing(0.0, -1e-12) && !crushing(1.0, 0.0));
+    }
+}

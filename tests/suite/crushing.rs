@@ -148,3 +148,16 @@ fn a_crushing_case_refuses_to_start_from_an_earlier_state() {
     );
     assert!(!dir.path().join("second").exists());
 }
+
+/// The lattices resolve an impact with no bound: crushing with
+/// `impact = "lattice"` is refused at the line of `crushing`.
+#[test]
+fn crushing_with_lattice_impacts_is_refused() {
+    let text = std::fs::read_to_string(case_path("crushing/flat_coast")).unwrap();
+    let bad = format!("{text}\n[fracture]\nmodel = \"lattice\"\nimpact = \"lattice\"\n");
+    let err = parse_case(&bad, Path::new("bad.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("bad.toml:16"), "{err}");
+    assert!(err.contains("impact = \"lattice\""), "{err}");
+}

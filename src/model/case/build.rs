@@ -79,6 +79,16 @@ pub(super) fn build(
     let formulation_settings = formulation_tables(ctx, case.formulation, tables, header.duration)?;
     let integrator = integrator(ctx, case.integrator, header.duration)?;
     let fracture = fracture_table(ctx, case.fracture, &floes)?;
+    if contact.crushing.is_some() && fracture.lattice_impacts() {
+        // The lattice resolves an impact as rigid bodies' contact in its
+        // nodes, with no bound: it is not loaded by the crushing pressure
+        // (docs/physics.md §10.2).
+        return Err(CaseError {
+            file: ctx.file.to_path_buf(),
+            line: crushing_line,
+            message: "[contact] crushing: not with [fracture] impact = \"lattice\" yet: the lattices resolve an impact without the crushing bound (use impact = \"rigid\", whose percussions read the bounded impulses)".to_string(),
+        });
+    }
     for (i, f) in floes.iter_mut().enumerate() {
         f.id = i;
     }
