@@ -26,6 +26,7 @@
 //! | `ram_critical_speed` | `[fracture] model = "energy"`, one floe moving without spin toward an obstacle it meets face-on (two contact rays), no forcing, the configuration symmetric about the line of motion, faster than the closed-form critical speed `v_c` | `v0 sqrt(threshold / measure)` of the run's first fracture | [`RAM_CRITICAL_SPEED_TOLERANCE`] × `v_c` |
 //! | `lattice_spin_prestress` | `[fracture] model = "lattice"` | the largest centrifugal pre-strain `(3 + ν)/8 ρ (ω R)² / E` of a floe at its last output before a percussion that broke it, over its bonds' breaking strain | [`crate::fracture::strike::SPIN_PRESTRESS_LIMIT`] |
 //! | `crush_volume`, `crush_peak_force` (a corner) or `crush_force` (a face), `crush_duration` | `crushing = { strength }`, `e = 0`, one floe without spin toward an obstacle, no forcing, symmetric about the line of motion (docs/physics.md §10.3) | crushed volume; largest mean force of an output interval; time from the first contact to the stop | [`CRUSH_VOLUME_TOLERANCE`], [`CRUSH_FORCE_TOLERANCE`] (relative) |
+//! | `crush_mass` | `[contact] crushing` | `\|Σ m_floes(end) + Σ deposits − Σ m(0)\| / Σ m(0)` | [`CRUSH_MASS_TOLERANCE`] |
 //! | `energy_ledger` | always | `max_t \|residual\| / exchanged` | [`LEDGER_TOLERANCE`] |
 //!
 //! Whether a formulation *claims* a check is decided by one table,
@@ -234,6 +235,13 @@ pub const CRUSH_VOLUME_TOLERANCE: f64 = 0.02;
 /// the bundled cases, is neglected), which samples the peak to
 /// `(ω Δt)²/24`.
 pub const CRUSH_FORCE_TOLERANCE: f64 = 0.05;
+
+/// `crush_mass`, relative: a cut moves the crushed mass to a floe's
+/// thickness or a coast's deposit exactly but for the rounding of the
+/// polygon areas (about 1e-16 relative per cut); a cut that lost its ice
+/// would move it by the crushed fraction (1e-4 to 1e-3 in the bundled
+/// cases).
+pub const CRUSH_MASS_TOLERANCE: f64 = 1e-12;
 
 /// The reason formulation `formulation` does not claim `check` on `case`
 /// (its registry entry's [`formulation::NotClaimed`] list), or `None` when

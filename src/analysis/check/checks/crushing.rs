@@ -12,10 +12,42 @@
 
 use super::Rows;
 use crate::analysis::check::ram::{Ram, RamShape};
-use crate::analysis::check::{CRUSH_FORCE_TOLERANCE, CRUSH_VOLUME_TOLERANCE};
+use crate::analysis::check::{CRUSH_FORCE_TOLERANCE, CRUSH_MASS_TOLERANCE, CRUSH_VOLUME_TOLERANCE};
 
 /// The counter of the crushed volume, m³.
 const CRUSHED_VOLUME: &str = "crushed_volume_m3";
+
+/// `crush_mass`: the mass of the floes at the end plus the ice deposited on
+/// the coasts, against the case's (every run with crushing; the crushed
+/// ice that ridged is in the floes' thickness).
+pub(super) fn crush_mass(r: &mut Rows) {
+    if r.scn.contact.crushing.is_none() {
+        return;
+    }
+    let initial: f64 = r.scn.floes.iter().map(|f| f.mass).sum();
+    let alive: f64 = r
+        .run
+        .floes
+        .iter()
+        .filter(|f| f.t_end.is_none())
+        .map(|f| f.mass)
+        .sum();
+    let deposited: f64 = r
+        .run
+        .summary
+        .crushing
+        .as_ref()
+        .map_or(0.0, |c| c.deposits.iter().map(|d| d.mass_kg).sum());
+    r.push(
+        "crush_mass",
+        "mass is conserved by crushing: floes at the end plus the ice deposited on coasts",
+        ((alive + deposited - initial) / initial).abs(),
+        None,
+        CRUSH_MASS_TOLERANCE,
+        "1",
+        format!("{initial} kg at the start; {deposited} kg deposited on coasts"),
+    );
+}
 
 pub(super) fn crushing(r: &mut Rows) {
     let Some(ram) = Ram::of(r.scn) else {

@@ -121,6 +121,7 @@ pub(super) fn all(scn: &Scenario, run: &RunResult) -> Vec<CheckOutcome> {
     fracture_conservation(&mut r);
     ram_critical_speed(&mut r);
     crushing::crushing(&mut r);
+    crushing::crush_mass(&mut r);
     lattice_spin(&mut r);
     ledger(&mut r);
     r.out
