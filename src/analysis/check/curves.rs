@@ -98,7 +98,7 @@ pub fn exact_curves(scn: &Scenario, runs: &[RunResult]) -> Vec<ExactCurve> {
                 .collect(),
         });
     }
-    if let Some(ram) = Ram::of(scn) {
+    if let Some(ram) = Ram::of(scn).filter(|r| r.force_at(0.0).is_some()) {
         let (_, _, duration) = ram.exact();
         let mut ts: Vec<f64> = times(t_end, SAMPLES).collect();
         ts.extend([ram.t_contact, ram.t_contact + duration]);
@@ -111,9 +111,12 @@ pub fn exact_curves(scn: &Scenario, runs: &[RunResult]) -> Vec<ExactCurve> {
             plan: false,
             exact_label: match ram.shape {
                 RamShape::Corner(_) => "exact: V sqrt(M k) sin(omega t)".into(),
-                RamShape::Face(_) => "exact: sigma_c h w".into(),
+                RamShape::Face(_) => "exact: p(h w) h w".into(),
             },
-            exact: ts.iter().map(|&t| (t, ram.force_at(t))).collect(),
+            exact: ts
+                .iter()
+                .filter_map(|&t| ram.force_at(t).map(|f| (t, f)))
+                .collect(),
             marks: vec![
                 (ram.t_contact, "contact".into()),
                 (ram.t_contact + duration, "stop".into()),

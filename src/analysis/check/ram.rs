@@ -3,7 +3,7 @@
 //! closed forms, its exact force against time and the force measured on a
 //! run, for the crushing checks and their curve ([`super::curves`]).
 //!
-//! Set-up: `[contact] crushing = { strength }`, `e = 0`, one floe without
+//! Set-up: `[contact] crushing` (either law), `e = 0`, one floe without
 //! spin moving toward an obstacle, no forcing, the configuration symmetric
 //! about the line of motion. A corner: one vertex ray reaches the coast
 //! first, the floe's foremost vertex; a face: two or more.
@@ -34,8 +34,8 @@ pub struct Ram {
     pub v0: f64,
     /// The unit direction of its motion.
     pub d: Vec2,
-    /// The crushing strength `σ_c`, Pa.
-    pub strength: f64,
+    /// The crushing law.
+    pub law: Crushing,
     /// Its thickness, m.
     pub thickness: f64,
     /// The time of the first contact (gap / speed), s.
@@ -47,9 +47,7 @@ pub struct Ram {
 impl Ram {
     /// The set-up, if `scn` is one.
     pub fn of(scn: &Scenario) -> Option<Ram> {
-        let Some(Crushing::Strength { strength }) = scn.contact.crushing else {
-            return None;
-        };
+        let law = scn.contact.crushing?;
         if scn.floes.len() != 1
             || scn.obstacles.is_empty()
             || !no_forcing(scn)
@@ -79,7 +77,7 @@ impl Ram {
             mass: f.mass,
             v0,
             d,
-            strength,
+            law,
             thickness: f.thickness,
             t_contact: gap / v0,
             shape,
@@ -87,28 +85,62 @@ impl Ram {
     }
 
     /// The closed forms: crushed volume (m³), peak force (N) and duration
-    /// of the crushing (s).
+    /// of the crushing (s). Under the pressure–area law a corner's force is
+    /// `C δ^n` (`n = 1 + ex`, `C = P0 (2 h tan(φ/2))^n`), a spring of
+    /// power `n`: the energy `½ M V²` is crushed at the depth
+    /// `δ* = ((n+1) ½ M V² / C)^(1/(n+1))`, volume `h tan(φ/2) δ*²`, peak
+    /// force `C δ*^n`, duration `(δ*/V) ∫₀¹ (1 − x^(n+1))^(−1/2) dx`
+    /// (`= π/2` for `n = 1`); a face's is the constant `P0 (h w)^n`.
     pub fn exact(&self) -> (f64, f64, f64) {
-        let (m, v, s, h) = (self.mass, self.v0, self.strength, self.thickness);
-        match self.shape {
-            RamShape::Corner(phi) => corner_crush(m, v, s, h, phi),
-            RamShape::Face(w) => flat_crush(m, v, s, h, w),
+        let (m, v, h) = (self.mass, self.v0, self.thickness);
+        match (self.law, self.shape) {
+            (Crushing::Strength { strength }, RamShape::Corner(phi)) => {
+                corner_crush(m, v, strength, h, phi)
+            }
+            (Crushing::Strength { strength }, RamShape::Face(w)) => {
+                flat_crush(m, v, strength, h, w)
+            }
+            (law @ Crushing::PressureArea { .. }, RamShape::Face(w)) => {
+                flat_crush(m, v, law.pressure(h * w), h, w)
+            }
+            (Crushing::PressureArea { p0, exponent }, RamShape::Corner(phi)) => {
+                let n = 1.0 + exponent;
+                let t = (0.5 * phi).tan();
+                let c = p0 * (2.0 * h * t).powf(n);
+                let energy = 0.5 * m * v * v;
+                let depth = ((n + 1.0) * energy / c).powf(1.0 / (n + 1.0));
+                let a = 1.0 / (n + 1.0);
+                let integral =
+                    std::f64::consts::PI.sqrt() * (ln_gamma(1.0 + a) - ln_gamma(0.5 + a)).exp();
+                (
+                    h * t * depth * depth,
+                    c * depth.powf(n),
+                    depth / v * integral,
+                )
+            }
         }
     }
 
-    /// The exact crushing force at time `t` (s), N: `F_peak sin(ω τ)` for a
-    /// corner (`ω = π / (2 T)`), `F` for a face, over the crushing
-    /// `τ = t − t_contact` in `[0, T]`; 0 outside.
-    pub fn force_at(&self, t: f64) -> f64 {
+    /// The exact crushing force at time `t` (s), N, where it has a closed
+    /// form in time (a constant strength, or a face): `F_peak sin(ω τ)` for
+    /// a corner (`ω = π / (2 T)`), `F` for a face, over the crushing
+    /// `τ = t − t_contact` in `[0, T]`; 0 outside. `None` for a corner
+    /// under the pressure–area law (its force is known against depth, not
+    /// time).
+    pub fn force_at(&self, t: f64) -> Option<f64> {
         let (_, peak, duration) = self.exact();
         let tau = t - self.t_contact;
+        let corner = matches!(self.shape, RamShape::Corner(_));
+        if corner && matches!(self.law, Crushing::PressureArea { .. }) {
+            return None;
+        }
         if !(0.0..=duration).contains(&tau) {
-            return 0.0;
+            return Some(0.0);
         }
-        match self.shape {
-            RamShape::Corner(_) => peak * (0.5 * std::f64::consts::PI * tau / duration).sin(),
-            RamShape::Face(_) => peak,
-        }
+        Some(match corner {
+            true => peak * (0.5 * std::f64::consts::PI * tau / duration).sin(),
+            false => peak,
+        })
     }
 
     /// The mean force of each output interval of `run`, `M |Δv·d| / Δt`
@@ -186,4 +218,44 @@ fn face_width(poly: &[Vec2], d: &Vec2) -> f64 {
         .collect();
     c.iter().copied().fold(f64::NEG_INFINITY, f64::max)
         - c.iter().copied().fold(f64::INFINITY, f64::min)
+}
+
+/// `ln Γ(x)` for `x > 0` (Lanczos, g = 7, nine terms: 1e-15 relative).
+fn ln_gamma(x: f64) -> f64 {
+    const G: [f64; 9] = [
+        0.999_999_999_999_809_9,
+        676.520_368_121_885_1,
+        -1_259.139_216_722_402_8,
+        771.323_428_777_653_1,
+        -176.615_029_162_140_6,
+        12.507_343_278_686_905,
+        -0.138_571_095_265_720_12,
+        9.984_369_578_019_572e-6,
+        1.505_632_735_149_311_6e-7,
+    ];
+    if x < 0.5 {
+        let pi = std::f64::consts::PI;
+        return (pi / (pi * x).sin()).ln() - ln_gamma(1.0 - x);
+    }
+    let x = x - 1.0;
+    let mut a = G[0];
+    let t = x + 7.5;
+    for (i, g) in G.iter().enumerate().skip(1) {
+        a += g / (x + i as f64);
+    }
+    0.5 * (2.0 * std::f64::consts::PI).ln() + (x + 0.5) * t.ln() - t + a.ln()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ln_gamma;
+
+    #[test]
+    fn ln_gamma_is_exact_where_gamma_is_known() {
+        let pi = std::f64::consts::PI;
+        assert!((ln_gamma(1.0)).abs() < 1e-14);
+        assert!((ln_gamma(5.0) - 24f64.ln()).abs() < 1e-13);
+        assert!((ln_gamma(0.5) - pi.sqrt().ln()).abs() < 1e-14);
+        assert!((ln_gamma(1.5) - (0.5 * pi.sqrt()).ln()).abs() < 1e-14);
+    }
 }

@@ -73,7 +73,7 @@ pub(super) fn crushing(r: &mut Rows) {
         Some(volume),
         CRUSH_VOLUME_TOLERANCE * volume,
         "m^3",
-        format!("{what}, V = {} m/s, sigma_c = {} Pa", ram.v0, ram.strength),
+        format!("{what}, V = {} m/s, {}", ram.v0, law_text(&ram.law)),
     )
     .scale = Some(volume);
     let peak = ram
@@ -111,4 +111,14 @@ pub(super) fn crushing(r: &mut Rows) {
         format!("{what}: from the first contact at t = {} s", ram.t_contact),
     )
     .scale = Some(duration);
+}
+
+/// The crushing law in words, for a check's note.
+fn law_text(law: &crate::model::Crushing) -> String {
+    match *law {
+        crate::model::Crushing::Strength { strength } => format!("sigma_c = {strength} Pa"),
+        crate::model::Crushing::PressureArea { p0, exponent } => {
+            format!("p = {p0} Pa x A^{exponent}")
+        }
+    }
 }
