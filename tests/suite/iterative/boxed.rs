@@ -69,25 +69,10 @@ fn the_boxed_local_solve_is_a_case_of_the_brute_force_enumeration() {
     let mut rng = SplitMix64::new(54);
     let mut seen = std::collections::BTreeMap::new();
     for _ in 0..20_000 {
-        let mut w = [0.0; 4];
-        for _ in 0..2 {
-            let (mi, ii) = (rng.range(1e-6, 1e-4), rng.range(1e-10, 1e-8));
-            let (rn, rt) = (rng.range(-30.0, 30.0), rng.range(-30.0, 30.0));
-            let jn = [1.0, 0.0, rn];
-            let jt = [0.0, 1.0, rt];
-            let m = [mi, mi, ii];
-            for d in 0..3 {
-                w[0] += jn[d] * m[d] * jn[d];
-                w[1] += jn[d] * m[d] * jt[d];
-                w[3] += jt[d] * m[d] * jt[d];
-            }
-        }
-        w[2] = w[1];
-        let mu = rng.range(0.0, 1.0);
-        if w[0] <= mu * w[1].abs() {
-            continue; // outside the uniqueness condition
-        }
-        let r = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
+        // Outside the uniqueness condition: skipped.
+        let Some((w, mu, r)) = super::random_contact(&mut rng) else {
+            continue;
+        };
         // A bound around the rigid answer's λ: active about half the time.
         let rigid = local_coulomb(w, r, mu, mu > 0.0);
         let b = rigid[0] * rng.range(0.0, 2.0) + rng.range(0.0, 1e3);

@@ -18,25 +18,10 @@ fn the_local_solve_satisfies_signorini_and_coulomb_on_random_contacts() {
     let (mut stick, mut slide, mut off) = (0, 0, 0);
     for _ in 0..20_000 {
         // A contact's block: J M⁻¹ Jᵀ of two random floes' rows.
-        let mut w = [0.0; 4];
-        for _ in 0..2 {
-            let (mi, ii) = (rng.range(1e-6, 1e-4), rng.range(1e-10, 1e-8));
-            let (rn, rt) = (rng.range(-30.0, 30.0), rng.range(-30.0, 30.0));
-            let jn = [1.0, 0.0, rn];
-            let jt = [0.0, 1.0, rt];
-            let m = [mi, mi, ii];
-            for d in 0..3 {
-                w[0] += jn[d] * m[d] * jn[d];
-                w[1] += jn[d] * m[d] * jt[d];
-                w[3] += jt[d] * m[d] * jt[d];
-            }
-        }
-        w[2] = w[1];
-        let mu = rng.range(0.0, 1.0);
-        if w[0] <= mu * w[1].abs() {
-            continue; // outside the uniqueness condition of the doc
-        }
-        let r = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
+        // Outside the uniqueness condition: skipped.
+        let Some((w, mu, r)) = super::random_contact(&mut rng) else {
+            continue;
+        };
         let p = local_coulomb(w, r, mu, mu > 0.0);
         let u = velocity(w, p, r);
         let scale = r[0].abs() + r[1].abs();

@@ -90,3 +90,32 @@ fn with_settings(name: &str, table: &str, settings: &str) -> String {
         with_formulation_table(&text, table, settings)
     }
 }
+
+/// A random contact's `2 × 2` Delassus block `J M⁻¹ Jᵀ` (row-major, the
+/// rows of two random floes), a friction coefficient and a free velocity
+/// `r`, drawn from `rng`; `None` outside the uniqueness condition
+/// `W_NN > μ |W_NT|` (the draws are made all the same).
+pub(super) fn random_contact(
+    rng: &mut floebench::rng::SplitMix64,
+) -> Option<([f64; 4], f64, [f64; 2])> {
+    let mut w = [0.0; 4];
+    for _ in 0..2 {
+        let (mi, ii) = (rng.range(1e-6, 1e-4), rng.range(1e-10, 1e-8));
+        let (rn, rt) = (rng.range(-30.0, 30.0), rng.range(-30.0, 30.0));
+        let jn = [1.0, 0.0, rn];
+        let jt = [0.0, 1.0, rt];
+        let m = [mi, mi, ii];
+        for d in 0..3 {
+            w[0] += jn[d] * m[d] * jn[d];
+            w[1] += jn[d] * m[d] * jt[d];
+            w[3] += jt[d] * m[d] * jt[d];
+        }
+    }
+    w[2] = w[1];
+    let mu = rng.range(0.0, 1.0);
+    if w[0] <= mu * w[1].abs() {
+        return None;
+    }
+    let r = [rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)];
+    Some((w, mu, r))
+}
