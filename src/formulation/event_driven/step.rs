@@ -225,7 +225,7 @@ impl EventDriven {
             self.counters
                 .add(&FLIGHTS_WITHIN_DISTANCE, sustained.flights.len() as u64);
             self.flights.extend(sustained.flights);
-            if cx.topology.reads().sustained {
+            if cx.topology.reads().sustained && scn.contact.crushing.is_none() {
                 // The stress criterion reads the impulses delivered over the
                 // step [t, next.t]: the sustained wrenches (impulses over h)
                 // for the part of h taken, and the slow approaches stopped
@@ -250,6 +250,25 @@ impl EventDriven {
                 next.ledger.dissipated -= work * taken;
                 next.ledger.crushing += work * taken;
                 cx.crushed(scn, sys, crushing);
+            }
+            // With crushing there are no impacts: the criteria read the
+            // (bounded) impulses of each step as percussions over it, as
+            // Moreau–Jean's, with the crushing work as their budget (and as
+            // sustained impulses for the stress criterion).
+            if scn.contact.crushing.is_some() {
+                let taken = ((next.t - t) / h).clamp(0.0, 1.0);
+                let scaled = |l: &Load| Load {
+                    impulse: l.impulse * taken,
+                    ..*l
+                };
+                let loads: Vec<Load> = sustained.loads.iter().map(scaled).collect();
+                if cx.topology.reads().percussions && !loads.is_empty() {
+                    cx.topology
+                        .percussion(scn, sys, &loads, t, next.t, work * taken);
+                }
+                if cx.topology.reads().sustained {
+                    cx.topology.sustained(scn, sys, &loads, t, next.t);
+                }
             }
             self.last = Some(StepRecord {
                 start: std::mem::replace(sys, next),

@@ -189,7 +189,10 @@ impl EventDriven {
                 beta[k] = b[j];
                 g_t[k] = ans.compliance[j];
             }
-            if cx.topology.reads().sustained {
+            // The loads of the stress criterion, and of a crushing phase's
+            // percussions (docs/physics.md §10.2).
+            let crushing_loads = !bounds.is_empty() && cx.topology.reads().percussions;
+            if cx.topology.reads().sustained || crushing_loads {
                 // The group's impulses over h: loads of the stress criterion
                 // (docs/physics.md §9.3, §9.5).
                 let group: Vec<&Contact> = g.contacts.iter().map(|&k| &closed[k]).collect();

@@ -38,7 +38,10 @@ pub(super) fn fracture_conservation(r: &mut Rows) {
 
 pub(super) fn ram_critical_speed(r: &mut Rows) {
     let scn = r.scn;
+    // The closed form is that of a rigid impact with restitution: not of
+    // ice that crushes (docs/physics.md §10.2).
     if scn.fracture.model != FractureModel::Energy
+        || scn.contact.crushing.is_some()
         || scn.floes.len() != 1
         || !no_forcing(scn)
         || scn.floes[0].angular_velocity != 0.0
