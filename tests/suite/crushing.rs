@@ -161,3 +161,29 @@ fn crushing_with_lattice_impacts_is_refused() {
     assert!(err.contains("bad.toml:16"), "{err}");
     assert!(err.contains("impact = \"lattice\""), "{err}");
 }
+
+/// With crushing, event-driven has no impact: the fracture criteria read
+/// its step impulses as percussions. `fracture_ram` (energy criterion,
+/// critical speed 0.0156 m/s for a rigid impact with `e` = 0.5) with
+/// crushing: at 0.05 m/s the floe breaks in event-driven (without the
+/// percussions it would never break) as in Moreau–Jean; at 0.02 m/s
+/// Moreau–Jean's Newton rebound breaks it and event-driven's stop, with
+/// the impulse `M V` instead of `(1 + e) M V`, does not (docs/physics.md
+/// §10.2).
+#[test]
+fn event_driven_breaks_a_crushing_floe_from_its_step_impulses() {
+    let text = crate::common::case_text("fracture_ram").replace(
+        "friction = 0.0\n",
+        "friction = 0.0\ncrushing = { strength = 1e6 }\n",
+    );
+    assert!(text.contains("crushing"));
+    let at = |v: &str| {
+        let t = text.replace("velocity = [0.02, 0.0]", &format!("velocity = [{v}, 0.0]"));
+        parse_case(&t, Path::new("ram.toml")).unwrap()
+    };
+    for f in ["event-driven", "moreau"] {
+        assert_eq!(run(&at("0.05"), f).fractures.len(), 1, "{f} at 0.05 m/s");
+    }
+    assert_eq!(run(&at("0.02"), "moreau").fractures.len(), 1);
+    assert_eq!(run(&at("0.02"), "event-driven").fractures.len(), 0);
+}
