@@ -153,7 +153,11 @@ impl ForceStage {
             false => self.times.partition_point(|&t| t <= from),
         };
         for k in first..self.times.len() {
-            let lo = if k == 0 { self.start } else { self.times[k - 1] };
+            let lo = if k == 0 {
+                self.start
+            } else {
+                self.times[k - 1]
+            };
             let hi = self.times[k];
             let share = match instant {
                 true => 1.0,
@@ -200,12 +204,20 @@ impl ForceStage {
         };
         let k = self.closed;
         self.closed += 1;
-        let lo = if k == 0 { self.start } else { self.times[k - 1] };
+        let lo = if k == 0 {
+            self.start
+        } else {
+            self.times[k - 1]
+        };
         let dt = t - lo;
         let bin = std::mem::take(&mut self.bins[k]);
         let rate = |x: f64| if dt > 0.0 { x / dt } else { 0.0 };
         for (j, _) in self.centroids.iter().enumerate() {
-            let (f, m) = bin.obstacles.get(j).copied().unwrap_or((Vec2::zeros(), 0.0));
+            let (f, m) = bin
+                .obstacles
+                .get(j)
+                .copied()
+                .unwrap_or((Vec2::zeros(), 0.0));
             self.obstacle_rows.push(ObstacleForce {
                 t: sys.t,
                 obstacle: j,

@@ -164,7 +164,10 @@ fn non_finite(result: &RunResult) -> Option<String> {
         }
     }
     for r in &result.stress {
-        if ![r.sxx, r.sxy, r.syx, r.syy, r.area].iter().all(|v| v.is_finite()) {
+        if ![r.sxx, r.sxy, r.syx, r.syy, r.area]
+            .iter()
+            .all(|v| v.is_finite())
+        {
             return Some(format!("stress.csv: a non-finite stress at t = {} s", r.t));
         }
     }
