@@ -103,10 +103,9 @@ pub struct ForceStage {
     bins: Vec<Bin>,
     /// The obstacles' centroids, m.
     centroids: Vec<Vec2>,
-    /// The intervals closed so far ([`ForceStage::close`]).
-    closed: usize,
-    obstacle_rows: Vec<ObstacleForce>,
-    stress_rows: Vec<PackStress>,
+    /// The output times reached so far, s, and the floes' total area
+    /// then, m² ([`ForceStage::close`]).
+    closed: Vec<(f64, f64)>,
 }
 
 impl ForceStage {
@@ -196,53 +195,55 @@ impl ForceStage {
     }
 
     /// Closes the output interval ending at `sys.t` (the runner calls it
-    /// at each output time it records, in order): its rows, the floes'
-    /// area taken from `scn` now.
+    /// at each output time it records, in order): the floes' area is taken
+    /// from `scn` now. Its rows are made by [`ForceStage::take_rows`], at
+    /// the end of the run: a step of the formulation's own grid that
+    /// straddles the output time may be taken after it (an event-driven
+    /// step continued past it), and its share still counts.
     pub fn close(&mut self, scn: &Scenario, sys: &System) {
-        let Some(&t) = self.times.get(self.closed) else {
-            return;
-        };
-        let k = self.closed;
-        self.closed += 1;
-        let lo = if k == 0 {
-            self.start
-        } else {
-            self.times[k - 1]
-        };
-        let dt = t - lo;
-        let bin = std::mem::take(&mut self.bins[k]);
-        let rate = |x: f64| if dt > 0.0 { x / dt } else { 0.0 };
-        for (j, _) in self.centroids.iter().enumerate() {
-            let (f, m) = bin
-                .obstacles
-                .get(j)
-                .copied()
-                .unwrap_or((Vec2::zeros(), 0.0));
-            self.obstacle_rows.push(ObstacleForce {
-                t: sys.t,
-                obstacle: j,
-                fx: rate(f.x),
-                fy: rate(f.y),
-                torque: rate(m),
-            });
+        if self.closed.len() < self.times.len() {
+            self.closed
+                .push((sys.t, scn.floes.iter().map(|f| f.area).sum()));
         }
-        let area: f64 = scn.floes.iter().map(|f| f.area).sum();
-        let s = |m: f64| if area > 0.0 { rate(m) / area } else { 0.0 };
-        self.stress_rows.push(PackStress {
-            t: sys.t,
-            sxx: s(bin.moment[0]),
-            sxy: s(bin.moment[1]),
-            syx: s(bin.moment[2]),
-            syy: s(bin.moment[3]),
-            area,
-        });
     }
 
     /// The rows of the intervals closed: (`obstacles.csv`, `stress.csv`).
     pub fn take_rows(&mut self) -> (Vec<ObstacleForce>, Vec<PackStress>) {
-        (
-            std::mem::take(&mut self.obstacle_rows),
-            std::mem::take(&mut self.stress_rows),
-        )
+        let (mut obstacles, mut stress) = (Vec::new(), Vec::new());
+        for (k, &(t, area)) in self.closed.iter().enumerate() {
+            let lo = if k == 0 {
+                self.start
+            } else {
+                self.times[k - 1]
+            };
+            let dt = self.times[k] - lo;
+            let bin = std::mem::take(&mut self.bins[k]);
+            let rate = |x: f64| if dt > 0.0 { x / dt } else { 0.0 };
+            for j in 0..self.centroids.len() {
+                let (f, m) = bin
+                    .obstacles
+                    .get(j)
+                    .copied()
+                    .unwrap_or((Vec2::zeros(), 0.0));
+                obstacles.push(ObstacleForce {
+                    t,
+                    obstacle: j,
+                    fx: rate(f.x),
+                    fy: rate(f.y),
+                    torque: rate(m),
+                });
+            }
+            let s = |m: f64| if area > 0.0 { rate(m) / area } else { 0.0 };
+            stress.push(PackStress {
+                t,
+                sxx: s(bin.moment[0]),
+                sxy: s(bin.moment[1]),
+                syx: s(bin.moment[2]),
+                syy: s(bin.moment[3]),
+                area,
+            });
+        }
+        self.closed.clear();
+        (obstacles, stress)
     }
 }
