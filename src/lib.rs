@@ -26,7 +26,9 @@
 //! 5. iterative: the iterative contact solvers;
 //! 6. formulation: the formulations and their registry;
 //! 7. fracture: floes that break, and the ice that crushes at their contacts
-//!    (the crush stage, `fracture::crush`; the run's topology, fracture then crushing);
+//!    (the crush stage, `fracture::crush`; the run's topology, fracture then crushing,
+//!    with the forces stage that only reads, `fracture::forces`: the force on each
+//!    obstacle and the pack's stress);
 //! 8. run: the runner, the output writers, the batch;
 //! 9. analysis: checks, divergences, metrics;
 //! 10. compare, sweep: the comparison harness, work–precision sweeps;

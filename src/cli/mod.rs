@@ -49,8 +49,9 @@ pub enum Command {
     /// velocities as arrows, a scale bar; writes <case name>.png (or -o).
     Show(show::Args),
     /// Run one case with one formulation; writes trajectory.csv, energy.csv,
-    /// summary.json, floes.json and fractures.csv (and percussion.json when
-    /// a lattice run broke a floe).
+    /// summary.json, floes.json, fractures.csv and stress.csv (and
+    /// obstacles.csv for a case with obstacles, percussion.json when a
+    /// lattice run broke a floe).
     Run(run::Args),
     /// Run several formulations on the same cases and write a comparison report:
     /// per case metrics.csv, divergence.csv, summary.json, each run's data and the

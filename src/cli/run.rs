@@ -137,7 +137,7 @@ pub fn run(args: Args) -> Outcome {
     let runner = Runner::new(RunOptions {
         progress: !quiet,
         multi: None,
-        interrupt: Default::default(),
+        ..Default::default()
     });
     let result = runner.run(&scn, form.name(), form.formulation.as_mut());
     let paths = output::write_run(&out, &result)

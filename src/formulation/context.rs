@@ -44,15 +44,18 @@ use crate::state::{BodyState, Ledger, System};
 pub use crate::stop::Interrupt;
 
 /// Which reports the topology stage reads: a formulation builds loads only
-/// when they are read (a case without fracture reads none).
+/// when they are read (a case without fracture, without obstacles and with
+/// one floe reads none). Building them changes no result.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub struct Reads {
     /// The impulses of contact solves ([`Topology::percussion`]): read by
-    /// every fracture criterion.
+    /// every fracture criterion, and by the forces stage in a case with an
+    /// obstacle or two floes (`crate::fracture::forces`).
     pub percussions: bool,
     /// The impulses of sustained contact forces over a step
-    /// ([`Topology::sustained`]): read by the stress criterion only, which
-    /// keeps a window of the floe's stress (docs/physics.md §9.3).
+    /// ([`Topology::sustained`]): read by the stress criterion, which
+    /// keeps a window of the floe's stress (docs/physics.md §9.3), and by
+    /// the forces stage as the percussions.
     pub sustained: bool,
     /// Whether it resolves impacts ([`Topology::impact`]): `[fracture]
     /// impact = "lattice"` (docs/physics.md §9.10).

@@ -30,6 +30,7 @@
 pub mod chain;
 pub mod crack;
 pub mod crush;
+pub mod forces;
 pub mod impact;
 pub mod lattice;
 pub mod split;

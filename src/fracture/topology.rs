@@ -1,6 +1,6 @@
 //! The run's topology stage: the fracture stage and the crush stage
-//! together ([`RunTopology`]), the one [`Topology`] the
-//! [`crate::run::Runner`] hands its formulation.
+//! together, with the forces stage that only reads ([`RunTopology`]), the
+//! one [`Topology`] the [`crate::run::Runner`] hands its formulation.
 //!
 //! Each report goes to the stage that reads it (the solves' impulses and
 //! impacts to fracture, the crushed pairs to crushing). At a safe point
@@ -8,9 +8,12 @@
 //! broke is no longer the floe whose overlap was reported, and its pieces'
 //! overlaps are reported again by the next solve; a floe the crushing cut
 //! has a new outline, so the fracture stage forgets what it kept of its
-//! shape (its lattice, [`FractureStage::reshaped`]).
+//! shape (its lattice, [`FractureStage::reshaped`]). The forces stage
+//! ([`ForceStage`]) reads every solve's impulses too, and changes nothing:
+//! it turns them into the forces on the obstacles and the pack's stress.
 
 use super::crush::CrushStage;
+use super::forces::ForceStage;
 use super::stage::FractureStage;
 use crate::contact::Load;
 use crate::formulation::context::{ImpactAnswer, ImpactQuery, Reads, Topology};
@@ -25,22 +28,33 @@ pub struct RunTopology {
     pub fracture: FractureStage,
     /// Ice that crushes (docs/physics.md §10).
     pub crush: CrushStage,
+    /// The forces on the obstacles and the pack's stress, per output
+    /// interval (reads only).
+    pub forces: ForceStage,
 }
 
 impl RunTopology {
     /// The stages of a run of `scn` (each does nothing when the case does
-    /// not ask for it).
+    /// not ask for it); its forces stage reads nothing until the runner
+    /// sets one ([`ForceStage::new`], which needs the output times).
     pub fn new(scn: &Scenario) -> RunTopology {
         RunTopology {
             fracture: FractureStage::new(scn),
             crush: CrushStage::new(scn),
+            forces: ForceStage::default(),
         }
     }
 }
 
 impl Topology for RunTopology {
     fn reads(&self) -> Reads {
-        self.fracture.reads()
+        let reads = self.fracture.reads();
+        let forces = self.forces.reads();
+        Reads {
+            percussions: reads.percussions || forces,
+            sustained: reads.sustained || forces,
+            ..reads
+        }
     }
 
     fn percussion(
@@ -54,10 +68,12 @@ impl Topology for RunTopology {
     ) {
         self.fracture
             .percussion(scn, sys, loads, from, to, dissipated);
+        self.forces.load(scn, sys, loads, from, to);
     }
 
     fn sustained(&mut self, scn: &Scenario, sys: &System, loads: &[Load], from: f64, to: f64) {
         self.fracture.sustained(scn, sys, loads, from, to);
+        self.forces.load(scn, sys, loads, from, to);
     }
 
     fn impact(

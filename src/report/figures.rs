@@ -19,6 +19,10 @@
 //! - `crack_<formulation>` (runs of the lattice model that broke a floe):
 //!   the crack of the run's percussion of largest lattice loss, from its
 //!   `percussion.json` ([`super::crack`]);
+//! - `obstacle_force` (cases with obstacles) and `pressure` (cases with
+//!   contacts): the magnitude of the mean force on each obstacle and the
+//!   pack's mean pressure per output interval against time, every
+//!   formulation (`figures/forces.rs`);
 //! - `cpu`: CPU time per stage of the run of median CPU time, one stacked bar
 //!   per formulation, its ratio to the fastest median above it;
 //! - `exact_*`: where the checks know the exact motion
@@ -36,6 +40,7 @@
 //! for the page.
 
 mod animation;
+mod forces;
 mod optional;
 
 pub use animation::{animate, animation_outputs, Animation, ANIMATION_FRAMES, ANIMATION_POLYGONS};
@@ -48,6 +53,7 @@ use crate::analysis::divergence::frames;
 use crate::geometry::Vec2;
 use crate::model::Scenario;
 use crate::run::{RunResult, TrajectoryRow};
+use forces::force_figures;
 use optional::{exact_figures, floe_size_figure};
 use std::path::Path;
 
@@ -418,6 +424,7 @@ pub fn draw(comp: &CaseComparison, dir: &Path) -> Result<Vec<Figure>, ReportErro
         exact_figures(comp, dir, &mut add)?;
     }
     floe_size_figure(comp, dir, &mut add)?;
+    force_figures(comp, dir, &mut add)?;
     for r in &comp.runs {
         let Some(rec) = &r.percussion else { continue };
         let form = &r.summary.formulation;

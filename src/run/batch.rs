@@ -433,6 +433,7 @@ fn execute(
                     progress: opts.progress,
                     multi: multi.cloned(),
                     interrupt: Default::default(),
+                    ..Default::default()
                 });
                 let out = formulation::build(&jobs[c].formulations[f], scn, fopts)
                     .map(|mut form| runner.run(scn, form.name(), form.formulation.as_mut()));

@@ -22,6 +22,7 @@ pub mod repeat;
 pub mod summary;
 
 use crate::formulation::{Context, Formulation, FormulationError, Interrupt};
+use crate::fracture::forces::{ForceStage, ObstacleForce, PackStress};
 use crate::fracture::topology::RunTopology;
 use crate::model::fracture::{FloeRecord, FractureRecord, PercussionRecord};
 use crate::model::Scenario;
@@ -169,6 +170,12 @@ pub struct RunResult {
     /// The lattice model's percussion of largest loss that broke a floe,
     /// with its crack (`percussion.json`; `None` without one).
     pub percussion: Option<PercussionRecord>,
+    /// The mean force on each obstacle per output interval
+    /// (`obstacles.csv`, [`crate::fracture::forces`]).
+    pub obstacle_forces: Vec<ObstacleForce>,
+    /// The pack's mean stress per output interval (`stress.csv`,
+    /// [`crate::fracture::forces`]).
+    pub stress: Vec<PackStress>,
 }
 
 /// Options of a run.
@@ -182,6 +189,11 @@ pub struct RunOptions {
     /// formulation at each step (default: the process's, set by SIGINT and
     /// SIGTERM once [`interrupt::install`] ran).
     pub interrupt: Interrupt,
+    /// Run without the forces stage ([`crate::fracture::forces`]): no
+    /// load is read for it, and `obstacles.csv` and `stress.csv` hold
+    /// zeros. Default `false`; for the check that reading the loads
+    /// changes no result.
+    pub skip_forces: bool,
 }
 
 /// Runs formulations on scenarios: owns timing, stopping and recording.
@@ -228,6 +240,9 @@ impl Runner {
         // The run's topology stage: fracture and crushing, once for every
         // formulation.
         let mut topology = RunTopology::new(scn);
+        let times = output_times(scn.duration, scn.output_interval);
+        // The forces on the obstacles and the pack's stress (it only reads).
+        topology.forces = ForceStage::new(scn, 0.0, &times, !self.options.skip_forces);
         let stop = &self.options.interrupt;
         // The solvers of this thread poll the run's handle inside a step.
         let _current = crate::stop::current(stop);
@@ -250,7 +265,6 @@ impl Runner {
             }
         }
 
-        let times = output_times(scn.duration, scn.output_interval);
         let mut bar = Progress::new(&self.options, times.len() as u64, scn, label);
         let started = end == EndReason::Completed;
         for (k, &t) in times.iter().enumerate().filter(|_| started) {
@@ -296,6 +310,7 @@ impl Runner {
             }
             sys = next;
             record(scn, &sys, e0, &mut trajectory, &mut energy);
+            topology.forces.close(scn, &sys);
             bar.tick(k as u64 + 1, t);
         }
         bar.finish();
@@ -354,6 +369,7 @@ impl Runner {
             lcp_profile,
         };
         let floes = floe_records(scn, &sys, topology.crush.enabled());
+        let (obstacle_forces, stress) = topology.forces.take_rows();
         RunResult {
             trajectory,
             energy,
@@ -363,6 +379,8 @@ impl Runner {
             floes,
             fractures: scn.history.fractures.clone(),
             percussion: scn.history.percussion.clone(),
+            obstacle_forces,
+            stress,
         }
     }
 }

@@ -1,6 +1,8 @@
 //! Writing a run's results: `trajectory.csv`, `energy.csv`, `summary.json`,
 //! `floes.json` (every floe that existed), `fractures.csv` (one row per
-//! fracture; only its header without fracture) and, for a run of the
+//! fracture; only its header without fracture), `stress.csv` (the pack's
+//! mean stress per output interval), `obstacles.csv` (the mean force on
+//! each obstacle per output interval; only for a case with obstacles) and, for a run of the
 //! lattice model that broke a floe, `percussion.json` (the crack of its
 //! largest percussion, [`crate::model::fracture::PercussionRecord`]).
 //!
@@ -87,6 +89,46 @@ pub fn fractures_csv(result: &RunResult) -> String {
     s
 }
 
+/// The first line of `obstacles.csv`.
+pub const OBSTACLES_HEADER: &str = "t,obstacle,fx,fy,torque";
+
+/// The name of the forces on the obstacles a run of a case with obstacles
+/// writes.
+pub const OBSTACLES_FILE: &str = "obstacles.csv";
+
+/// The forces on the obstacles as CSV: `t,obstacle,fx,fy,torque` (s,
+/// index, N, N, N·m about the obstacle's centroid), the mean over the
+/// output interval ending at `t` ([`crate::fracture::forces`]).
+pub fn obstacles_csv(result: &RunResult) -> String {
+    let mut s = String::with_capacity(64 * result.obstacle_forces.len() + 32);
+    s.push_str(OBSTACLES_HEADER);
+    s.push('\n');
+    for r in &result.obstacle_forces {
+        let _ = writeln!(s, "{},{},{},{},{}", r.t, r.obstacle, r.fx, r.fy, r.torque);
+    }
+    s
+}
+
+/// The first line of `stress.csv`.
+pub const STRESS_HEADER: &str = "t,sxx,sxy,syx,syy,area";
+
+/// The pack's mean stress as CSV: `t,sxx,sxy,syx,syy,area` (s, N/m ×4
+/// with tension positive, m²), the mean over the output interval ending at
+/// `t` ([`crate::fracture::forces`]).
+pub fn stress_csv(result: &RunResult) -> String {
+    let mut s = String::with_capacity(80 * result.stress.len() + 32);
+    s.push_str(STRESS_HEADER);
+    s.push('\n');
+    for r in &result.stress {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{}",
+            r.t, r.sxx, r.sxy, r.syx, r.syy, r.area
+        );
+    }
+    s
+}
+
 /// The first non-finite number of the trajectory or the energy ledger, as
 /// a message naming the file, time and column.
 fn non_finite(result: &RunResult) -> Option<String> {
@@ -111,6 +153,22 @@ fn non_finite(result: &RunResult) -> Option<String> {
         let mut cols = e.values().map(|(c, v)| (c.name(), v)).chain([("t", e.t)]);
         if let Some((c, _)) = cols.find(|(_, v)| !v.is_finite()) {
             return Some(format!("energy.csv: non-finite {c} at t = {} s", e.t));
+        }
+    }
+    for r in &result.obstacle_forces {
+        if ![r.fx, r.fy, r.torque].iter().all(|v| v.is_finite()) {
+            return Some(format!(
+                "{OBSTACLES_FILE}: a non-finite force on obstacle {} at t = {} s",
+                r.obstacle, r.t
+            ));
+        }
+    }
+    for r in &result.stress {
+        if ![r.sxx, r.sxy, r.syx, r.syy, r.area]
+            .iter()
+            .all(|v| v.is_finite())
+        {
+            return Some(format!("stress.csv: a non-finite stress at t = {} s", r.t));
         }
     }
     if let Some(p) = &result.percussion {
@@ -141,8 +199,10 @@ fn non_finite(result: &RunResult) -> Option<String> {
 /// The name of the percussion record a run of the lattice model writes.
 pub const PERCUSSION_FILE: &str = "percussion.json";
 
-/// Writes the five output files into `dir`, and [`PERCUSSION_FILE`] when
-/// the run has a percussion record; returns their paths. Refuses
+/// Writes the six output files into `dir`, [`OBSTACLES_FILE`] when the
+/// case has obstacles and [`PERCUSSION_FILE`] when the run has a
+/// percussion record (an earlier run's file of either, in `dir`, is
+/// removed otherwise); returns their paths. Refuses
 /// (before writing anything) a result with a non-finite number in its
 /// trajectory or ledger: the runner ends a run at the last finite output,
 /// so this is a safety net that names the number.
@@ -162,7 +222,12 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
             serde_json::to_vec_pretty(&result.floes).map_err(io::Error::other)?,
         ),
         ("fractures.csv", fractures_csv(result).into_bytes()),
+        ("stress.csv", stress_csv(result).into_bytes()),
     ];
+    match result.summary.obstacles {
+        0 => remove_stale(&dir.join(OBSTACLES_FILE))?,
+        _ => files.push((OBSTACLES_FILE, obstacles_csv(result).into_bytes())),
+    }
     match &result.percussion {
         // One line: its arrays of nodes and springs are long.
         Some(p) => files.push((
@@ -170,10 +235,7 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
             serde_json::to_vec(p).map_err(io::Error::other)?,
         )),
         // An earlier run's record in the same folder is not this run's.
-        None => match std::fs::remove_file(dir.join(PERCUSSION_FILE)) {
-            Err(e) if e.kind() != io::ErrorKind::NotFound => return Err(e),
-            _ => {}
-        },
+        None => remove_stale(&dir.join(PERCUSSION_FILE))?,
     }
     let mut paths = Vec::new();
     for (name, bytes) in files {
@@ -182,6 +244,14 @@ pub fn write_run(dir: &Path, result: &RunResult) -> io::Result<Vec<PathBuf>> {
         paths.push(p);
     }
     Ok(paths)
+}
+
+/// Removes an earlier run's file `path` (none there is fine).
+fn remove_stale(path: &Path) -> io::Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
 }
 
 /// Writes `trajectory.nc` (the trajectory as CF NetCDF,

@@ -23,6 +23,7 @@ mod fc2d_bad;
 mod fc2d_solve;
 mod field;
 mod flush_pair;
+mod forces;
 mod forcing;
 mod fracture;
 mod fuzz;

@@ -258,7 +258,7 @@ impl RapierReference {
             let h = bodies.insert(RigidBodyBuilder::fixed().build());
             let collider = convert::polygon_collider(&obstacle.polygon, &obstacle.parts)
                 .ok_or_else(|| format!("rapier: obstacle {k}: parry rejects its polygon"))?
-                .user_data(OBSTACLE);
+                .user_data(OBSTACLE - k as u128);
             colliders.insert_with_parent(material(collider, e, mu), h, &mut bodies);
         }
         let synced = System::initial(scn).bodies;
@@ -309,7 +309,8 @@ impl RapierReference {
             let data = self.colliders.get(c).map_or(OBSTACLE, |c| c.user_data);
             match usize::try_from(data).ok().filter(|&i| i < n) {
                 Some(i) => (Some(i), i),
-                None => (None, n + c.into_raw_parts().0 as usize),
+                // Obstacle k carries OBSTACLE − k: its body id is n + k.
+                None => (None, n + (OBSTACLE - data) as usize),
             }
         };
         let mut out = Vec::new();

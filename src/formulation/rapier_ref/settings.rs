@@ -173,7 +173,8 @@ pub(super) const COUNTERS: &[&Counter] = &[&STEPS, &FORCE_EVALUATIONS, &CONTACT_
 /// game default of 3 length units per second.
 pub const MAX_CORRECTIVE_VELOCITY: f64 = 1.0;
 
-/// Collider user data of obstacles (floes carry their index).
+/// Collider user data of obstacles: obstacle `k` carries `OBSTACLE − k`
+/// (floes carry their index).
 pub(super) const OBSTACLE: u128 = u128::MAX;
 
 /// The settings in use, with the case-dependent defaults resolved.

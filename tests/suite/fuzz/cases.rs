@@ -133,16 +133,21 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
     }
     let mut files = listed();
     files.sort();
-    // A lattice run that broke a floe also writes its percussion record.
+    // A lattice run that broke a floe also writes its percussion record,
+    // a case with obstacles the forces on them.
     let mut expected = vec![
         "energy.csv",
         "floes.json",
         "fractures.csv",
+        "stress.csv",
         "summary.json",
         "trajectory.csv",
     ];
     if r.percussion.is_some() {
         expected.insert(3, output::PERCUSSION_FILE);
+    }
+    if r.summary.obstacles > 0 {
+        expected.insert(3, output::OBSTACLES_FILE);
     }
     if files != expected {
         return Err(format!("partial file: the folder holds {files:?}"));
@@ -171,10 +176,18 @@ fn write_and_read_back(r: &RunResult) -> Result<(), Defect> {
             return Err(format!("non-finite number in percussion.json: {text}"));
         }
     }
+    let obstacles = match r.summary.obstacles {
+        0 => None,
+        _ => Some((output::OBSTACLES_FILE, r.obstacle_forces.len())),
+    };
     for (name, rows) in [
         ("trajectory.csv", r.trajectory.len()),
         ("energy.csv", r.energy.len()),
-    ] {
+        ("stress.csv", r.stress.len()),
+    ]
+    .into_iter()
+    .chain(obstacles)
+    {
         let text = std::fs::read_to_string(dir.path().join(name))
             .map_err(|e| format!("unreadable output: {name}: {e}"))?;
         let mut n = 0;
