@@ -225,50 +225,48 @@ impl EventDriven {
             self.counters
                 .add(&FLIGHTS_WITHIN_DISTANCE, sustained.flights.len() as u64);
             self.flights.extend(sustained.flights);
-            if cx.topology.reads().sustained && scn.contact.crushing.is_none() {
-                // The stress criterion reads the impulses delivered over the
-                // step [t, next.t]: the sustained wrenches (impulses over h)
-                // for the part of h taken, and the slow approaches stopped
-                // (docs/physics.md §9.3, §9.5); the floes break at the next
-                // step's start, on the lines chosen here, carried with them.
-                let taken = ((next.t - t) / h).clamp(0.0, 1.0);
-                let mut loads = std::mem::take(&mut self.step_loads);
-                loads.extend(sustained.loads.iter().map(|l| Load {
-                    impulse: l.impulse * taken,
-                    ..*l
-                }));
-                cx.topology.sustained(scn, sys, &loads, t, next.t);
-            }
-            // The pairs at their crushing bound: their work over the part
-            // of the step taken moves from `dissipated` (where the
-            // integration booked the contact work) to `crushing`, and the
-            // stage cuts their overlap at the next step's start
-            // (docs/physics.md §10.2, §10.4).
+            // The impulses delivered over the step [t, next.t]: the
+            // sustained wrenches (impulses over h) for the part of h taken.
+            let taken = ((next.t - t) / h).clamp(0.0, 1.0);
             let (crushing, work) = &sustained.crushing;
+            let reads = cx.topology.reads();
+            let crushes = scn.contact.crushing.is_some();
+            if reads.sustained || (crushes && reads.percussions) {
+                let step: Vec<Load> = sustained
+                    .loads
+                    .iter()
+                    .map(|l| Load {
+                        impulse: l.impulse * taken,
+                        ..*l
+                    })
+                    .collect();
+                // With crushing there are no impacts: the criteria read the
+                // (bounded) impulses of each step as percussions over it, as
+                // Moreau–Jean's, with the crushing work as their budget
+                // (docs/physics.md §10.2).
+                if crushes && reads.percussions && !step.is_empty() {
+                    cx.topology
+                        .percussion(scn, sys, &step, t, next.t, work * taken);
+                }
+                if reads.sustained {
+                    // The stress criterion reads them with the slow
+                    // approaches stopped (docs/physics.md §9.3, §9.5); the
+                    // floes break at the next step's start, on the lines
+                    // chosen here, carried with them.
+                    let mut loads = std::mem::take(&mut self.step_loads);
+                    loads.extend(step);
+                    cx.topology.sustained(scn, sys, &loads, t, next.t);
+                }
+            }
+            // The pairs that crush: their work over the part of the step
+            // taken moves from `dissipated` (where the integration booked
+            // the contact work) to `crushing`, and the stage cuts their
+            // overlap at the next step's start (docs/physics.md §10.2,
+            // §10.4).
             if !crushing.is_empty() {
-                let taken = ((next.t - t) / h).clamp(0.0, 1.0);
                 next.ledger.dissipated -= work * taken;
                 next.ledger.crushing += work * taken;
                 cx.crushed(scn, sys, crushing);
-            }
-            // With crushing there are no impacts: the criteria read the
-            // (bounded) impulses of each step as percussions over it, as
-            // Moreau–Jean's, with the crushing work as their budget (and as
-            // sustained impulses for the stress criterion).
-            if scn.contact.crushing.is_some() {
-                let taken = ((next.t - t) / h).clamp(0.0, 1.0);
-                let scaled = |l: &Load| Load {
-                    impulse: l.impulse * taken,
-                    ..*l
-                };
-                let loads: Vec<Load> = sustained.loads.iter().map(scaled).collect();
-                if cx.topology.reads().percussions && !loads.is_empty() {
-                    cx.topology
-                        .percussion(scn, sys, &loads, t, next.t, work * taken);
-                }
-                if cx.topology.reads().sustained {
-                    cx.topology.sustained(scn, sys, &loads, t, next.t);
-                }
             }
             self.last = Some(StepRecord {
                 start: std::mem::replace(sys, next),
